@@ -1,0 +1,4 @@
+//! Dense Cholesky factorization (placeholder, being written).
+
+/// Placeholder.
+pub struct DenseCholesky;
