@@ -1,1 +1,702 @@
-//! Matrix Market reading and writing (placeholder, being written).
+//! Reading and writing Matrix Market files.
+//!
+//! The Matrix Market exchange format (Boisvert, Pozo, Remington, *The Matrix
+//! Market Exchange Formats: Initial Design*, NISTIR 5935, NIST 1996;
+//! <https://math.nist.gov/MatrixMarket/formats.html>) is plain text:
+//!
+//! ```text
+//! %%MatrixMarket matrix coordinate real symmetric    <- banner: object format field symmetry
+//! % any number of comment lines                      <- start with %
+//! 3 3 4                                              <- rows, columns, entries
+//! 1 1 4.0                                            <- row, column, value (1-based)
+//! 2 1 -1.0
+//! 2 2 4.0
+//! 3 3 2.5e-1
+//! ```
+//!
+//! * `coordinate` files list the entries `i j value`, one per line, in any
+//!   order; here they become a [`CscMatrix`]. Repeated positions are *summed*
+//!   (as [`TripletMatrix`] does).
+//! * `array` files list all `rows × columns` values, one per line, column by
+//!   column (column-major); here they become a [`DenseMatrix`]. The size line
+//!   has two numbers, `rows columns`.
+//! * `symmetric` files store one triangle only, the lower one (`i ≥ j`); the
+//!   reader returns the matrix *expanded* (both triangles stored) and rejects
+//!   an entry above the diagonal.
+//!
+//! What is accepted: fields `real`, `double` and `integer` (read as `f64`),
+//! and `pattern` (coordinate only: entries without a value, read as 1.0, so
+//! the pattern-only matrices of the SuiteSparse collection can feed an
+//! ordering); symmetries `general` and `symmetric` (the latter for coordinate
+//! files only). The keywords after `%%MatrixMarket` are case-insensitive.
+//! `complex` fields, `vector` objects and `hermitian` / `skew-symmetric`
+//! symmetries are rejected with an error that says so, as are non-finite
+//! values (`nan`, `inf`). Comment lines (`%`) and blank lines may appear
+//! anywhere after the banner, lines may end in CRLF, and fields may be
+//! separated by any ASCII whitespace.
+//!
+//! Every error names the file (when there is one), the 1-based line and the
+//! problem, e.g. `Q.mtx:7: row index 0 is out of range 1..=3200`.
+//!
+//! The writers print values with 17 significant digits, enough for every
+//! `f64` to read back bit for bit. [`write_file`] writes through a temporary
+//! file in the destination's folder and renames it into place, so a failed
+//! write never leaves a half-written file behind.
+
+use std::fmt;
+use std::fs;
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use crate::linalg::dense::DenseMatrix;
+use crate::linalg::sparse::{CscMatrix, Triangle, TripletMatrix};
+
+/// Which part of the matrix a file stores.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Symmetry {
+    /// Every entry is listed.
+    General,
+    /// `A = Aᵀ`; only the lower triangle (`i ≥ j`) is listed.
+    Symmetric,
+}
+
+/// A matrix read from a `coordinate` file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SparseFile {
+    /// The matrix; for a symmetric file, both triangles are stored.
+    pub matrix: CscMatrix,
+    /// What the file's banner declared.
+    pub symmetry: Symmetry,
+}
+
+/// The content of a Matrix Market file.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MatrixMarket {
+    /// A `coordinate` file.
+    Sparse(SparseFile),
+    /// An `array` file.
+    Dense(DenseMatrix),
+}
+
+/// A file that could not be read or written: where, and what went wrong.
+#[derive(Debug)]
+pub struct MatrixMarketError {
+    path: Option<PathBuf>,
+    line: Option<usize>,
+    problem: Problem,
+}
+
+#[derive(Debug)]
+enum Problem {
+    Io(io::Error),
+    Format(String),
+}
+
+impl MatrixMarketError {
+    fn at_line(line: usize, message: String) -> Self {
+        MatrixMarketError {
+            path: None,
+            line: Some(line),
+            problem: Problem::Format(message),
+        }
+    }
+
+    fn io(path: &Path, error: io::Error) -> Self {
+        MatrixMarketError {
+            path: Some(path.to_path_buf()),
+            line: None,
+            problem: Problem::Io(error),
+        }
+    }
+
+    fn in_file(mut self, path: &Path) -> Self {
+        self.path = Some(path.to_path_buf());
+        self
+    }
+
+    /// The file, when the text came from one.
+    pub fn path(&self) -> Option<&Path> {
+        self.path.as_deref()
+    }
+
+    /// The 1-based line of the problem; `None` for an I/O error.
+    pub fn line(&self) -> Option<usize> {
+        self.line
+    }
+
+    /// The underlying I/O error, when reading or writing the file failed.
+    pub fn io_error(&self) -> Option<&io::Error> {
+        match &self.problem {
+            Problem::Io(error) => Some(error),
+            Problem::Format(_) => None,
+        }
+    }
+}
+
+impl fmt::Display for MatrixMarketError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match (&self.path, self.line) {
+            (Some(path), Some(line)) => write!(f, "{}:{line}: ", path.display())?,
+            (Some(path), None) => write!(f, "{}: ", path.display())?,
+            (None, Some(line)) => write!(f, "line {line}: ")?,
+            (None, None) => {}
+        }
+        match &self.problem {
+            Problem::Io(error) => write!(f, "{error}"),
+            Problem::Format(message) => f.write_str(message),
+        }
+    }
+}
+
+impl std::error::Error for MatrixMarketError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match &self.problem {
+            Problem::Io(error) => Some(error),
+            Problem::Format(_) => None,
+        }
+    }
+}
+
+type ParseResult<T> = Result<T, MatrixMarketError>;
+
+// ---------------------------------------------------------------- reading --
+
+/// Reads the Matrix Market file at `path`.
+///
+/// # Errors
+/// As [`parse`], with the path in the message; an I/O error when the file
+/// cannot be read (or is not UTF-8).
+pub fn read(path: &Path) -> Result<MatrixMarket, MatrixMarketError> {
+    let text = fs::read_to_string(path).map_err(|e| MatrixMarketError::io(path, e))?;
+    parse(&text).map_err(|e| e.in_file(path))
+}
+
+/// Parses the text of a Matrix Market file.
+///
+/// # Errors
+/// A [`MatrixMarketError`] with the line number for: an empty text, a
+/// missing or invalid banner, an unsupported object, format, field or
+/// symmetry, a missing or malformed size line, a symmetric size that is not
+/// square, an entry line with the wrong number of fields, an index that is
+/// not in `1..=size`, a value that is not a finite number, an entry above
+/// the diagonal in a symmetric file, and fewer or more entries than the size
+/// line declares.
+pub fn parse(text: &str) -> Result<MatrixMarket, MatrixMarketError> {
+    if text.trim().is_empty() {
+        return Err(MatrixMarketError::at_line(1, "the file is empty".into()));
+    }
+    let mut lines = DataLines::new(text);
+    let header = Header::parse(lines.banner())?;
+    match header.format {
+        Format::Coordinate => parse_coordinate(&header, &mut lines).map(MatrixMarket::Sparse),
+        Format::Array => parse_array(&mut lines).map(MatrixMarket::Dense),
+    }
+}
+
+/// The lines after the banner that carry data: comments (`%`) and blank
+/// lines skipped, surrounding whitespace (and a CR) trimmed, numbered from 1.
+struct DataLines<'a> {
+    lines: std::iter::Enumerate<std::str::Lines<'a>>,
+    /// Length of the whole text in bytes.
+    text_len: usize,
+    /// Number of the last line taken, blank or not: where the text ended
+    /// once the iterator is exhausted.
+    last_line: usize,
+}
+
+impl<'a> DataLines<'a> {
+    fn new(text: &'a str) -> Self {
+        DataLines {
+            lines: text.lines().enumerate(),
+            text_len: text.len(),
+            last_line: 0,
+        }
+    }
+
+    /// An upper bound on the entries the text can hold (each takes at least
+    /// a character and a line break): the most worth reserving, whatever a
+    /// size line claims.
+    fn max_entries(&self) -> usize {
+        self.text_len / 2 + 1
+    }
+
+    /// The first line, whatever it holds.
+    fn banner(&mut self) -> (usize, &'a str) {
+        let (index, line) = self.lines.next().unwrap_or((0, ""));
+        self.last_line = index + 1;
+        (index + 1, line.trim())
+    }
+}
+
+impl<'a> Iterator for DataLines<'a> {
+    type Item = (usize, &'a str);
+
+    fn next(&mut self) -> Option<(usize, &'a str)> {
+        for (index, line) in self.lines.by_ref() {
+            self.last_line = index + 1;
+            let line = line.trim();
+            if !line.is_empty() && !line.starts_with('%') {
+                return Some((index + 1, line));
+            }
+        }
+        None
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Format {
+    Coordinate,
+    Array,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Field {
+    /// `real`, `double` or `integer`: one number per entry.
+    Number,
+    /// No value: every listed entry is 1.
+    Pattern,
+}
+
+/// What the banner `%%MatrixMarket object format field symmetry` declares.
+struct Header {
+    format: Format,
+    field: Field,
+    symmetry: Symmetry,
+}
+
+const BANNER: &str = "%%MatrixMarket";
+
+impl Header {
+    fn parse((line, text): (usize, &str)) -> ParseResult<Header> {
+        let at_banner = |message: String| MatrixMarketError::at_line(line, message);
+        let words: Vec<&str> = text.split_ascii_whitespace().collect();
+        if words.first() != Some(&BANNER) {
+            return Err(at_banner(format!(
+                "missing banner: the first line must start with {BANNER}"
+            )));
+        }
+        let [_, object, format, field, symmetry] = words[..] else {
+            return Err(at_banner(format!(
+                "invalid banner: expected `{BANNER} matrix <format> <field> <symmetry>`, found `{text}`"
+            )));
+        };
+        if !object.eq_ignore_ascii_case("matrix") {
+            return Err(at_banner(format!(
+                "unsupported object `{object}`: only `matrix` is read"
+            )));
+        }
+        let header = Header {
+            format: parse_format(format).map_err(at_banner)?,
+            field: parse_field(field).map_err(at_banner)?,
+            symmetry: parse_symmetry(symmetry).map_err(at_banner)?,
+        };
+        header.check_combination().map_err(at_banner)?;
+        Ok(header)
+    }
+
+    fn check_combination(&self) -> Result<(), String> {
+        if self.format == Format::Array && self.field == Field::Pattern {
+            return Err("an `array` file cannot have the field `pattern`".into());
+        }
+        if self.format == Format::Array && self.symmetry == Symmetry::Symmetric {
+            return Err("unsupported `array symmetric`: only `array general` is read".into());
+        }
+        Ok(())
+    }
+}
+
+fn parse_format(word: &str) -> Result<Format, String> {
+    match word.to_ascii_lowercase().as_str() {
+        "coordinate" => Ok(Format::Coordinate),
+        "array" => Ok(Format::Array),
+        _ => Err(format!(
+            "unsupported format `{word}`: expected `coordinate` or `array`"
+        )),
+    }
+}
+
+fn parse_field(word: &str) -> Result<Field, String> {
+    match word.to_ascii_lowercase().as_str() {
+        "real" | "double" | "integer" => Ok(Field::Number),
+        "pattern" => Ok(Field::Pattern),
+        _ => Err(format!(
+            "unsupported field `{word}`: expected `real`, `integer` or `pattern`"
+        )),
+    }
+}
+
+fn parse_symmetry(word: &str) -> Result<Symmetry, String> {
+    match word.to_ascii_lowercase().as_str() {
+        "general" => Ok(Symmetry::General),
+        "symmetric" => Ok(Symmetry::Symmetric),
+        _ => Err(format!(
+            "unsupported symmetry `{word}`: expected `general` or `symmetric`"
+        )),
+    }
+}
+
+/// The size line: `rows columns` (array) or `rows columns entries` (coordinate).
+fn parse_size_line<const N: usize>(lines: &mut DataLines) -> ParseResult<(usize, [usize; N])> {
+    let Some((line, text)) = lines.next() else {
+        return Err(MatrixMarketError::at_line(
+            lines.last_line,
+            "missing size line: the file ends after the banner and comments".into(),
+        ));
+    };
+    let malformed = || {
+        let expected = if N == 3 {
+            "rows columns entries"
+        } else {
+            "rows columns"
+        };
+        MatrixMarketError::at_line(
+            line,
+            format!("malformed size line `{text}`: expected `{expected}` (non-negative integers)"),
+        )
+    };
+    let words: [&str; N] = split_fields(text).ok_or_else(malformed)?;
+    let mut sizes = [0; N];
+    for (size, word) in sizes.iter_mut().zip(words) {
+        *size = word.parse().map_err(|_| malformed())?;
+    }
+    Ok((line, sizes))
+}
+
+/// The `N` whitespace-separated fields of `text`, or `None` if it has another number.
+fn split_fields<const N: usize>(text: &str) -> Option<[&str; N]> {
+    let mut words = text.split_ascii_whitespace();
+    let mut fields = [""; N];
+    for field in &mut fields {
+        *field = words.next()?;
+    }
+    words.next().is_none().then_some(fields)
+}
+
+fn wrong_field_count(line: usize, text: &str, expected: &str) -> MatrixMarketError {
+    let found = text.split_ascii_whitespace().count();
+    MatrixMarketError::at_line(
+        line,
+        format!("expected {expected}, found {found} field(s): `{text}`"),
+    )
+}
+
+/// A 1-based index in `1..=bound`, returned 0-based.
+fn parse_index(word: &str, what: &str, bound: usize, line: usize) -> ParseResult<usize> {
+    let index: usize = word.parse().map_err(|_| {
+        MatrixMarketError::at_line(
+            line,
+            format!("{what} index `{word}` is not a positive integer"),
+        )
+    })?;
+    if index == 0 || index > bound {
+        return Err(MatrixMarketError::at_line(
+            line,
+            format!("{what} index {index} is out of range 1..={bound}"),
+        ));
+    }
+    Ok(index - 1)
+}
+
+/// A finite number.
+fn parse_value(word: &str, line: usize) -> ParseResult<f64> {
+    let value: f64 = word
+        .parse()
+        .map_err(|_| MatrixMarketError::at_line(line, format!("`{word}` is not a number")))?;
+    if !value.is_finite() {
+        return Err(MatrixMarketError::at_line(
+            line,
+            format!("value `{word}` is not finite"),
+        ));
+    }
+    Ok(value)
+}
+
+/// Row, column (both 0-based) and value of a coordinate entry line.
+fn parse_entry(
+    (line, text): (usize, &str),
+    field: Field,
+    nrows: usize,
+    ncols: usize,
+) -> ParseResult<(usize, usize, f64)> {
+    let (row, col, value) = match field {
+        Field::Number => {
+            let [row, col, value] = split_fields(text)
+                .ok_or_else(|| wrong_field_count(line, text, "3 fields (row column value)"))?;
+            (row, col, parse_value(value, line)?)
+        }
+        Field::Pattern => {
+            let [row, col] = split_fields(text)
+                .ok_or_else(|| wrong_field_count(line, text, "2 fields (row column)"))?;
+            (row, col, 1.0)
+        }
+    };
+    let row = parse_index(row, "row", nrows, line)?;
+    let col = parse_index(col, "column", ncols, line)?;
+    Ok((row, col, value))
+}
+
+fn parse_coordinate(header: &Header, lines: &mut DataLines) -> ParseResult<SparseFile> {
+    let (size_line, [nrows, ncols, declared]) = parse_size_line(lines)?;
+    let symmetric = header.symmetry == Symmetry::Symmetric;
+    if symmetric && nrows != ncols {
+        return Err(MatrixMarketError::at_line(
+            size_line,
+            format!("a symmetric matrix must be square, the size line says {nrows}×{ncols}"),
+        ));
+    }
+    let capacity = declared.min(lines.max_entries()) * if symmetric { 2 } else { 1 };
+    let mut triplets = TripletMatrix::with_capacity(nrows, ncols, capacity);
+    let mut count = 0;
+    for numbered_line in lines.by_ref() {
+        if count == declared {
+            return Err(too_many_entries(numbered_line.0, declared, size_line));
+        }
+        let (row, col, value) = parse_entry(numbered_line, header.field, nrows, ncols)?;
+        if symmetric && row < col {
+            return Err(MatrixMarketError::at_line(
+                numbered_line.0,
+                format!(
+                    "entry ({}, {}) lies above the diagonal: a symmetric file lists the lower triangle only (row ≥ column)",
+                    row + 1,
+                    col + 1
+                ),
+            ));
+        }
+        push_checked(&mut triplets, row, col, value);
+        if symmetric && row != col {
+            push_checked(&mut triplets, col, row, value);
+        }
+        count += 1;
+    }
+    if count < declared {
+        return Err(too_few_entries(lines.last_line, count, declared, size_line));
+    }
+    Ok(SparseFile {
+        matrix: triplets.to_csc(),
+        symmetry: header.symmetry,
+    })
+}
+
+/// Pushes an entry whose indices were already checked against the size line.
+fn push_checked(triplets: &mut TripletMatrix, row: usize, col: usize, value: f64) {
+    triplets
+        .push(row, col, value)
+        .expect("indices were checked against the size line");
+}
+
+fn too_many_entries(line: usize, declared: usize, size_line: usize) -> MatrixMarketError {
+    MatrixMarketError::at_line(
+        line,
+        format!("more entries than the {declared} the size line (line {size_line}) declares"),
+    )
+}
+
+fn too_few_entries(
+    line: usize,
+    found: usize,
+    declared: usize,
+    size_line: usize,
+) -> MatrixMarketError {
+    MatrixMarketError::at_line(
+        line,
+        format!(
+            "the file ends after {found} entries, the size line (line {size_line}) declares {declared}"
+        ),
+    )
+}
+
+fn parse_array(lines: &mut DataLines) -> ParseResult<DenseMatrix> {
+    let (size_line, [nrows, ncols]) = parse_size_line(lines)?;
+    let declared = nrows.checked_mul(ncols).ok_or_else(|| {
+        MatrixMarketError::at_line(size_line, format!("a {nrows}×{ncols} array is too large"))
+    })?;
+    let mut column_major = Vec::with_capacity(declared.min(lines.max_entries()));
+    for (line, text) in lines.by_ref() {
+        if column_major.len() == declared {
+            return Err(too_many_entries(line, declared, size_line));
+        }
+        let [value] =
+            split_fields(text).ok_or_else(|| wrong_field_count(line, text, "1 field (a value)"))?;
+        column_major.push(parse_value(value, line)?);
+    }
+    if column_major.len() < declared {
+        return Err(too_few_entries(
+            lines.last_line,
+            column_major.len(),
+            declared,
+            size_line,
+        ));
+    }
+    let mut dense = DenseMatrix::zeros(nrows, ncols);
+    for (k, &value) in column_major.iter().enumerate() {
+        dense[(k % nrows, k / nrows)] = value;
+    }
+    Ok(dense)
+}
+
+// ---------------------------------------------------------------- writing --
+
+/// Writes `a` as a `coordinate real` file, 1-based indices, column by column.
+///
+/// With [`Symmetry::Symmetric`] only the lower triangle (`i ≥ j`) is written
+/// and the upper one is ignored (not checked against the lower one).
+/// `comment` goes after the banner, each of its lines behind a `%`.
+///
+/// # Errors
+/// An `InvalidInput` I/O error, before anything is written, when `a` holds a
+/// non-finite value or is not square but `Symmetric` was asked for; any error
+/// of `out`.
+pub fn write_coordinate(
+    out: impl Write,
+    a: &CscMatrix,
+    symmetry: Symmetry,
+    comment: &str,
+) -> io::Result<()> {
+    check_finite(a.values())?;
+    let lower;
+    let stored = match symmetry {
+        Symmetry::General => a,
+        Symmetry::Symmetric => {
+            if a.nrows() != a.ncols() {
+                return Err(invalid_input(format!(
+                    "a symmetric file needs a square matrix, this one is {}×{}",
+                    a.nrows(),
+                    a.ncols()
+                )));
+            }
+            lower = a.triangle(Triangle::Lower);
+            &lower
+        }
+    };
+    let symmetry_word = match symmetry {
+        Symmetry::General => "general",
+        Symmetry::Symmetric => "symmetric",
+    };
+    let mut out = BufWriter::new(out);
+    write_header(&mut out, "coordinate", symmetry_word, comment)?;
+    writeln!(
+        out,
+        "{} {} {}",
+        stored.nrows(),
+        stored.ncols(),
+        stored.nnz()
+    )?;
+    for j in 0..stored.ncols() {
+        let (rows, values) = stored.column(j);
+        for (&i, &v) in rows.iter().zip(values) {
+            writeln!(out, "{} {} {v:.16e}", i + 1, j + 1)?;
+        }
+    }
+    out.flush()
+}
+
+/// Writes `a` as an `array real general` file: the size, then every value,
+/// column by column (column-major, as the format requires).
+///
+/// # Errors
+/// An `InvalidInput` I/O error, before anything is written, when `a` holds a
+/// non-finite value; any error of `out`.
+pub fn write_array(out: impl Write, a: &DenseMatrix, comment: &str) -> io::Result<()> {
+    check_finite(a.as_slice())?;
+    let mut out = BufWriter::new(out);
+    write_header(&mut out, "array", "general", comment)?;
+    writeln!(out, "{} {}", a.nrows(), a.ncols())?;
+    for j in 0..a.ncols() {
+        for i in 0..a.nrows() {
+            writeln!(out, "{:.16e}", a[(i, j)])?;
+        }
+    }
+    out.flush()
+}
+
+fn write_header(
+    out: &mut impl Write,
+    format: &str,
+    symmetry: &str,
+    comment: &str,
+) -> io::Result<()> {
+    writeln!(out, "{BANNER} matrix {format} real {symmetry}")?;
+    for line in comment.lines() {
+        writeln!(out, "% {line}")?;
+    }
+    Ok(())
+}
+
+/// The reader rejects non-finite values, so the writers refuse to write them.
+fn check_finite(values: &[f64]) -> io::Result<()> {
+    match values.iter().find(|v| !v.is_finite()) {
+        Some(v) => Err(invalid_input(format!(
+            "cannot write the non-finite value {v} (the format is read back as finite numbers only)"
+        ))),
+        None => Ok(()),
+    }
+}
+
+fn invalid_input(message: String) -> io::Error {
+    io::Error::new(io::ErrorKind::InvalidInput, message)
+}
+
+/// Creates (or replaces) the file at `path` with what `write` produces, all
+/// or nothing.
+///
+/// `write` fills a temporary file in the same folder, which is flushed to
+/// disk and then renamed to `path`; if `write` or any step fails, the
+/// temporary is removed and `path` is left as it was. Use it with the
+/// writers above:
+///
+/// ```no_run
+/// # use masssprings::linalg::matrix_market::{write_file, write_coordinate, Symmetry};
+/// # use masssprings::linalg::sparse::CscMatrix;
+/// # let q = CscMatrix::identity(3);
+/// write_file("Q.mtx".as_ref(), |out| write_coordinate(out, &q, Symmetry::Symmetric, "Q"))?;
+/// # Ok::<(), masssprings::linalg::matrix_market::MatrixMarketError>(())
+/// ```
+///
+/// # Errors
+/// The first I/O error (from `write`, creating, syncing or renaming), with
+/// `path` in the message.
+pub fn write_file(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> Result<(), MatrixMarketError> {
+    let temporary = temporary_path(path).map_err(|e| MatrixMarketError::io(path, e))?;
+    let result = write_then_rename(&temporary, path, write);
+    if result.is_err() {
+        // The temporary may not exist (creation failed, or it was renamed); either is fine.
+        let _ = fs::remove_file(&temporary);
+    }
+    result.map_err(|e| MatrixMarketError::io(path, e))
+}
+
+fn write_then_rename(
+    temporary: &Path,
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> io::Result<()> {
+    let file = fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(temporary)?;
+    let mut out = BufWriter::new(file);
+    write(&mut out)?;
+    let file = out.into_inner().map_err(|e| e.into_error())?;
+    file.sync_all()?;
+    fs::rename(temporary, path)
+}
+
+/// `.NAME.PID-COUNTER.tmp` beside `path`: unique per process and per call, so
+/// concurrent writers never share a temporary.
+fn temporary_path(path: &Path) -> io::Result<PathBuf> {
+    static COUNTER: AtomicUsize = AtomicUsize::new(0);
+    let name = path
+        .file_name()
+        .ok_or_else(|| invalid_input(format!("`{}` does not name a file", path.display())))?;
+    let unique = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let temporary = format!(
+        ".{}.{}-{unique}.tmp",
+        name.to_string_lossy(),
+        std::process::id()
+    );
+    Ok(path.with_file_name(temporary))
+}
