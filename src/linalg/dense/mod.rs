@@ -4,7 +4,6 @@
 //! written to be obviously correct, not fast.
 
 pub mod cholesky;
-pub mod gram_block;
 pub mod matrix;
 
 pub use cholesky::{back_substitution, forward_substitution, DenseCholesky};
