@@ -51,16 +51,27 @@ fn pushing_outside_the_matrix_is_an_error_and_pushes_nothing() {
     let mut t = TripletMatrix::new(3, 2);
     assert_eq!(
         t.push(3, 0, 1.0),
-        Err(LinalgError::IndexOutOfBounds { row: 3, col: 0, nrows: 3, ncols: 2 })
+        Err(LinalgError::IndexOutOfBounds {
+            row: 3,
+            col: 0,
+            nrows: 3,
+            ncols: 2
+        })
     );
-    assert!(matches!(t.push(0, 2, 1.0), Err(LinalgError::IndexOutOfBounds { col: 2, .. })));
+    assert!(matches!(
+        t.push(0, 2, 1.0),
+        Err(LinalgError::IndexOutOfBounds { col: 2, .. })
+    ));
     assert!(t.is_empty());
 }
 
 #[test]
 fn building_from_entries_rejects_the_first_bad_index() {
     let result = TripletMatrix::from_entries(2, 2, [(0, 0, 1.0), (1, 5, 2.0)]);
-    assert!(matches!(result, Err(LinalgError::IndexOutOfBounds { row: 1, col: 5, .. })));
+    assert!(matches!(
+        result,
+        Err(LinalgError::IndexOutOfBounds { row: 1, col: 5, .. })
+    ));
 }
 
 #[test]

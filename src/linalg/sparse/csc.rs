@@ -163,7 +163,10 @@ impl CscMatrix {
     /// # Panics
     /// When `(i, j)` is outside the matrix.
     pub fn get(&self, i: usize, j: usize) -> f64 {
-        assert!(i < self.nrows && j < self.ncols, "index ({i}, {j}) out of range");
+        assert!(
+            i < self.nrows && j < self.ncols,
+            "index ({i}, {j}) out of range"
+        );
         let (rows, values) = self.column(j);
         rows.binary_search(&i).map_or(0.0, |p| values[p])
     }
@@ -277,9 +280,7 @@ fn check_structure(
             });
         }
         if rows.windows(2).any(|w| w[0] >= w[1]) {
-            return invalid(format!(
-                "rows of column {j} are not strictly increasing"
-            ));
+            return invalid(format!("rows of column {j} are not strictly increasing"));
         }
     }
     Ok(())

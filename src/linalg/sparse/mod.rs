@@ -2,16 +2,49 @@
 //!
 //! | step | file |
 //! |---|---|
-//! | triplets → CSC | [`triplets`] |
 //! | the CSC type | [`csc`] |
+//! | triplets → CSC | [`triplets`] |
+//! | `Aᵀ` | [`transpose`] |
+//! | `A x`, `A X`, `Aᵀ X` | [`multiply`] |
+//! | `α A + β B`, `s A` | [`add`] |
+//! | `A B`, `AᵀA` | [`product`] |
 //! | permutations | [`permutation`] |
+//! | `P A Pᵀ` of one triangle | [`permute`] |
 //! | fill-reducing ordering (AMD) | [`amd`] |
+//! | elimination tree | [`etree`] |
+//! | postorder | [`postorder`] |
+//! | column counts | [`column_counts`] |
+//! | pattern of a row of `L` | [`row_pattern`] |
+//! | supernodes | [`supernodes`] |
+//! | symbolic analysis | [`symbolic`] |
+//! | numeric factorization, row by row | [`up_looking`] |
+//! | numeric factorization, supernodal | [`supernodal`] |
+//! | forward and back substitution | [`triangular_solve`] |
+//! | all of it together | [`cholesky`] |
 
+pub mod add;
 pub mod amd;
+pub mod cholesky;
+pub mod column_counts;
 pub mod csc;
+pub mod etree;
+pub mod multiply;
 pub mod permutation;
+pub mod permute;
+pub mod postorder;
+pub mod product;
+pub mod row_pattern;
+pub mod supernodal;
+pub mod supernodes;
+pub mod symbolic;
+pub mod transpose;
+pub mod triangular_solve;
 pub mod triplets;
+pub mod up_looking;
 
+pub use cholesky::{Method, SparseCholesky};
 pub use csc::{CscMatrix, Triangle};
 pub use permutation::Permutation;
+pub use permute::PermutedTriangle;
+pub use symbolic::SymbolicCholesky;
 pub use triplets::TripletMatrix;

@@ -106,52 +106,46 @@ impl TripletMatrix {
     /// A position whose repeats sum to zero is still stored, so the pattern
     /// depends only on the positions pushed, never on the values.
     pub fn to_csc(&self) -> CscMatrix {
-        let by_row = self.bucket_by_row();
-        let (col_ptr, unmerged_rows, unmerged_values) = self.bucket_by_column(&by_row);
-        sum_repeated_rows(
-            self.nrows,
-            self.ncols,
-            col_ptr,
-            unmerged_rows,
-            unmerged_values,
-        )
+        let (col_ptr, order) =
+            sort_by_column_then_row(self.nrows, self.ncols, &self.rows, &self.cols);
+        let rows = order.iter().map(|&e| self.rows[e]).collect();
+        let values = order.iter().map(|&e| self.values[e]).collect();
+        sum_repeated_rows(self.nrows, self.ncols, col_ptr, rows, values)
     }
+}
 
-    /// Step 1: the entry numbers in order of their row (a counting sort).
-    fn bucket_by_row(&self) -> Vec<usize> {
-        let mut count = vec![0usize; self.nrows];
-        for &i in &self.rows {
-            count[i] += 1;
-        }
-        let row_ptr = cumulative_sum(&count);
-        let mut next = row_ptr[..self.nrows].to_vec();
-        let mut entry_of = vec![0usize; self.len()];
-        for (e, &i) in self.rows.iter().enumerate() {
-            entry_of[next[i]] = e;
-            next[i] += 1;
-        }
-        entry_of
-    }
+/// Steps 1 and 2: the order that sorts entries by column and, inside a
+/// column, by row, found with two counting sorts; also the column pointers
+/// of that order (repeats still counted separately).
+pub(crate) fn sort_by_column_then_row(
+    nrows: usize,
+    ncols: usize,
+    rows: &[usize],
+    cols: &[usize],
+) -> (Vec<usize>, Vec<usize>) {
+    let (_, by_row) = counting_sort(nrows, rows, 0..rows.len());
+    counting_sort(ncols, cols, by_row.into_iter())
+}
 
-    /// Step 2: visiting entries row by row, append each to its column, so the
-    /// rows of every column come out sorted.
-    fn bucket_by_column(&self, entries_by_row: &[usize]) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
-        let mut count = vec![0usize; self.ncols];
-        for &j in &self.cols {
-            count[j] += 1;
-        }
-        let col_ptr = cumulative_sum(&count);
-        let mut next = col_ptr[..self.ncols].to_vec();
-        let mut rows = vec![0usize; self.len()];
-        let mut values = vec![0.0; self.len()];
-        for &e in entries_by_row {
-            let j = self.cols[e];
-            rows[next[j]] = self.rows[e];
-            values[next[j]] = self.values[e];
-            next[j] += 1;
-        }
-        (col_ptr, rows, values)
+/// A stable counting sort of the entry numbers `entries` by `key[entry]`
+/// (`key < buckets`): returns the bucket pointers and the sorted entries.
+fn counting_sort(
+    buckets: usize,
+    key: &[usize],
+    entries: impl Iterator<Item = usize> + Clone,
+) -> (Vec<usize>, Vec<usize>) {
+    let mut count = vec![0usize; buckets];
+    for e in entries.clone() {
+        count[key[e]] += 1;
     }
+    let ptr = cumulative_sum(&count);
+    let mut next = ptr[..buckets].to_vec();
+    let mut sorted = vec![0usize; ptr[buckets]];
+    for e in entries {
+        sorted[next[key[e]]] = e;
+        next[key[e]] += 1;
+    }
+    (ptr, sorted)
 }
 
 /// Step 3: in each (row-sorted) column, merge neighbours with the same row by

@@ -1,0 +1,187 @@
+//! The sparse Cholesky factorization `P A Pᵀ = L Lᵀ`, put together.
+//!
+//! ```text
+//! analyse once   SymbolicCholesky::analyze(&a, Ordering::Amd)   ordering, tree, counts, pattern
+//! factor         SparseCholesky::factor(symbolic, &a, method)    values of L
+//! refactor       cholesky.refactor(&a_with_new_values)           same pattern, new values
+//! solve          cholesky.solve_points_in_place(&mut b)          b ← A⁻¹ b, three columns at once
+//! ```
+//!
+//! A solve is `x = Pᵀ L⁻ᵀ L⁻¹ P b`: permute, forward substitution, back
+//! substitution, permute back. It uses a buffer sized at factorization, so
+//! it never allocates.
+//!
+//! Two numeric methods fill the same storage of `L`: [`Method::Simplicial`]
+//! (row by row, [`up_looking`](super::up_looking)) and
+//! [`Method::Supernodal`] (dense blocks, [`supernodal`](super::supernodal)).
+//!
+//! Source: Davis 2006, ch. 4 and §8.1 (`cs_cholsol`).
+
+use super::csc::CscMatrix;
+use super::supernodal::{factor_supernodal, SupernodalWorkspace};
+use super::symbolic::SymbolicCholesky;
+use super::triangular_solve::{back_substitution, forward_substitution};
+use super::up_looking::{factor_up_looking, FailedPivot, UpLookingWorkspace};
+use crate::linalg::error::LinalgError;
+
+/// How the numeric factorization is computed (both give the same `L` up to
+/// rounding).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Method {
+    /// One row at a time, one multiply-add at a time.
+    Simplicial,
+    /// Columns with a shared pattern as dense blocks, with dense kernels.
+    #[default]
+    Supernodal,
+}
+
+/// The work arrays of whichever method is in use.
+#[derive(Debug, Clone)]
+enum Workspace {
+    Simplicial(UpLookingWorkspace),
+    Supernodal(SupernodalWorkspace),
+}
+
+/// A numeric sparse Cholesky factorization, ready to solve.
+#[derive(Debug, Clone)]
+pub struct SparseCholesky {
+    symbolic: SymbolicCholesky,
+    /// Values of `L`, laid out as `symbolic.col_ptr()` / `row_idx()`.
+    values: Vec<f64>,
+    workspace: Workspace,
+    /// Three columns of `n` values, for the permuted right-hand side.
+    solve_buffer: Vec<f64>,
+    /// False after a failed refactorization: the values are not a factor.
+    factored: bool,
+}
+
+impl SparseCholesky {
+    /// Factors `a` (the matrix analysed by `symbolic`, or one with the same
+    /// pattern and new values) with `method`.
+    ///
+    /// # Errors
+    /// [`LinalgError::PatternMismatch`] when `a`'s pattern is not the one
+    /// analysed; [`LinalgError::NotPositiveDefinite`] naming the column of
+    /// `a` where a pivot was not positive.
+    pub fn factor(
+        symbolic: SymbolicCholesky,
+        a: &CscMatrix,
+        method: Method,
+    ) -> Result<Self, LinalgError> {
+        let n = symbolic.n();
+        let workspace = match method {
+            Method::Simplicial => Workspace::Simplicial(UpLookingWorkspace::new(n)),
+            Method::Supernodal => Workspace::Supernodal(SupernodalWorkspace::new(&symbolic)),
+        };
+        let mut cholesky = SparseCholesky {
+            values: vec![0.0; symbolic.nnz_l()],
+            symbolic,
+            workspace,
+            solve_buffer: vec![0.0; 3 * n],
+            factored: false,
+        };
+        cholesky.refactor(a)?;
+        Ok(cholesky)
+    }
+
+    /// Recomputes `L` for new values of `a`, keeping the analysis (same
+    /// pattern required). No allocation.
+    ///
+    /// # Errors
+    /// As [`SparseCholesky::factor`]. After an error the factorization
+    /// cannot be used to solve until a refactorization succeeds.
+    pub fn refactor(&mut self, a: &CscMatrix) -> Result<(), LinalgError> {
+        self.factored = false;
+        self.symbolic.refill(a)?;
+        let outcome = match &mut self.workspace {
+            Workspace::Simplicial(work) => {
+                factor_up_looking(&self.symbolic, &mut self.values, work)
+            }
+            Workspace::Supernodal(work) => {
+                factor_supernodal(&self.symbolic, &mut self.values, work)
+            }
+        };
+        outcome.map_err(|failed| self.not_positive_definite(failed))?;
+        self.factored = true;
+        Ok(())
+    }
+
+    /// The symbolic analysis this factorization uses.
+    pub fn symbolic(&self) -> &SymbolicCholesky {
+        &self.symbolic
+    }
+
+    /// The method in use.
+    pub fn method(&self) -> Method {
+        match self.workspace {
+            Workspace::Simplicial(_) => Method::Simplicial,
+            Workspace::Supernodal(_) => Method::Supernodal,
+        }
+    }
+
+    /// `L` as a CSC matrix, in the permuted numbering (`L Lᵀ = P A Pᵀ`).
+    pub fn l(&self) -> CscMatrix {
+        let rows = self
+            .symbolic
+            .row_idx()
+            .iter()
+            .map(|&i| i as usize)
+            .collect();
+        let n = self.symbolic.n();
+        CscMatrix::from_parts(
+            n,
+            n,
+            self.symbolic.col_ptr().to_vec(),
+            rows,
+            self.values.clone(),
+        )
+        .expect("the symbolic pattern is a valid CSC structure")
+    }
+
+    /// `b ← A⁻¹ b` for one vector.
+    ///
+    /// # Panics
+    /// When `b.len() != n`, or after a failed refactorization.
+    pub fn solve_in_place(&mut self, b: &mut [f64]) {
+        let (columns, _) = b.as_chunks_mut::<1>();
+        self.solve_block(columns);
+    }
+
+    /// `b ← A⁻¹ b` for an n×3 block (x, y, z), in one sweep over `L` per
+    /// triangle.
+    ///
+    /// # Panics
+    /// When `b.len() != n`, or after a failed refactorization.
+    pub fn solve_points_in_place(&mut self, b: &mut [[f64; 3]]) {
+        self.solve_block(b);
+    }
+
+    /// `b ← Pᵀ L⁻ᵀ L⁻¹ P b` for a block of `W` columns.
+    fn solve_block<const W: usize>(&mut self, b: &mut [[f64; W]]) {
+        assert!(
+            self.factored,
+            "solve with a factorization whose last refactor failed"
+        );
+        let n = self.symbolic.n();
+        assert_eq!(
+            b.len(),
+            n,
+            "right-hand side has {} rows, the matrix {n}",
+            b.len()
+        );
+        let (buffer, _) = self.solve_buffer[..W * n].as_chunks_mut::<W>();
+        let (col_ptr, row_idx) = (self.symbolic.col_ptr(), self.symbolic.row_idx());
+        let permutation = self.symbolic.permutation();
+        permutation.gather(b, buffer); // P b
+        forward_substitution(col_ptr, row_idx, &self.values, buffer); // L⁻¹ P b
+        back_substitution(col_ptr, row_idx, &self.values, buffer); // L⁻ᵀ L⁻¹ P b
+        permutation.scatter(buffer, b); // Pᵀ …
+    }
+
+    fn not_positive_definite(&self, (column, pivot): FailedPivot) -> LinalgError {
+        LinalgError::NotPositiveDefinite {
+            column: self.symbolic.permutation().perm()[column],
+            pivot,
+        }
+    }
+}

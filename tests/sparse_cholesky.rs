@@ -1,0 +1,337 @@
+//! The sparse Cholesky pipeline: structure (elimination tree, postorder,
+//! column counts, pattern, supernodes) against a boolean-elimination
+//! oracle, numbers against nalgebra's dense Cholesky.
+mod common;
+
+use common::*;
+use masssprings::linalg::sparse::{
+    CscMatrix, Method, Permutation, SparseCholesky, SymbolicCholesky, Triangle,
+};
+use masssprings::linalg::LinalgError;
+use nalgebra::DMatrix;
+use proptest::prelude::*;
+
+/// A random SPD matrix and a random permutation of its size.
+fn spd_and_permutation(
+    max_n: usize,
+    max_count: usize,
+) -> impl Strategy<Value = (CscMatrix, Permutation)> {
+    random_spd(max_n, max_count).prop_flat_map(|a| {
+        let n = a.ncols();
+        let perm = Just((0..n).collect::<Vec<_>>())
+            .prop_shuffle()
+            .prop_map(|p| Permutation::from_perm(p).unwrap());
+        (Just(a), perm)
+    })
+}
+
+fn any_method() -> impl Strategy<Value = Method> {
+    prop_oneof![Just(Method::Simplicial), Just(Method::Supernodal)]
+}
+
+/// `P A Pᵀ` densely, for the permutation the analysis settled on.
+fn permuted_dense(a: &CscMatrix, p: &Permutation) -> DMatrix<f64> {
+    let dense = csc_to_nalgebra(a);
+    let n = a.ncols();
+    DMatrix::from_fn(n, n, |i, j| dense[(p.perm()[i], p.perm()[j])])
+}
+
+/// The pattern of `L` by plain boolean elimination on the dense pattern:
+/// eliminating `k` connects every pair of its later neighbours. `O(n³)`,
+/// obviously right.
+fn eliminated_pattern(c: &DMatrix<f64>) -> Vec<Vec<bool>> {
+    let n = c.nrows();
+    let mut nonzero: Vec<Vec<bool>> = (0..n)
+        .map(|i| (0..n).map(|j| c[(i, j)] != 0.0 || i == j).collect())
+        .collect();
+    for k in 0..n {
+        let later: Vec<usize> = (k + 1..n).filter(|&i| nonzero[i][k]).collect();
+        for &i in &later {
+            for &j in &later {
+                nonzero[i][j] = true;
+            }
+        }
+    }
+    nonzero
+}
+
+fn factor(a: &CscMatrix, p: &Permutation, method: Method) -> SparseCholesky {
+    let symbolic = SymbolicCholesky::with_permutation(a, p).unwrap();
+    SparseCholesky::factor(symbolic, a, method).unwrap()
+}
+
+proptest! {
+    #![proptest_config(proptest_config(200))]
+
+    #[test]
+    fn elimination_tree_parents_come_after_their_children((a, p) in spd_and_permutation(30, 80)) {
+        let symbolic = SymbolicCholesky::with_permutation(&a, &p).unwrap();
+        for (j, parent) in symbolic.elimination_tree().iter().enumerate() {
+            if let Some(parent) = parent {
+                prop_assert!(*parent > j);
+            }
+        }
+    }
+
+    #[test]
+    fn elimination_tree_is_the_first_subdiagonal_nonzero_of_each_column((a, p) in spd_and_permutation(30, 80)) {
+        let symbolic = SymbolicCholesky::with_permutation(&a, &p).unwrap();
+        let pattern = eliminated_pattern(&permuted_dense(&a, symbolic.permutation()));
+        let n = a.ncols();
+        for j in 0..n {
+            let expected = (j + 1..n).find(|&i| pattern[i][j]);
+            prop_assert_eq!(symbolic.elimination_tree()[j], expected);
+        }
+    }
+
+    #[test]
+    fn postorder_is_a_permutation_with_children_before_parents((a, p) in spd_and_permutation(30, 80)) {
+        // the analysis folds a postorder into its permutation, so the
+        // postorder of the tree it reports must be the identity
+        let symbolic = SymbolicCholesky::with_permutation(&a, &p).unwrap();
+        let tree = symbolic.elimination_tree();
+        let post = masssprings::linalg::sparse::postorder::postorder(tree);
+        prop_assert!(Permutation::from_perm(post.clone()).is_ok());
+        prop_assert_eq!(post, (0..a.ncols()).collect::<Vec<_>>());
+        // and on the tree of an arbitrary ordering, a real postorder
+        let upper = masssprings::linalg::sparse::PermutedTriangle::new(&a, &p, Triangle::Upper).unwrap();
+        let parent = masssprings::linalg::sparse::etree::elimination_tree(upper.matrix());
+        let post = masssprings::linalg::sparse::postorder::postorder(&parent);
+        let position = Permutation::from_perm(post).unwrap();
+        for (j, parent) in parent.iter().enumerate() {
+            if let Some(parent) = parent {
+                prop_assert!(position.inverse()[j] < position.inverse()[*parent]);
+            }
+        }
+    }
+
+    #[test]
+    fn column_counts_and_pattern_equal_boolean_elimination((a, p) in spd_and_permutation(30, 80)) {
+        let symbolic = SymbolicCholesky::with_permutation(&a, &p).unwrap();
+        let pattern = eliminated_pattern(&permuted_dense(&a, symbolic.permutation()));
+        let n = a.ncols();
+        for j in 0..n {
+            let rows: Vec<u32> = (j..n).filter(|&i| pattern[i][j]).map(|i| i as u32).collect();
+            let stored = &symbolic.row_idx()[symbolic.col_ptr()[j]..symbolic.col_ptr()[j + 1]];
+            prop_assert_eq!(symbolic.column_counts()[j], rows.len());
+            prop_assert_eq!(stored, rows.as_slice());
+        }
+        let flops: f64 = symbolic.column_counts().iter().map(|&c| (c * c) as f64).sum();
+        prop_assert_eq!(symbolic.flops(), flops);
+    }
+
+    #[test]
+    fn supernodes_are_runs_of_columns_with_nested_patterns((a, p) in spd_and_permutation(30, 80)) {
+        let symbolic = SymbolicCholesky::with_permutation(&a, &p).unwrap();
+        let supernodes = symbolic.supernodes();
+        let column = |j: usize| &symbolic.row_idx()[symbolic.col_ptr()[j]..symbolic.col_ptr()[j + 1]];
+        let mut covered = 0;
+        for s in 0..supernodes.len() {
+            let columns = supernodes.columns(s);
+            prop_assert_eq!(columns.start, covered);
+            covered = columns.end;
+            for j in columns.start + 1..columns.end {
+                prop_assert_eq!(column(j), &column(j - 1)[1..]);
+                prop_assert_eq!(supernodes.of_column(j), s);
+            }
+        }
+        prop_assert_eq!(covered, a.ncols());
+    }
+
+    #[test]
+    fn factor_times_transpose_reproduces_the_permuted_matrix((a, p) in spd_and_permutation(30, 80), method in any_method()) {
+        let cholesky = factor(&a, &p, method);
+        let l = csc_to_nalgebra(&cholesky.l());
+        let c = permuted_dense(&a, cholesky.symbolic().permutation());
+        assert_close(&(&l * l.transpose()), &c, 1e-12);
+        let column_sizes: Vec<usize> = (0..a.ncols()).map(|j| cholesky.l().column(j).0.len()).collect();
+        prop_assert_eq!(column_sizes.as_slice(), cholesky.symbolic().column_counts());
+    }
+
+    #[test]
+    fn factor_equals_nalgebra_cholesky((a, p) in spd_and_permutation(30, 80), method in any_method()) {
+        let cholesky = factor(&a, &p, method);
+        let c = permuted_dense(&a, cholesky.symbolic().permutation());
+        let oracle = nalgebra::Cholesky::new(c).expect("SPD").l();
+        assert_close(&csc_to_nalgebra(&cholesky.l()), &oracle, 1e-10);
+    }
+
+    #[test]
+    fn solves_match_nalgebra((a, p) in spd_and_permutation(30, 80), method in any_method(), seed in 0u64..1000) {
+        let mut cholesky = factor(&a, &p, method);
+        let n = a.ncols();
+        let b: Vec<[f64; 3]> = (0..n).map(|i| {
+            let t = (i as f64 + 1.0) * (seed as f64 + 0.5);
+            [t.sin(), t.cos(), (0.3 * t).sin() + 0.1]
+        }).collect();
+        let dense = csc_to_nalgebra(&a);
+        let b_dense = DMatrix::from_fn(n, 3, |i, c| b[i][c]);
+        let oracle = nalgebra::Cholesky::new(dense.clone()).unwrap().solve(&b_dense);
+        let mut x = b.clone();
+        cholesky.solve_points_in_place(&mut x);
+        let x_dense = DMatrix::from_fn(n, 3, |i, c| x[i][c]);
+        assert_close(&x_dense, &oracle, 1e-9);
+        let residual = (&dense * &x_dense - &b_dense).norm() / b_dense.norm();
+        prop_assert!(residual < 1e-12, "relative residual {residual:e}");
+        // one column at a time gives the same as three at once
+        for c in 0..3 {
+            let mut column: Vec<f64> = b.iter().map(|row| row[c]).collect();
+            cholesky.solve_in_place(&mut column);
+            for i in 0..n {
+                prop_assert!((column[i] - x[i][c]).abs() <= 1e-14 * (1.0 + x[i][c].abs()));
+            }
+        }
+    }
+
+    #[test]
+    fn supernodal_and_simplicial_factors_agree((a, p) in spd_and_permutation(40, 150)) {
+        let simplicial = factor(&a, &p, Method::Simplicial).l();
+        let supernodal = factor(&a, &p, Method::Supernodal).l();
+        assert_close(&csc_to_nalgebra(&supernodal), &csc_to_nalgebra(&simplicial), 1e-12);
+    }
+
+    #[test]
+    fn refactoring_new_values_equals_factoring_afresh((a, p) in spd_and_permutation(30, 80), shift in 0.5f64..3.0, method in any_method()) {
+        let mut cholesky = factor(&a, &p, method);
+        // same pattern, new values: scale and strengthen the diagonal
+        let diagonal = CscMatrix::from_diagonal(&vec![shift; a.ncols()]);
+        let changed = a.scale(1.5).add(&diagonal).unwrap();
+        prop_assert!(changed.same_pattern(&a));
+        cholesky.refactor(&changed).unwrap();
+        let fresh = factor(&changed, &p, method);
+        assert_close(&csc_to_nalgebra(&cholesky.l()), &csc_to_nalgebra(&fresh.l()), 1e-14);
+    }
+}
+
+#[test]
+fn only_the_lower_triangle_is_read() {
+    let a = grid_matrix(6);
+    let p = Permutation::identity(a.ncols());
+    let full = factor(&a, &p, Method::Supernodal).l();
+    let lower = factor(&a.triangle(Triangle::Lower), &p, Method::Supernodal).l();
+    assert_eq!(full, lower);
+}
+
+#[test]
+fn grid_factor_is_right_with_both_methods() {
+    // a cloth grid has wide supernodes near the root: exercises the panels
+    let a = grid_matrix(24);
+    let n = a.ncols();
+    let p = Permutation::identity(n);
+    let dense = csc_to_nalgebra(&a);
+    for method in [Method::Simplicial, Method::Supernodal] {
+        let mut cholesky = factor(&a, &p, method);
+        let b: Vec<[f64; 3]> = (0..n).map(|i| [1.0, i as f64, (i as f64).sqrt()]).collect();
+        let mut x = b.clone();
+        cholesky.solve_points_in_place(&mut x);
+        let x_dense = DMatrix::from_fn(n, 3, |i, c| x[i][c]);
+        let b_dense = DMatrix::from_fn(n, 3, |i, c| b[i][c]);
+        let residual = (&dense * &x_dense - &b_dense).norm() / b_dense.norm();
+        assert!(
+            residual < 1e-12,
+            "{method:?}: relative residual {residual:e}"
+        );
+    }
+}
+
+#[test]
+fn an_indefinite_matrix_is_reported_at_its_column() {
+    // diag(1, 2, -1, 3) has its bad pivot in column 2 whatever the ordering
+    let a = CscMatrix::from_diagonal(&[1.0, 2.0, -1.0, 3.0]);
+    for perm in [vec![0, 1, 2, 3], vec![3, 2, 1, 0], vec![2, 0, 3, 1]] {
+        for method in [Method::Simplicial, Method::Supernodal] {
+            let symbolic = SymbolicCholesky::with_permutation(
+                &a,
+                &Permutation::from_perm(perm.clone()).unwrap(),
+            )
+            .unwrap();
+            let error = SparseCholesky::factor(symbolic, &a, method).unwrap_err();
+            assert_eq!(
+                error,
+                LinalgError::NotPositiveDefinite {
+                    column: 2,
+                    pivot: -1.0
+                },
+                "{perm:?} {method:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_semidefinite_matrix_is_reported_where_the_pivot_vanishes() {
+    // [[1, 1], [1, 1]] is singular: the second pivot is 1 - 1 = 0
+    let a = masssprings::linalg::sparse::TripletMatrix::from_entries(
+        2,
+        2,
+        [(0, 0, 1.0), (1, 0, 1.0), (0, 1, 1.0), (1, 1, 1.0)],
+    )
+    .unwrap()
+    .to_csc();
+    for method in [Method::Simplicial, Method::Supernodal] {
+        let symbolic = SymbolicCholesky::with_permutation(&a, &Permutation::identity(2)).unwrap();
+        let error = SparseCholesky::factor(symbolic, &a, method).unwrap_err();
+        assert_eq!(
+            error,
+            LinalgError::NotPositiveDefinite {
+                column: 1,
+                pivot: 0.0
+            }
+        );
+    }
+}
+
+#[test]
+fn nan_in_the_matrix_is_reported_not_propagated() {
+    let a = CscMatrix::from_diagonal(&[1.0, f64::NAN, 1.0]);
+    for method in [Method::Simplicial, Method::Supernodal] {
+        let symbolic = SymbolicCholesky::with_permutation(&a, &Permutation::identity(3)).unwrap();
+        let error = SparseCholesky::factor(symbolic, &a, method).unwrap_err();
+        assert!(
+            matches!(error, LinalgError::NotPositiveDefinite { column: 1, .. }),
+            "{error}"
+        );
+    }
+}
+
+#[test]
+fn a_failed_refactorization_can_be_followed_by_a_good_one() {
+    let a = grid_matrix(5);
+    let mut cholesky = factor(&a, &Permutation::identity(a.ncols()), Method::Supernodal);
+    let broken = a.scale(-1.0);
+    assert!(matches!(
+        cholesky.refactor(&broken),
+        Err(LinalgError::NotPositiveDefinite { .. })
+    ));
+    cholesky.refactor(&a).unwrap();
+    let fresh = factor(&a, &Permutation::identity(a.ncols()), Method::Supernodal);
+    assert_eq!(cholesky.l(), fresh.l());
+}
+
+#[test]
+fn refactoring_with_another_pattern_is_an_error() {
+    let a = grid_matrix(4);
+    let mut cholesky = factor(&a, &Permutation::identity(a.ncols()), Method::Simplicial);
+    let other = CscMatrix::identity(a.ncols());
+    assert_eq!(cholesky.refactor(&other), Err(LinalgError::PatternMismatch));
+}
+
+#[test]
+fn analysis_rejects_non_square_matrices_and_wrong_permutations() {
+    assert!(matches!(
+        SymbolicCholesky::with_permutation(&CscMatrix::zeros(2, 3), &Permutation::identity(3)),
+        Err(LinalgError::NotSquare { .. })
+    ));
+    assert!(matches!(
+        SymbolicCholesky::with_permutation(&CscMatrix::identity(3), &Permutation::identity(4)),
+        Err(LinalgError::DimensionMismatch { .. })
+    ));
+}
+
+#[test]
+fn an_empty_matrix_factors_and_solves_to_nothing() {
+    let a = CscMatrix::zeros(0, 0);
+    let mut cholesky = factor(&a, &Permutation::identity(0), Method::Supernodal);
+    cholesky.solve_points_in_place(&mut []);
+    assert_eq!(cholesky.symbolic().nnz_l(), 0);
+}
