@@ -65,7 +65,11 @@ pub fn random_triplets(
 }
 
 /// A random sparse `nrows × ncols` matrix.
-pub fn random_csc(max_rows: usize, max_cols: usize, max_count: usize) -> impl Strategy<Value = CscMatrix> {
+pub fn random_csc(
+    max_rows: usize,
+    max_cols: usize,
+    max_count: usize,
+) -> impl Strategy<Value = CscMatrix> {
     random_triplets(max_rows, max_cols, max_count).prop_map(|t| t.to_csc())
 }
 
@@ -112,7 +116,12 @@ pub fn grid_matrix(n_side: usize) -> CscMatrix {
     let mut springs = std::collections::BTreeSet::new();
     for j in 0..n_side - 1 {
         for i in 0..n_side - 1 {
-            let corners = [vertex(i, j), vertex(i, j + 1), vertex(i + 1, j + 1), vertex(i + 1, j)];
+            let corners = [
+                vertex(i, j),
+                vertex(i, j + 1),
+                vertex(i + 1, j + 1),
+                vertex(i + 1, j),
+            ];
             for a in 0..4 {
                 for b in a + 1..4 {
                     springs.insert((corners[a].min(corners[b]), corners[a].max(corners[b])));

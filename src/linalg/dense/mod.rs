@@ -1,9 +1,13 @@
-//! Dense matrices: a row-major matrix type and its Cholesky factorization.
+//! Dense matrices: a row-major matrix type and its Cholesky factorization,
+//! plus the one dense kernel the supernodal sparse factorization runs on.
 //!
-//! The dense path exists to teach and to cross-check the sparse one: it is
-//! written to be obviously correct, not fast.
+//! The dense path of the simulation exists to teach and to cross-check the
+//! sparse one: it is written to be obviously correct, not fast. The kernel
+//! in [`gram_block`] is the exception: it is where the sparse factorization
+//! spends its time.
 
 pub mod cholesky;
+pub mod gram_block;
 pub mod matrix;
 
 pub use cholesky::{back_substitution, forward_substitution, DenseCholesky};
