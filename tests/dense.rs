@@ -25,6 +25,18 @@ fn dense_from_nalgebra(m: &DMatrix<f64>) -> DenseMatrix {
     a
 }
 
+/// `common::assert_close`, and every entry of `ours` finite: `assert_close`
+/// measures differences with `f64::max`, which skips NaN, so a result full of
+/// NaN (say, from an output buffer that was never zeroed) would pass it alone.
+/// Every oracle here is finite.
+fn assert_near(ours: &DMatrix<f64>, oracle: &DMatrix<f64>, tol: f64) {
+    assert!(
+        ours.iter().all(|v| v.is_finite()),
+        "non-finite result: {ours}"
+    );
+    assert_close(ours, oracle, tol);
+}
+
 /// A vector as an nalgebra column.
 fn column(v: &[f64]) -> DMatrix<f64> {
     DMatrix::from_column_slice(v.len(), 1, v)
@@ -126,7 +138,7 @@ proptest! {
     #[test]
     fn transpose_matches_nalgebra(m in matrix(12)) {
         let a = dense_from_nalgebra(&m);
-        assert_close(&dense_to_nalgebra(&a.transpose()), &m.transpose(), 0.0);
+        assert_near(&dense_to_nalgebra(&a.transpose()), &m.transpose(), 0.0);
     }
 
     #[test]
@@ -152,7 +164,7 @@ proptest! {
     #[test]
     fn product_matches_nalgebra((p, q) in product_pair(12)) {
         let product = dense_from_nalgebra(&p).mul(&dense_from_nalgebra(&q)).unwrap();
-        assert_close(&dense_to_nalgebra(&product), &(&p * &q), 1e-13);
+        assert_near(&dense_to_nalgebra(&product), &(&p * &q), 1e-13);
     }
 
     #[test]
@@ -161,14 +173,14 @@ proptest! {
     ) {
         let mut y = vec![f64::NAN; m.nrows()];
         dense_from_nalgebra(&m).mul_vec(&x, &mut y).unwrap();
-        assert_close(&column(&y), &(&m * column(&x)), 1e-13);
+        assert_near(&column(&y), &(&m * column(&x)), 1e-13);
     }
 
     #[test]
     fn point_product_matches_nalgebra((m, x) in matrix_and_points(12)) {
         let mut y = vec![[f64::NAN; 3]; m.nrows()];
         dense_from_nalgebra(&m).mul_points(&x, &mut y).unwrap();
-        assert_close(&points_to_nalgebra(&y), &(&m * points_to_nalgebra(&x)), 1e-13);
+        assert_near(&points_to_nalgebra(&y), &(&m * points_to_nalgebra(&x)), 1e-13);
     }
 
     #[test]
@@ -177,25 +189,25 @@ proptest! {
     ) {
         let mut y = vec![[f64::NAN; 3]; m.ncols()];
         dense_from_nalgebra(&m).transpose_mul_points(&x, &mut y).unwrap();
-        assert_close(&points_to_nalgebra(&y), &(m.transpose() * points_to_nalgebra(&x)), 1e-13);
+        assert_near(&points_to_nalgebra(&y), &(m.transpose() * points_to_nalgebra(&x)), 1e-13);
     }
 
     #[test]
     fn sum_matches_nalgebra((p, q) in same_shape_pair(12)) {
         let sum = dense_from_nalgebra(&p).add(&dense_from_nalgebra(&q)).unwrap();
-        assert_close(&dense_to_nalgebra(&sum), &(&p + &q), 0.0);
+        assert_near(&dense_to_nalgebra(&sum), &(&p + &q), 0.0);
     }
 
     #[test]
     fn scaling_matches_nalgebra(m in matrix(12), s in -100.0f64..100.0) {
         let scaled = dense_from_nalgebra(&m).scale(s);
-        assert_close(&dense_to_nalgebra(&scaled), &(&m * s), 0.0);
+        assert_near(&dense_to_nalgebra(&scaled), &(&m * s), 0.0);
     }
 
     #[test]
     fn scaled_sum_matches_nalgebra((p, q) in same_shape_pair(12), s in -100.0f64..100.0) {
         let sum = dense_from_nalgebra(&p).scaled_add(s, &dense_from_nalgebra(&q)).unwrap();
-        assert_close(&dense_to_nalgebra(&sum), &(&p + &q * s), 1e-15);
+        assert_near(&dense_to_nalgebra(&sum), &(&p + &q * s), 1e-15);
     }
 
     #[test]
@@ -203,7 +215,7 @@ proptest! {
         let a = dense_from_nalgebra(&m);
         let left = DenseMatrix::identity(m.nrows());
         let right = DenseMatrix::identity(m.ncols());
-        assert_close(&dense_to_nalgebra(&left), &DMatrix::identity(m.nrows(), m.nrows()), 0.0);
+        assert_near(&dense_to_nalgebra(&left), &DMatrix::identity(m.nrows(), m.nrows()), 0.0);
         prop_assert_eq!(&left.mul(&a).unwrap(), &a);
         prop_assert_eq!(&a.mul(&right).unwrap(), &a);
     }
@@ -218,7 +230,7 @@ proptest! {
     #[test]
     fn from_diagonal_matches_nalgebra(d in prop::collection::vec(-1.0f64..1.0, 0..=12)) {
         let a = DenseMatrix::from_diagonal(&d);
-        assert_close(&dense_to_nalgebra(&a), &DMatrix::from_diagonal(&DVector::from_vec(d.clone())), 0.0);
+        assert_near(&dense_to_nalgebra(&a), &DMatrix::from_diagonal(&DVector::from_vec(d.clone())), 0.0);
         prop_assert_eq!(a.diagonal(), d);
     }
 }
@@ -234,7 +246,7 @@ proptest! {
     fn factor_times_transpose_reproduces_matrix(a in spd(12)) {
         let chol = DenseCholesky::factor(&dense_from_nalgebra(&a)).unwrap();
         let l = dense_to_nalgebra(chol.l());
-        assert_close(&(&l * l.transpose()), &a, 1e-12);
+        assert_near(&(&l * l.transpose()), &a, 1e-12);
     }
 
     #[test]
@@ -253,7 +265,7 @@ proptest! {
     fn factor_matches_nalgebra(a in spd(12)) {
         let chol = DenseCholesky::factor(&dense_from_nalgebra(&a)).unwrap();
         let oracle = nalgebra::Cholesky::new(a.clone()).expect("BᵀB + cI is SPD");
-        assert_close(&dense_to_nalgebra(chol.l()), &oracle.l(), 1e-12);
+        assert_near(&dense_to_nalgebra(chol.l()), &oracle.l(), 1e-12);
     }
 
     #[test]
@@ -278,7 +290,7 @@ proptest! {
         let residual = (&a * &x - &b).norm();
         prop_assert!(residual <= 1e-10 * b.norm(), "residual {:e}, ‖b‖ {:e}", residual, b.norm());
         let oracle = nalgebra::Cholesky::new(a.clone()).unwrap().solve(&b);
-        assert_close(&x, &oracle, 1e-10);
+        assert_near(&x, &oracle, 1e-10);
     }
 
     #[test]
@@ -290,7 +302,7 @@ proptest! {
         let residual = (&a * &x - &b).norm();
         prop_assert!(residual <= 1e-10 * b.norm(), "residual {:e}, ‖b‖ {:e}", residual, b.norm());
         let oracle = nalgebra::Cholesky::new(a.clone()).unwrap().solve(&b);
-        assert_close(&x, &oracle, 1e-10);
+        assert_near(&x, &oracle, 1e-10);
     }
 
     #[test]
@@ -302,7 +314,7 @@ proptest! {
         let residual = (&a * &x - &b).norm();
         prop_assert!(residual <= 1e-10 * b.norm(), "residual {:e}, ‖b‖ {:e}", residual, b.norm());
         let oracle = nalgebra::Cholesky::new(a.clone()).unwrap().solve(&b);
-        assert_close(&x, &oracle, 1e-10);
+        assert_near(&x, &oracle, 1e-10);
     }
 
     #[test]
@@ -322,8 +334,8 @@ proptest! {
             by_columns.set_column(c, &DVector::from_vec(x));
         }
 
-        assert_close(&by_points, &by_matrix, 1e-14);
-        assert_close(&by_columns, &by_matrix, 1e-14);
+        assert_near(&by_points, &by_matrix, 1e-14);
+        assert_near(&by_columns, &by_matrix, 1e-14);
     }
 
     #[test]
@@ -333,7 +345,7 @@ proptest! {
         let mut y = b.clone();
         forward_substitution(&dense_from_nalgebra(&t), &mut y).unwrap();
         let oracle = t.solve_lower_triangular(&column(&b)).unwrap();
-        assert_close(&column(&y), &oracle, 1e-10);
+        assert_near(&column(&y), &oracle, 1e-10);
     }
 
     #[test]
@@ -346,7 +358,7 @@ proptest! {
         let mut x = b.clone();
         back_substitution(&dense_from_nalgebra(&u), &mut x).unwrap();
         let oracle = u.solve_upper_triangular(&column(&b)).unwrap();
-        assert_close(&column(&x), &oracle, 1e-10);
+        assert_near(&column(&x), &oracle, 1e-10);
     }
 }
 
