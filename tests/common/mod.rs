@@ -37,9 +37,14 @@ pub fn csc_to_nalgebra(a: &CscMatrix) -> DMatrix<f64> {
     m
 }
 
-/// `max |a - b| ≤ tol · max(1, max |b|)`: a relative comparison of whole matrices.
+/// `max |a - b| ≤ tol · max(1, max |b|)`: a relative comparison of whole
+/// matrices. Any NaN or infinity in either fails it.
 pub fn assert_close(a: &DMatrix<f64>, b: &DMatrix<f64>, tol: f64) {
     assert_eq!(a.shape(), b.shape(), "shapes differ");
+    assert!(
+        a.iter().chain(b.iter()).all(|v| v.is_finite()),
+        "non-finite entries in {a} or {b}"
+    );
     let scale = b.iter().fold(1.0f64, |m, v| m.max(v.abs()));
     let err = (a - b).iter().fold(0.0f64, |m, v| m.max(v.abs()));
     assert!(

@@ -10,6 +10,7 @@
 //! | `A B`, `AᵀA` | [`product`] |
 //! | permutations | [`permutation`] |
 //! | `P A Pᵀ` of one triangle | [`permute`] |
+//! | choice of ordering | [`ordering`] |
 //! | fill-reducing ordering (AMD) | [`amd`] |
 //! | elimination tree | [`etree`] |
 //! | postorder | [`postorder`] |
@@ -29,6 +30,7 @@ pub mod column_counts;
 pub mod csc;
 pub mod etree;
 pub mod multiply;
+pub mod ordering;
 pub mod permutation;
 pub mod permute;
 pub mod postorder;
@@ -44,6 +46,7 @@ pub mod up_looking;
 
 pub use cholesky::{Method, SparseCholesky};
 pub use csc::{CscMatrix, Triangle};
+pub use ordering::Ordering;
 pub use permutation::Permutation;
 pub use permute::PermutedTriangle;
 pub use symbolic::SymbolicCholesky;

@@ -239,8 +239,7 @@ fn factor_panel(
 ) -> Result<(), FailedPivot> {
     for k in first..first + width {
         let base_k = column_base[k];
-        for j in first..k {
-            let base_j = column_base[j];
+        for &base_j in &column_base[first..k] {
             let l_kj = values[base_j + k];
             for p in k..height {
                 values[base_k + p] -= l_kj * values[base_j + p];

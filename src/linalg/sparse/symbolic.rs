@@ -24,6 +24,7 @@
 use super::column_counts::column_counts;
 use super::csc::{cumulative_sum, CscMatrix, Triangle};
 use super::etree::elimination_tree;
+use super::ordering::Ordering;
 use super::permutation::Permutation;
 use super::permute::PermutedTriangle;
 use super::postorder::postorder;
@@ -53,6 +54,15 @@ pub struct SymbolicCholesky {
 }
 
 impl SymbolicCholesky {
+    /// Orders `a` with `ordering`, then analyses it (see
+    /// [`SymbolicCholesky::with_permutation`]).
+    ///
+    /// # Errors
+    /// As [`Ordering::permutation`] and [`SymbolicCholesky::with_permutation`].
+    pub fn analyze(a: &CscMatrix, ordering: Ordering) -> Result<Self, LinalgError> {
+        Self::with_permutation(a, &ordering.permutation(a)?)
+    }
+
     /// Analyses the symmetric matrix `a` (only its lower triangle is read)
     /// for the fill-reducing permutation `ordering`.
     ///

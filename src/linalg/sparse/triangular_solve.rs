@@ -28,10 +28,7 @@ pub fn forward_substitution<const W: usize>(
     for j in 0..x.len() {
         let (start, end) = (col_ptr[j], col_ptr[j + 1]);
         let diagonal = values[start];
-        let mut xj = x[j];
-        for c in 0..W {
-            xj[c] /= diagonal;
-        }
+        let xj = x[j].map(|value| value / diagonal);
         x[j] = xj;
         for (&i, &l_ij) in row_idx[start + 1..end].iter().zip(&values[start + 1..end]) {
             let xi = &mut x[i as usize];
@@ -59,9 +56,6 @@ pub fn back_substitution<const W: usize>(
             }
         }
         let diagonal = values[start];
-        for c in 0..W {
-            sum[c] /= diagonal;
-        }
-        x[j] = sum;
+        x[j] = sum.map(|value| value / diagonal);
     }
 }

@@ -1,0 +1,191 @@
+//! `masssprings analyze MATRIX.mtx`: the sparse Cholesky pipeline on one
+//! matrix, timed step by step.
+
+use super::args::Args;
+use super::timing::{median_seconds, Repeats};
+use super::AppError;
+use masssprings::linalg::matrix_market::{self, MatrixMarket};
+use masssprings::linalg::sparse::{
+    CscMatrix, Method, Ordering, SparseCholesky, SymbolicCholesky, Triangle,
+};
+use std::path::{Path, PathBuf};
+
+/// What `analyze` measured (the keys of its `--json` output).
+#[derive(Debug, serde::Serialize)]
+struct Analysis {
+    n: usize,
+    /// Entries of the lower triangle of `A`, diagonal included.
+    nnz_a: usize,
+    nnz_l: usize,
+    flops: f64,
+    ordering_s: f64,
+    symbolic_s: f64,
+    numeric_s: f64,
+    solve_s: f64,
+    residual: f64,
+    ordering: &'static str,
+    method: &'static str,
+    repeats: usize,
+}
+
+pub fn run(args: &[String]) -> Result<(), AppError> {
+    let args = Args::parse(args, &["ordering", "method", "repeats"], &["json"])?;
+    let path = PathBuf::from(args.single_positional("MATRIX.mtx")?);
+    let ordering: Ordering = args.value_or("ordering", Ordering::Amd)?;
+    let method = parse_method(&args)?;
+    let repeats = match args.value_or("repeats", 0usize)? {
+        0 => Repeats::Adaptive,
+        count => Repeats::Exactly(count),
+    };
+    let lower = read_symmetric_lower(&path)?;
+    let rhs = read_or_make_rhs(&path, lower.ncols())?;
+    let analysis = analyze(&lower, &rhs, ordering, method, repeats)
+        .map_err(|e| AppError::Failed(format!("{}: {e}", path.display())))?;
+    if args.switch("json") {
+        println!(
+            "{}",
+            serde_json::to_string(&analysis).expect("plain numbers serialise")
+        );
+    } else {
+        print_table(&path, &analysis);
+    }
+    Ok(())
+}
+
+fn parse_method(args: &Args) -> Result<Method, AppError> {
+    match args.value_or("method", "supernodal".to_string())?.as_str() {
+        "supernodal" => Ok(Method::Supernodal),
+        "simplicial" => Ok(Method::Simplicial),
+        other => Err(AppError::Usage(format!(
+            "--method {other}: expected supernodal or simplicial"
+        ))),
+    }
+}
+
+/// The lower triangle of the square sparse matrix in `path`.
+fn read_symmetric_lower(path: &Path) -> Result<CscMatrix, AppError> {
+    match matrix_market::read(path)? {
+        MatrixMarket::Sparse(file) if file.matrix.nrows() == file.matrix.ncols() => {
+            Ok(file.matrix.triangle(Triangle::Lower))
+        }
+        MatrixMarket::Sparse(file) => Err(AppError::Failed(format!(
+            "{}: the matrix must be square, it is {}×{}",
+            path.display(),
+            file.matrix.nrows(),
+            file.matrix.ncols()
+        ))),
+        MatrixMarket::Dense(_) => Err(AppError::Failed(format!(
+            "{}: expected a sparse (coordinate) matrix, found an array",
+            path.display()
+        ))),
+    }
+}
+
+/// `MATRIX.b.mtx` next to `MATRIX.mtx` when it exists (an n×3 array), else
+/// a fixed, varied right-hand side.
+fn read_or_make_rhs(path: &Path, n: usize) -> Result<Vec<[f64; 3]>, AppError> {
+    let rhs_path = path.with_extension("b.mtx");
+    if !rhs_path.exists() {
+        return Ok((0..n)
+            .map(|i| {
+                let t = i as f64;
+                [
+                    1.0 + (t * 0.37).sin(),
+                    (t * 0.11).cos(),
+                    0.5 - (t * 0.23).sin(),
+                ]
+            })
+            .collect());
+    }
+    match matrix_market::read(&rhs_path)? {
+        MatrixMarket::Dense(b) if b.nrows() == n && b.ncols() == 3 => {
+            Ok((0..n).map(|i| [b[(i, 0)], b[(i, 1)], b[(i, 2)]]).collect())
+        }
+        _ => Err(AppError::Failed(format!(
+            "{}: expected an {n}×3 array (the right-hand side)",
+            rhs_path.display()
+        ))),
+    }
+}
+
+/// Times each step of the pipeline and checks the solution.
+fn analyze(
+    lower: &CscMatrix,
+    rhs: &[[f64; 3]],
+    ordering: Ordering,
+    method: Method,
+    repeats: Repeats,
+) -> Result<Analysis, masssprings::linalg::LinalgError> {
+    let perm = ordering.permutation(lower)?;
+    let (ordering_s, runs) = median_seconds(repeats, || {
+        ordering.permutation(lower).expect("ordered once already");
+    });
+    let symbolic = SymbolicCholesky::with_permutation(lower, &perm)?;
+    let (symbolic_s, _) = median_seconds(repeats, || {
+        SymbolicCholesky::with_permutation(lower, &perm).expect("analysed once already");
+    });
+    let (nnz_l, flops) = (symbolic.nnz_l(), symbolic.flops());
+    let mut cholesky = SparseCholesky::factor(symbolic, lower, method)?;
+    let (numeric_s, _) = median_seconds(repeats, || {
+        cholesky.refactor(lower).expect("factored once already");
+    });
+    let mut x = rhs.to_vec();
+    let (solve_s, _) = median_seconds(repeats, || {
+        x.copy_from_slice(rhs);
+        cholesky.solve_points_in_place(&mut x);
+    });
+    Ok(Analysis {
+        n: lower.ncols(),
+        nnz_a: lower.nnz(),
+        nnz_l,
+        flops,
+        ordering_s,
+        symbolic_s,
+        numeric_s,
+        solve_s,
+        residual: relative_residual(lower, &x, rhs),
+        ordering: ordering.name(),
+        method: match method {
+            Method::Supernodal => "supernodal",
+            Method::Simplicial => "simplicial",
+        },
+        repeats: runs,
+    })
+}
+
+/// `‖A X − B‖_F / ‖B‖_F` for the symmetric `A` with lower triangle `lower`:
+/// `A X = (lower + lowerᵀ − diag) X`.
+fn relative_residual(lower: &CscMatrix, x: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
+    let n = lower.ncols();
+    let (mut below, mut above) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
+    lower.mul_points(x, &mut below).expect("square");
+    lower.transpose_mul_points(x, &mut above).expect("square");
+    let diagonal = lower.diagonal();
+    let (mut error, mut norm) = (0.0, 0.0);
+    for i in 0..n {
+        for c in 0..3 {
+            let ax = below[i][c] + above[i][c] - diagonal[i] * x[i][c];
+            error += (ax - b[i][c]).powi(2);
+            norm += b[i][c].powi(2);
+        }
+    }
+    (error / norm).sqrt()
+}
+
+fn print_table(path: &Path, a: &Analysis) {
+    println!("matrix             {}", path.display());
+    println!("n                  {}", a.n);
+    println!("nnz(A lower)       {}", a.nnz_a);
+    println!(
+        "nnz(L)             {}  (fill ratio {:.2})",
+        a.nnz_l,
+        a.nnz_l as f64 / a.nnz_a as f64
+    );
+    println!("flops              {:.4e}", a.flops);
+    println!("ordering ({:<7})  {:.6} s", a.ordering, a.ordering_s);
+    println!("symbolic           {:.6} s", a.symbolic_s);
+    println!("numeric ({:<10}) {:.6} s", a.method, a.numeric_s);
+    println!("solve (3 columns)  {:.6} s", a.solve_s);
+    println!("relative residual  {:.3e}", a.residual);
+    println!("(medians of {} runs each)", a.repeats);
+}

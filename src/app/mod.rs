@@ -1,0 +1,60 @@
+//! The application layer: the command line. Thin by design: it parses
+//! arguments, reads and writes files, times things, and calls the library.
+
+mod analyze;
+mod args;
+mod timing;
+
+/// What went wrong, and whether it was the way the program was called.
+#[derive(Debug)]
+pub enum AppError {
+    /// Wrong arguments: exit code 2, with a hint to see the usage.
+    Usage(String),
+    /// Bad input or a failure while working: exit code 1.
+    Failed(String),
+}
+
+impl<E: std::error::Error> From<E> for AppError {
+    fn from(error: E) -> Self {
+        AppError::Failed(error.to_string())
+    }
+}
+
+const USAGE: &str = "\
+usage: masssprings <command> [options]
+
+commands:
+  analyze MATRIX.mtx [--ordering amd|natural] [--method supernodal|simplicial]
+                     [--repeats N] [--json]
+      Sparse Cholesky of a symmetric positive definite Matrix Market matrix:
+      n, nnz, nnz(L), flops, median times of ordering, symbolic analysis,
+      numeric factorization and a 3-column solve, and the relative residual.
+      The right-hand side is MATRIX.b.mtx (an n×3 array) when it exists.
+  help
+      This text.
+";
+
+/// Runs the command line `args` (without the program name); returns the
+/// exit code.
+pub fn run(args: &[String]) -> i32 {
+    let result = match args.first().map(String::as_str) {
+        Some("analyze") => analyze::run(&args[1..]),
+        Some("help" | "--help" | "-h") => {
+            print!("{USAGE}");
+            Ok(())
+        }
+        Some(other) => Err(AppError::Usage(format!("unknown command '{other}'"))),
+        None => Err(AppError::Usage("no command given".into())),
+    };
+    match result {
+        Ok(()) => 0,
+        Err(AppError::Usage(message)) => {
+            eprintln!("masssprings: {message}\n(see `masssprings help`)");
+            2
+        }
+        Err(AppError::Failed(message)) => {
+            eprintln!("masssprings: error: {message}");
+            1
+        }
+    }
+}
