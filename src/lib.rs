@@ -10,5 +10,9 @@
 //!   operations, AMD ordering, symbolic analysis, numeric Cholesky
 //!   (simplicial and supernodal), triangular solves, Matrix Market I/O. It
 //!   knows nothing about springs.
+//! * [`mesh`]: scenes: the assignment's JSON + OBJ files read into rest
+//!   positions, springs, masses and pins; procedural scenes. It knows
+//!   nothing about solvers.
 
 pub mod linalg;
+pub mod mesh;

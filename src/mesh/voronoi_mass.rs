@@ -1,0 +1,156 @@
+//! Per-vertex masses from a surface mesh: mixed Voronoi areas.
+//!
+//! When a scene gives no uniform mass `m`, each vertex weighs the area of the
+//! piece of surface closest to it, so a cloth of unit density has total mass
+//! equal to its area (the diagonal of libigl's `massmatrix` with
+//! `MASSMATRIX_TYPE_VORONOI`, which the assignment uses).
+//!
+//! Polygons are first cut into triangles as a fan from their first corner:
+//! `a b c d → (a b c), (a c d)`. In each triangle, with corners 0, 1, 2,
+//! `lᵢ` the length of the side opposite corner `i`, `cᵢ` the cosine of the
+//! angle at corner `i` (law of cosines) and `A` the area:
+//!
+//! * The circumcenter splits the triangle into three sub-triangles, one on
+//!   each side; the one on side `i` has area `partᵢ = wᵢ A` with
+//!   `wᵢ = cᵢ lᵢ / (c₀ l₀ + c₁ l₁ + c₂ l₂)` (the circumcenter's barycentric
+//!   coordinates).
+//! * **No obtuse angle** (the circumcenter is inside): each corner gets half
+//!   of the two sub-triangles it touches, its Voronoi cell within the
+//!   triangle: corner 0 gets `(part₁ + part₂)/2`, corner 1
+//!   `(part₂ + part₀)/2`, corner 2 `(part₀ + part₁)/2`.
+//! * **An obtuse angle at corner `j`** (`cⱼ < 0`; the circumcenter is
+//!   outside and Voronoi cells would spill over): corner `j` gets `A/2`, the
+//!   other two `A/4` each.
+//!
+//! Either way a triangle's three shares sum to its area, so the masses sum
+//! to the area of the mesh. `A` comes from Kahan's form of Heron's formula,
+//! `A = ¼ √((a+(b+c))(c−(a−b))(c+(a−b))(a+(b−c)))` with `a ≥ b ≥ c`, which
+//! stays accurate for needle-like triangles. The masses are summed corner by
+//! corner (every triangle's first corner, then every second, then every
+//! third), the order in which libigl's triplet list adds them up, so that
+//! they agree with the assignment's to the last bit.
+//!
+//! Cost: `O(T)` for `T` triangles.
+//!
+//! Source: Meyer, Desbrun, Schröder, Barr, "Discrete Differential-Geometry
+//! Operators for Triangulated 2-Manifolds", VisMath 2002 (published 2003),
+//! §3.3 and Fig. 4 ("mixed area"); Kahan, "Miscalculating Area and Angles of
+//! a Needle-like Triangle", 2014; `../shared/design/scene-format.md`.
+
+use std::fmt;
+
+/// A vertex whose mass cannot be used: zero (it is in no triangle of nonzero
+/// area) or not finite (a degenerate triangle around it).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MassProblem {
+    /// The vertex, 0-based (messages print it 1-based, as in the OBJ).
+    pub vertex: usize,
+    /// Its computed mass.
+    pub mass: f64,
+}
+
+impl fmt::Display for MassProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let vertex = self.vertex + 1;
+        if self.mass.is_finite() {
+            write!(
+                f,
+                "vertex {vertex} has zero mass: it is in no face of nonzero area (an unused \
+                 vertex?); give a uniform mass \"m\" in the scene file or remove the vertex"
+            )
+        } else {
+            write!(
+                f,
+                "vertex {vertex} has a non-finite mass ({}): a face around it is degenerate \
+                 (a repeated corner?)",
+                self.mass
+            )
+        }
+    }
+}
+
+/// The mixed Voronoi mass of every vertex of the polygons `faces` (0-based
+/// indices into `vertices`, 3 or more corners each).
+///
+/// # Errors
+/// The first vertex (lowest index) whose mass is zero or not finite.
+///
+/// # Panics
+/// If a face index is not a vertex.
+pub fn voronoi_masses(
+    vertices: &[[f64; 3]],
+    faces: &[Vec<usize>],
+) -> Result<Vec<f64>, MassProblem> {
+    let triangles: Vec<[usize; 3]> = fan_triangles(faces).collect();
+    let shares: Vec<[f64; 3]> = triangles
+        .iter()
+        .map(|t| triangle_mass_shares([vertices[t[0]], vertices[t[1]], vertices[t[2]]]))
+        .collect();
+    let mut masses = vec![0.0; vertices.len()];
+    for corner in 0..3 {
+        for (triangle, share) in triangles.iter().zip(&shares) {
+            masses[triangle[corner]] += share[corner];
+        }
+    }
+    match masses.iter().position(|&m| !(m.is_finite() && m > 0.0)) {
+        Some(vertex) => Err(MassProblem {
+            vertex,
+            mass: masses[vertex],
+        }),
+        None => Ok(masses),
+    }
+}
+
+/// The triangles of the fan triangulation of each face, in face order:
+/// `(p₀ p₁ p₂), (p₀ p₂ p₃), …, (p₀ p_{c−2} p_{c−1})`. Faces of fewer than 3
+/// corners give none.
+pub fn fan_triangles(faces: &[Vec<usize>]) -> impl Iterator<Item = [usize; 3]> + '_ {
+    faces.iter().flat_map(|face| {
+        (1..face.len().saturating_sub(1)).map(move |q| [face[0], face[q], face[q + 1]])
+    })
+}
+
+/// The share of the triangle `corners` that goes to each of its corners
+/// (mixed Voronoi rule, above); the three sum to its area.
+pub fn triangle_mass_shares(corners: [[f64; 3]; 3]) -> [f64; 3] {
+    // side i is opposite corner i: it joins corners i+1 and i+2
+    let side = |i: usize| distance(corners[(i + 1) % 3], corners[(i + 2) % 3]);
+    let lengths = [side(0), side(1), side(2)];
+    let area = triangle_area(lengths);
+    let cosines = [0, 1, 2].map(|i| {
+        let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+        let [li, lj, lk] = [lengths[i], lengths[j], lengths[k]];
+        (lk * lk + lj * lj - li * li) / (lj * lk * 2.0)
+    });
+    let obtuse_corner = (0..3).rev().find(|&i| cosines[i] < 0.0); // at most one
+    if let Some(j) = obtuse_corner {
+        let mut shares = [area / 4.0; 3];
+        shares[j] = area / 2.0;
+        return shares;
+    }
+    // parts[i]: the sub-triangle between the circumcenter and side i
+    let weights = [0, 1, 2].map(|i| cosines[i] * lengths[i]);
+    let sum = weights[0] + (weights[1] + weights[2]);
+    let parts = weights.map(|w| w / sum * area);
+    [0, 1, 2].map(|i| (parts[(i + 1) % 3] + parts[(i + 2) % 3]) * 0.5)
+}
+
+/// The area of a triangle from its side lengths (Kahan's stable Heron); 0
+/// when rounding makes the lengths violate the triangle inequality.
+pub fn triangle_area(lengths: [f64; 3]) -> f64 {
+    let mut sorted = lengths;
+    sorted.sort_by(|x, y| y.total_cmp(x));
+    let [a, b, c] = sorted; // a ≥ b ≥ c
+    let product = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
+    let area = product.sqrt() / 4.0;
+    if area.is_nan() {
+        0.0
+    } else {
+        area
+    }
+}
+
+fn distance(p: [f64; 3], q: [f64; 3]) -> f64 {
+    let (dx, dy, dz) = (p[0] - q[0], p[1] - q[1], p[2] - q[2]);
+    (dx * dx + dy * dy + dz * dz).sqrt()
+}
