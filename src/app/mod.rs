@@ -3,6 +3,7 @@
 
 mod analyze;
 mod args;
+mod generate;
 mod timing;
 
 /// What went wrong, and whether it was the way the program was called.
@@ -30,6 +31,12 @@ commands:
       n, nnz, nnz(L), flops, median times of ordering, symbolic analysis,
       numeric factorization and a 3-column solve, and the relative residual.
       The right-hand side is MATRIX.b.mtx (an n×3 array) when it exists.
+  generate grid N [--out DIR]
+      Writes DIR/grid-N.json and .obj (DIR defaults to .): the N×N cloth of
+      the benchmarks, the same bytes as the reference tool's `ref grid N`.
+  generate examples [--out DIR]
+      Writes the five teaching scenes (single-spring-horizontal,
+      horizontal-chain, net, flag, skirt) and their PNG textures.
   help
       This text.
 ";
@@ -39,6 +46,7 @@ commands:
 pub fn run(args: &[String]) -> i32 {
     let result = match args.first().map(String::as_str) {
         Some("analyze") => analyze::run(&args[1..]),
+        Some("generate") => generate::run(&args[1..]),
         Some("help" | "--help" | "-h") => {
             print!("{USAGE}");
             Ok(())
