@@ -174,6 +174,10 @@ pub fn read(path: &Path) -> Result<MatrixMarket, MatrixMarketError> {
 
 /// Parses the text of a Matrix Market file.
 ///
+/// A `coordinate` file gives [`MatrixMarket::Sparse`], with repeated
+/// positions summed and a symmetric file expanded to both triangles; an
+/// `array` file gives [`MatrixMarket::Dense`].
+///
 /// # Errors
 /// A [`MatrixMarketError`] with the line number for: an empty text, a
 /// missing or invalid banner, an unsupported object, format, field or
