@@ -13,6 +13,10 @@
 //! * [`mesh`]: scenes: the assignment's JSON + OBJ files read into rest
 //!   positions, springs, masses and pins; procedural scenes. It knows
 //!   nothing about solvers.
+//! * [`sim`]: the assignment's mathematics: signed incidence matrix,
+//!   precomputation (`r, M, A, C, Q` and the factorization of `Q`), the
+//!   local/global time step, forces; dense and sparse from one code.
 
 pub mod linalg;
 pub mod mesh;
+pub mod sim;

@@ -14,13 +14,17 @@
 //! Two numeric methods fill the same storage of `L`: [`Method::Simplicial`]
 //! (row by row, [`up_looking`](super::up_looking)) and
 //! [`Method::Supernodal`] (dense blocks, [`supernodal`](super::supernodal)).
+//! The solves follow the method: column by column
+//! ([`triangular_solve`](super::triangular_solve)) or supernode by
+//! supernode ([`supernodal_solve`](super::supernodal_solve)).
 //!
 //! Source: Davis 2006, ch. 4 and §8.1 (`cs_cholsol`).
 
 use super::csc::CscMatrix;
 use super::supernodal::{factor_supernodal, SupernodalWorkspace};
+use super::supernodal_solve;
 use super::symbolic::SymbolicCholesky;
-use super::triangular_solve::{back_substitution, forward_substitution};
+use super::triangular_solve::{self, FactorView};
 use super::up_looking::{factor_up_looking, FailedPivot, UpLookingWorkspace};
 use crate::linalg::error::LinalgError;
 
@@ -49,8 +53,10 @@ pub struct SparseCholesky {
     /// Values of `L`, laid out as `symbolic.col_ptr()` / `row_idx()`.
     values: Vec<f64>,
     workspace: Workspace,
-    /// Three columns of `n` values, for the permuted right-hand side.
+    /// Room for `n` rows of four values, for the permuted right-hand side.
     solve_buffer: Vec<f64>,
+    /// Room for the rows below the tallest supernode, four values each.
+    below_buffer: Vec<f64>,
     /// False after a failed refactorization: the values are not a factor.
     factored: bool,
 }
@@ -73,11 +79,19 @@ impl SparseCholesky {
             Method::Simplicial => Workspace::Simplicial(UpLookingWorkspace::new(n)),
             Method::Supernodal => Workspace::Supernodal(SupernodalWorkspace::new(&symbolic)),
         };
+        let tallest_below = (0..symbolic.supernodes().len())
+            .map(|s| {
+                let columns = symbolic.supernodes().columns(s);
+                symbolic.column_counts()[columns.start] - columns.len()
+            })
+            .max()
+            .unwrap_or(0);
         let mut cholesky = SparseCholesky {
+            below_buffer: vec![0.0; 4 * tallest_below],
             values: vec![0.0; symbolic.nnz_l()],
             symbolic,
             workspace,
-            solve_buffer: vec![0.0; 3 * n],
+            solve_buffer: vec![0.0; 4 * n],
             factored: false,
         };
         cholesky.refactor(a)?;
@@ -144,7 +158,7 @@ impl SparseCholesky {
     /// When `b.len() != n`, or after a failed refactorization.
     pub fn solve_in_place(&mut self, b: &mut [f64]) {
         let (columns, _) = b.as_chunks_mut::<1>();
-        self.solve_block(columns);
+        self.solve_block::<1, 1>(columns);
     }
 
     /// `b ← A⁻¹ b` for an n×3 block (x, y, z), in one sweep over `L` per
@@ -153,11 +167,12 @@ impl SparseCholesky {
     /// # Panics
     /// When `b.len() != n`, or after a failed refactorization.
     pub fn solve_points_in_place(&mut self, b: &mut [[f64; 3]]) {
-        self.solve_block(b);
+        self.solve_block::<3, 4>(b);
     }
 
-    /// `b ← Pᵀ L⁻ᵀ L⁻¹ P b` for a block of `W` columns.
-    fn solve_block<const W: usize>(&mut self, b: &mut [[f64; W]]) {
+    /// `b ← Pᵀ L⁻ᵀ L⁻¹ P b` for a block of `W` columns, computed in a
+    /// buffer whose rows are padded to `LANES ≥ W` values.
+    fn solve_block<const W: usize, const LANES: usize>(&mut self, b: &mut [[f64; W]]) {
         assert!(
             self.factored,
             "solve with a factorization whose last refactor failed"
@@ -169,13 +184,28 @@ impl SparseCholesky {
             "right-hand side has {} rows, the matrix {n}",
             b.len()
         );
-        let (buffer, _) = self.solve_buffer[..W * n].as_chunks_mut::<W>();
-        let (col_ptr, row_idx) = (self.symbolic.col_ptr(), self.symbolic.row_idx());
-        let permutation = self.symbolic.permutation();
-        permutation.gather(b, buffer); // P b
-        forward_substitution(col_ptr, row_idx, &self.values, buffer); // L⁻¹ P b
-        back_substitution(col_ptr, row_idx, &self.values, buffer); // L⁻ᵀ L⁻¹ P b
-        permutation.scatter(buffer, b); // Pᵀ …
+        let (buffer, _) = self.solve_buffer[..LANES * n].as_chunks_mut::<LANES>();
+        let perm = self.symbolic.permutation().perm();
+        for (row, &old) in buffer.iter_mut().zip(perm) {
+            row[..W].copy_from_slice(&b[old]); // P b
+            row[W..].fill(0.0);
+        }
+        let l = FactorView {
+            col_ptr: self.symbolic.col_ptr(),
+            row_idx: self.symbolic.row_idx(),
+            values: &self.values,
+        };
+        match self.workspace {
+            // L⁻ᵀ L⁻¹ P b, column by column or supernode by supernode
+            Workspace::Simplicial(_) => triangular_solve::solve_in_place(l, buffer),
+            Workspace::Supernodal(_) => {
+                let (below, _) = self.below_buffer.as_chunks_mut::<LANES>();
+                supernodal_solve::solve_in_place(l, self.symbolic.supernodes(), buffer, below)
+            }
+        }
+        for (row, &old) in buffer.iter().zip(perm) {
+            b[old].copy_from_slice(&row[..W]); // Pᵀ …
+        }
     }
 
     fn not_positive_definite(&self, (column, pivot): FailedPivot) -> LinalgError {

@@ -21,6 +21,7 @@
 //! | numeric factorization, row by row | [`up_looking`] |
 //! | numeric factorization, supernodal | [`supernodal`] |
 //! | forward and back substitution | [`triangular_solve`] |
+//! | the same, by supernodes | [`supernodal_solve`] |
 //! | all of it together | [`cholesky`] |
 
 pub mod add;
@@ -37,6 +38,7 @@ pub mod postorder;
 pub mod product;
 pub mod row_pattern;
 pub mod supernodal;
+pub mod supernodal_solve;
 pub mod supernodes;
 pub mod symbolic;
 pub mod transpose;

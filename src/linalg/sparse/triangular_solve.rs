@@ -15,16 +15,51 @@
 //! (which is what Eigen does, and why this solve is about three times
 //! cheaper in memory traffic).
 //!
+//! For the three coordinates the caller pads each row to four lanes
+//! (`[x, y, z, 0]`), so that on a CPU with AVX2 one 256-bit instruction
+//! updates a whole row; the loops are compiled a second time with AVX2 and
+//! FMA enabled and chosen at run time.
+//!
 //! Cost `2 · nnz(L) · W` multiply-adds; memory-bound for large `L`.
 //! Source: Davis 2006, §3.1 (`cs_lsolve`, `cs_ltsolve`).
 
+/// The factor `L` in CSC form: column pointers, 32-bit rows (diagonal
+/// first in each column), values.
+#[derive(Debug, Clone, Copy)]
+pub struct FactorView<'a> {
+    pub col_ptr: &'a [usize],
+    pub row_idx: &'a [u32],
+    pub values: &'a [f64],
+}
+
+/// Solves `L y = b` and then `Lᵀ x = y` in place: `x` holds `b` on entry
+/// and `x = (L Lᵀ)⁻¹ b` on return.
+pub fn solve_in_place<const W: usize>(l: FactorView, x: &mut [[f64; W]]) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+        // SAFETY: the CPU supports the features the function is compiled for.
+        unsafe { solve_in_place_avx2(l, x) };
+        return;
+    }
+    forward_substitution(l, x);
+    back_substitution(l, x);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn solve_in_place_avx2<const W: usize>(l: FactorView, x: &mut [[f64; W]]) {
+    forward_substitution(l, x);
+    back_substitution(l, x);
+}
+
 /// Solves `L y = b` in place (`x` holds `b` on entry, `y` on return).
-pub fn forward_substitution<const W: usize>(
-    col_ptr: &[usize],
-    row_idx: &[u32],
-    values: &[f64],
-    x: &mut [[f64; W]],
-) {
+#[inline(always)]
+pub fn forward_substitution<const W: usize>(l: FactorView, x: &mut [[f64; W]]) {
+    let FactorView {
+        col_ptr,
+        row_idx,
+        values,
+    } = l;
     for j in 0..x.len() {
         let (start, end) = (col_ptr[j], col_ptr[j + 1]);
         let diagonal = values[start];
@@ -40,22 +75,35 @@ pub fn forward_substitution<const W: usize>(
 }
 
 /// Solves `Lᵀ x = y` in place (`x` holds `y` on entry, `x` on return).
-pub fn back_substitution<const W: usize>(
-    col_ptr: &[usize],
-    row_idx: &[u32],
-    values: &[f64],
-    x: &mut [[f64; W]],
-) {
+#[inline(always)]
+pub fn back_substitution<const W: usize>(l: FactorView, x: &mut [[f64; W]]) {
+    let FactorView {
+        col_ptr,
+        row_idx,
+        values,
+    } = l;
     for j in (0..x.len()).rev() {
         let (start, end) = (col_ptr[j], col_ptr[j + 1]);
-        let mut sum = x[j];
-        for (&i, &l_ij) in row_idx[start + 1..end].iter().zip(&values[start + 1..end]) {
-            let xi = x[i as usize];
+        let rows = &row_idx[start + 1..end];
+        let column = &values[start + 1..end];
+        // two partial sums, so consecutive entries do not wait on each other
+        let mut even = x[j];
+        let mut odd = [0.0; W];
+        let pairs = rows.len() / 2;
+        for p in 0..pairs {
+            let (x0, x1) = (x[rows[2 * p] as usize], x[rows[2 * p + 1] as usize]);
             for c in 0..W {
-                sum[c] -= l_ij * xi[c];
+                even[c] -= column[2 * p] * x0[c];
+                odd[c] -= column[2 * p + 1] * x1[c];
+            }
+        }
+        if rows.len() % 2 == 1 {
+            let last = x[rows[rows.len() - 1] as usize];
+            for c in 0..W {
+                even[c] -= column[rows.len() - 1] * last[c];
             }
         }
         let diagonal = values[start];
-        x[j] = sum.map(|value| value / diagonal);
+        x[j] = std::array::from_fn(|c| (even[c] + odd[c]) / diagonal);
     }
 }

@@ -1,0 +1,172 @@
+//! The two kinds of matrices the simulation can run on.
+//!
+//! The assignment asks for every function twice, dense and sparse. The
+//! algorithm is the same; only the matrix type and its factorization differ.
+//! So the algorithm is written once, generic over a [`LinearAlgebra`]
+//! backend, and the two backends say how to build a matrix from `(i, j, v)`
+//! entries, multiply, add, factor and solve:
+//!
+//! * [`Dense`]: [`DenseMatrix`] and [`DenseCholesky`]. Entries are added into
+//!   an n×n array (`A(i, j) += v`), `O(n³)` to factor, `O(n²)` per solve.
+//! * [`Sparse`]: [`CscMatrix`] built from a triplet list and
+//!   [`SparseCholesky`] (AMD ordering, supernodal factorization).
+
+use crate::linalg::dense::{DenseCholesky, DenseMatrix};
+use crate::linalg::sparse::{
+    CscMatrix, Method, Ordering, SparseCholesky, SymbolicCholesky, TripletMatrix,
+};
+use crate::linalg::LinalgError;
+
+/// Matrix operations the mass-spring solver needs.
+pub trait LinearAlgebra {
+    /// The matrix type.
+    type Matrix: Clone + std::fmt::Debug;
+    /// A factorization of a symmetric positive definite matrix.
+    type Factorization: Clone + std::fmt::Debug;
+    /// `"dense"` or `"sparse"`.
+    const NAME: &'static str;
+
+    /// The `nrows × ncols` matrix with `A(i, j) += v` for every entry
+    /// (repeated positions add up).
+    ///
+    /// # Panics
+    /// When an entry is outside the matrix (the callers build entries from
+    /// a validated scene).
+    fn from_entries(
+        nrows: usize,
+        ncols: usize,
+        entries: impl IntoIterator<Item = (usize, usize, f64)>,
+    ) -> Self::Matrix;
+
+    /// `AᵀA`.
+    fn gram(a: &Self::Matrix) -> Self::Matrix;
+
+    /// `α X + β Y` (same shapes).
+    fn combine(alpha: f64, x: &Self::Matrix, beta: f64, y: &Self::Matrix) -> Self::Matrix;
+
+    /// `y = A x` for n×3 blocks.
+    fn mul_points(a: &Self::Matrix, x: &[[f64; 3]], y: &mut [[f64; 3]]);
+
+    /// `y = Aᵀ x` for n×3 blocks.
+    fn transpose_mul_points(a: &Self::Matrix, x: &[[f64; 3]], y: &mut [[f64; 3]]);
+
+    /// Factors the symmetric positive definite `q`.
+    ///
+    /// # Errors
+    /// [`LinalgError::NotPositiveDefinite`] naming the column.
+    fn factor(q: &Self::Matrix) -> Result<Self::Factorization, LinalgError>;
+
+    /// Factors `q` again, for new values with the same pattern.
+    ///
+    /// # Errors
+    /// As [`LinearAlgebra::factor`].
+    fn refactor(
+        factorization: &mut Self::Factorization,
+        q: &Self::Matrix,
+    ) -> Result<(), LinalgError>;
+
+    /// `b ← Q⁻¹ b` for an n×3 block.
+    fn solve_points(factorization: &mut Self::Factorization, b: &mut [[f64; 3]]);
+}
+
+/// Dense matrices and the dense Cholesky factorization.
+#[derive(Debug, Clone, Copy)]
+pub struct Dense;
+
+/// Sparse (CSC) matrices and the sparse Cholesky factorization.
+#[derive(Debug, Clone, Copy)]
+pub struct Sparse;
+
+const SHAPES_FIT: &str = "the simulation sizes its own buffers";
+
+impl LinearAlgebra for Dense {
+    type Matrix = DenseMatrix;
+    type Factorization = DenseCholesky;
+    const NAME: &'static str = "dense";
+
+    fn from_entries(
+        nrows: usize,
+        ncols: usize,
+        entries: impl IntoIterator<Item = (usize, usize, f64)>,
+    ) -> DenseMatrix {
+        let mut matrix = DenseMatrix::zeros(nrows, ncols);
+        for (i, j, v) in entries {
+            matrix[(i, j)] += v;
+        }
+        matrix
+    }
+
+    fn gram(a: &DenseMatrix) -> DenseMatrix {
+        a.transpose().mul(a).expect(SHAPES_FIT)
+    }
+
+    fn combine(alpha: f64, x: &DenseMatrix, beta: f64, y: &DenseMatrix) -> DenseMatrix {
+        x.scale(alpha).scaled_add(beta, y).expect(SHAPES_FIT)
+    }
+
+    fn mul_points(a: &DenseMatrix, x: &[[f64; 3]], y: &mut [[f64; 3]]) {
+        a.mul_points(x, y).expect(SHAPES_FIT)
+    }
+
+    fn transpose_mul_points(a: &DenseMatrix, x: &[[f64; 3]], y: &mut [[f64; 3]]) {
+        a.transpose_mul_points(x, y).expect(SHAPES_FIT)
+    }
+
+    fn factor(q: &DenseMatrix) -> Result<DenseCholesky, LinalgError> {
+        DenseCholesky::factor(q)
+    }
+
+    fn refactor(factorization: &mut DenseCholesky, q: &DenseMatrix) -> Result<(), LinalgError> {
+        *factorization = DenseCholesky::factor(q)?;
+        Ok(())
+    }
+
+    fn solve_points(factorization: &mut DenseCholesky, b: &mut [[f64; 3]]) {
+        factorization.solve_points_in_place(b).expect(SHAPES_FIT)
+    }
+}
+
+impl LinearAlgebra for Sparse {
+    type Matrix = CscMatrix;
+    type Factorization = SparseCholesky;
+    const NAME: &'static str = "sparse";
+
+    fn from_entries(
+        nrows: usize,
+        ncols: usize,
+        entries: impl IntoIterator<Item = (usize, usize, f64)>,
+    ) -> CscMatrix {
+        TripletMatrix::from_entries(nrows, ncols, entries)
+            .expect("entries come from a validated scene")
+            .to_csc()
+    }
+
+    fn gram(a: &CscMatrix) -> CscMatrix {
+        a.transpose_mul_self()
+    }
+
+    fn combine(alpha: f64, x: &CscMatrix, beta: f64, y: &CscMatrix) -> CscMatrix {
+        x.add_scaled(alpha, y, beta).expect(SHAPES_FIT)
+    }
+
+    fn mul_points(a: &CscMatrix, x: &[[f64; 3]], y: &mut [[f64; 3]]) {
+        a.mul_points(x, y).expect(SHAPES_FIT)
+    }
+
+    fn transpose_mul_points(a: &CscMatrix, x: &[[f64; 3]], y: &mut [[f64; 3]]) {
+        a.transpose_mul_points(x, y).expect(SHAPES_FIT)
+    }
+
+    fn factor(q: &CscMatrix) -> Result<SparseCholesky, LinalgError> {
+        let symbolic = SymbolicCholesky::analyze(q, Ordering::Amd)?;
+        SparseCholesky::factor(symbolic, q, Method::Supernodal)
+    }
+
+    fn refactor(factorization: &mut SparseCholesky, q: &CscMatrix) -> Result<(), LinalgError> {
+        factorization.refactor(q)
+    }
+
+    fn solve_points(factorization: &mut SparseCholesky, b: &mut [[f64; 3]]) {
+        factorization.solve_points_in_place(b)
+    }
+}

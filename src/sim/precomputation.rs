@@ -1,0 +1,293 @@
+//! The precomputation: everything that does not change from step to step.
+//!
+//! ```text
+//! rₑ = ‖Vᵢ − Vⱼ‖                  rest length of spring e = (i, j)
+//! M  = diag(m)                    n × n mass matrix
+//! A                               m × n signed incidence matrix
+//! C                               |b| × n selection of the pinned vertices
+//! Q  = k AᵀA + M/Δt² + w CᵀC      n × n, symmetric positive definite
+//! ```
+//!
+//! `Q` is factored here, once (`L Lᵀ = Q`): the key observation of Liu et
+//! al. is that `Q` is the same in every iteration of every time step. The
+//! pinning penalty `w/2 Σ ‖pᵢ − Vᵢ‖²` also puts a constant term into the
+//! right-hand side, `w CᵀC V`, computed here too. Every buffer the step needs
+//! is sized here, so the step allocates nothing.
+//!
+//! Pins can be changed later ([`MassSpringSystem::set_pins`], e.g. to drag a
+//! vertex): only `C`, `Q`'s values and `w CᵀC V` change, and the sparse
+//! factorization is redone numerically on the pattern it already analysed.
+//!
+//! Source: Liu et al. 2013, §3–4; the assignment, "Matrices" and "Pinned
+//! Vertices" (`fast_mass_springs_precomputation_dense.cpp` / `_sparse.cpp`).
+
+use super::backend::{Dense, LinearAlgebra, Sparse};
+use super::signed_incidence::signed_incidence_matrix;
+use super::SimulationError;
+
+/// The pinning penalty weight `w` (large: pins move by about `f/w`).
+pub const PIN_WEIGHT: f64 = 1e10;
+
+/// The assignment's time step, one frame at 30 frames per second.
+pub const DELTA_T: f64 = 1.0 / 30.0;
+
+/// What the precomputation produces, and the step's work buffers.
+#[allow(non_snake_case)] // the handout's names: r, M, A, C, Q
+#[derive(Debug, Clone)]
+pub struct MassSpringSystem<B: LinearAlgebra> {
+    /// Rest length of every spring.
+    pub r: Vec<f64>,
+    /// The mass matrix `diag(m)`.
+    pub M: B::Matrix,
+    /// The signed incidence matrix.
+    pub A: B::Matrix,
+    /// The selection matrix of the pinned vertices.
+    pub C: B::Matrix,
+    /// `k AᵀA + M/Δt² + w CᵀC`.
+    pub Q: B::Matrix,
+    /// The Cholesky factorization of `Q`.
+    pub prefactorization: B::Factorization,
+    /// The springs `(i, j)`, 0-based, the orientation `A` uses.
+    pub springs: Vec<[usize; 2]>,
+    /// Spring stiffness.
+    pub k: f64,
+    /// Time step.
+    pub delta_t: f64,
+    /// Pinning penalty weight.
+    pub w: f64,
+    /// `w Cᵀ (C V)`: the pins' constant part of `b`.
+    pub pin_rhs: Vec<[f64; 3]>,
+    /// Number of pins, the rows of `C`.
+    pin_count: usize,
+    /// Work arrays of the step, sized once.
+    pub(crate) buffers: StepBuffers,
+}
+
+/// Work arrays of the step: `n`- and `m`-row blocks.
+#[derive(Debug, Clone)]
+pub(crate) struct StepBuffers {
+    /// `2 U_cur − U_prev`.
+    pub inertia: Vec<[f64; 3]>,
+    /// `y = M (2 U_cur − U_prev)/Δt² + f_ext`.
+    pub y: Vec<[f64; 3]>,
+    /// `b = k Aᵀd + y + w CᵀC V`, then the solution of `Q p = b`.
+    pub b: Vec<[f64; 3]>,
+    /// The spring directions of the local step, one per spring.
+    pub d: Vec<[f64; 3]>,
+    /// The iterate before the last one, for the relative change.
+    pub previous: Vec<[f64; 3]>,
+}
+
+impl<B: LinearAlgebra> MassSpringSystem<B> {
+    /// Number of vertices.
+    pub fn n(&self) -> usize {
+        self.pin_rhs.len()
+    }
+
+    /// Pins the vertices `pinned` (0-based) at `targets` instead of the
+    /// current pins: rebuilds `C`, `Q` and `w CᵀC V` and refactors `Q`.
+    ///
+    /// # Errors
+    /// [`SimulationError::InvalidInput`] for a pin out of range or a
+    /// different number of targets; a factorization error.
+    pub fn set_pins(
+        &mut self,
+        pinned: &[usize],
+        targets: &[[f64; 3]],
+    ) -> Result<(), SimulationError> {
+        let n = self.n();
+        check_pins(n, pinned, targets.len())?;
+        self.C = selection_matrix::<B>(n, pinned);
+        self.pin_count = pinned.len();
+        self.Q = assemble_q::<B>(&self.A, &self.M, &self.C, self.k, self.delta_t, self.w);
+        B::refactor(&mut self.prefactorization, &self.Q)?;
+        self.pin_rhs = pin_right_hand_side::<B>(&self.C, n, targets, self.w);
+        Ok(())
+    }
+
+    /// Moves the current pins to `targets` (one per row of `C`): only the
+    /// right-hand side `w Cᵀ targets` changes, `Q` and its factorization
+    /// stay.
+    ///
+    /// # Errors
+    /// [`SimulationError::InvalidInput`] when the number of targets is not
+    /// the number of pins.
+    pub fn set_pin_targets(&mut self, targets: &[[f64; 3]]) -> Result<(), SimulationError> {
+        let n = self.n();
+        let pins = self.pin_count;
+        if targets.len() != pins {
+            return Err(SimulationError::InvalidInput(format!(
+                "{} targets for {pins} pinned vertices",
+                targets.len()
+            )));
+        }
+        self.pin_rhs = pin_right_hand_side::<B>(&self.C, n, targets, self.w);
+        Ok(())
+    }
+}
+
+/// The precomputation for rest positions `v`, springs `springs`, stiffness
+/// `k`, masses `m`, pinned vertices `pinned` and time step `delta_t`.
+///
+/// # Errors
+/// [`SimulationError::InvalidInput`] for inconsistent sizes or indices;
+/// [`SimulationError::Linalg`] when `Q` is not positive definite.
+pub fn fast_mass_springs_precomputation<B: LinearAlgebra>(
+    v: &[[f64; 3]],
+    springs: &[[usize; 2]],
+    k: f64,
+    m: &[f64],
+    pinned: &[usize],
+    delta_t: f64,
+) -> Result<MassSpringSystem<B>, SimulationError> {
+    let n = v.len();
+    check_inputs(v, springs, m)?;
+    check_pins(n, pinned, pinned.len())?;
+    let r = rest_lengths(v, springs);
+    let mass_matrix = B::from_entries(n, n, m.iter().enumerate().map(|(i, &mi)| (i, i, mi)));
+    let a = signed_incidence_matrix::<B>(n, springs);
+    let c = selection_matrix::<B>(n, pinned);
+    let q = assemble_q::<B>(&a, &mass_matrix, &c, k, delta_t, PIN_WEIGHT);
+    let prefactorization = B::factor(&q)?;
+    let pinned_rest: Vec<[f64; 3]> = pinned.iter().map(|&i| v[i]).collect();
+    let pin_rhs = pin_right_hand_side::<B>(&c, n, &pinned_rest, PIN_WEIGHT);
+    Ok(MassSpringSystem {
+        r,
+        M: mass_matrix,
+        A: a,
+        C: c,
+        Q: q,
+        prefactorization,
+        springs: springs.to_vec(),
+        k,
+        delta_t,
+        w: PIN_WEIGHT,
+        pin_rhs,
+        pin_count: pinned.len(),
+        buffers: StepBuffers {
+            inertia: vec![[0.0; 3]; n],
+            y: vec![[0.0; 3]; n],
+            b: vec![[0.0; 3]; n],
+            d: vec![[0.0; 3]; springs.len()],
+            previous: vec![[0.0; 3]; n],
+        },
+    })
+}
+
+/// The assignment's `fast_mass_springs_precomputation_dense`.
+///
+/// # Errors
+/// As [`fast_mass_springs_precomputation`].
+pub fn fast_mass_springs_precomputation_dense(
+    v: &[[f64; 3]],
+    springs: &[[usize; 2]],
+    k: f64,
+    m: &[f64],
+    pinned: &[usize],
+    delta_t: f64,
+) -> Result<MassSpringSystem<Dense>, SimulationError> {
+    fast_mass_springs_precomputation(v, springs, k, m, pinned, delta_t)
+}
+
+/// The assignment's `fast_mass_springs_precomputation_sparse`.
+///
+/// # Errors
+/// As [`fast_mass_springs_precomputation`].
+pub fn fast_mass_springs_precomputation_sparse(
+    v: &[[f64; 3]],
+    springs: &[[usize; 2]],
+    k: f64,
+    m: &[f64],
+    pinned: &[usize],
+    delta_t: f64,
+) -> Result<MassSpringSystem<Sparse>, SimulationError> {
+    fast_mass_springs_precomputation(v, springs, k, m, pinned, delta_t)
+}
+
+/// `rₑ = ‖Vᵢ − Vⱼ‖`.
+fn rest_lengths(v: &[[f64; 3]], springs: &[[usize; 2]]) -> Vec<f64> {
+    springs
+        .iter()
+        .map(|&[i, j]| {
+            (0..3)
+                .map(|c| (v[i][c] - v[j][c]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
+        .collect()
+}
+
+/// `C`: row `p` has a 1 in column `pinned[p]`.
+fn selection_matrix<B: LinearAlgebra>(n: usize, pinned: &[usize]) -> B::Matrix {
+    B::from_entries(
+        pinned.len(),
+        n,
+        pinned.iter().enumerate().map(|(p, &i)| (p, i, 1.0)),
+    )
+}
+
+/// `Q = k AᵀA + M/Δt² + w CᵀC`.
+fn assemble_q<B: LinearAlgebra>(
+    a: &B::Matrix,
+    mass_matrix: &B::Matrix,
+    c: &B::Matrix,
+    k: f64,
+    delta_t: f64,
+    w: f64,
+) -> B::Matrix {
+    let springs_and_mass = B::combine(k, &B::gram(a), 1.0 / (delta_t * delta_t), mass_matrix);
+    B::combine(1.0, &springs_and_mass, w, &B::gram(c))
+}
+
+/// `w Cᵀ targets`, where `targets` are the pinned positions (`C V` at rest).
+fn pin_right_hand_side<B: LinearAlgebra>(
+    c: &B::Matrix,
+    n: usize,
+    targets: &[[f64; 3]],
+    w: f64,
+) -> Vec<[f64; 3]> {
+    let mut out = vec![[0.0; 3]; n];
+    B::transpose_mul_points(c, targets, &mut out);
+    for row in &mut out {
+        *row = row.map(|x| w * x);
+    }
+    out
+}
+
+/// Sizes and indices consistent, values finite?
+fn check_inputs(v: &[[f64; 3]], springs: &[[usize; 2]], m: &[f64]) -> Result<(), SimulationError> {
+    let n = v.len();
+    let invalid = |why: String| Err(SimulationError::InvalidInput(why));
+    if m.len() != n {
+        return invalid(format!("{} masses for {n} vertices", m.len()));
+    }
+    if let Some(e) = springs.iter().position(|s| s[0] >= n || s[1] >= n) {
+        return invalid(format!("spring {e} joins a vertex beyond the {n} vertices"));
+    }
+    if let Some(i) = v.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
+        return invalid(format!("vertex {i} has a non-finite coordinate"));
+    }
+    if let Some(i) = m.iter().position(|&mi| !(mi > 0.0 && mi.is_finite())) {
+        return invalid(format!(
+            "vertex {i} has mass {}, not positive and finite",
+            m[i]
+        ));
+    }
+    Ok(())
+}
+
+/// Every pin is a vertex, and there is one target per pin.
+fn check_pins(n: usize, pinned: &[usize], targets: usize) -> Result<(), SimulationError> {
+    if let Some(&i) = pinned.iter().find(|&&i| i >= n) {
+        return Err(SimulationError::InvalidInput(format!(
+            "pinned vertex {i} is beyond the {n} vertices"
+        )));
+    }
+    if targets != pinned.len() {
+        return Err(SimulationError::InvalidInput(format!(
+            "{targets} targets for {} pinned vertices",
+            pinned.len()
+        )));
+    }
+    Ok(())
+}

@@ -1,0 +1,224 @@
+//! A running simulation: the state `(U_prev, U_cur)`, simulated time,
+//! forces, and pins that can change (dragging a vertex).
+//!
+//! Starts at rest (`U_prev = U_cur = V`, zero velocity) and advances one
+//! [`fast_mass_springs_step`] at a time. The state vectors are swapped, not
+//! copied, and no step allocates.
+
+use super::backend::LinearAlgebra;
+use super::forces::{bounding_box_diagonal, external_forces};
+use super::precomputation::{fast_mass_springs_precomputation, MassSpringSystem, DELTA_T};
+use super::step::{fast_mass_springs_step, StepReport, ITERATIONS};
+use super::SimulationError;
+
+/// How a simulation runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SimulationOptions {
+    /// Time step (the assignment: 1/30 s).
+    pub delta_t: f64,
+    /// Local/global iterations per step (the assignment: 50).
+    pub iterations: usize,
+    /// Add the assignment viewer's wind to gravity.
+    pub wind: bool,
+}
+
+impl Default for SimulationOptions {
+    fn default() -> Self {
+        SimulationOptions {
+            delta_t: DELTA_T,
+            iterations: ITERATIONS,
+            wind: false,
+        }
+    }
+}
+
+/// A mass-spring network in motion, on the matrices of backend `B`.
+#[derive(Debug, Clone)]
+pub struct Simulation<B: LinearAlgebra> {
+    system: MassSpringSystem<B>,
+    rest: Vec<[f64; 3]>,
+    pinned: Vec<usize>,
+    u_prev: Vec<[f64; 3]>,
+    u_cur: Vec<[f64; 3]>,
+    u_next: Vec<[f64; 3]>,
+    f_ext: Vec<[f64; 3]>,
+    options: SimulationOptions,
+    /// Diagonal of the rest shape's bounding box (the wind's length scale).
+    scale: f64,
+    steps: usize,
+    /// The vertex being dragged, if any (an extra, last pin).
+    dragged: Option<usize>,
+}
+
+impl<B: LinearAlgebra> Simulation<B> {
+    /// Precomputes the system for rest positions `vertices` and starts at rest.
+    ///
+    /// # Errors
+    /// As [`fast_mass_springs_precomputation`].
+    pub fn new(
+        vertices: &[[f64; 3]],
+        springs: &[[usize; 2]],
+        k: f64,
+        masses: &[f64],
+        pinned: &[usize],
+        options: SimulationOptions,
+    ) -> Result<Self, SimulationError> {
+        let system = fast_mass_springs_precomputation::<B>(
+            vertices,
+            springs,
+            k,
+            masses,
+            pinned,
+            options.delta_t,
+        )?;
+        let n = vertices.len();
+        Ok(Simulation {
+            system,
+            rest: vertices.to_vec(),
+            pinned: pinned.to_vec(),
+            u_prev: vertices.to_vec(),
+            u_cur: vertices.to_vec(),
+            u_next: vec![[0.0; 3]; n],
+            f_ext: vec![[0.0; 3]; n],
+            options,
+            scale: bounding_box_diagonal(vertices),
+            steps: 0,
+            dragged: None,
+        })
+    }
+
+    /// Advances one time step.
+    ///
+    /// # Errors
+    /// [`SimulationError::NotFinite`]; the state is then left as it was.
+    pub fn step(&mut self) -> Result<StepReport, SimulationError> {
+        external_forces(
+            &self.u_cur,
+            self.time(),
+            self.options.wind,
+            self.scale,
+            &mut self.f_ext,
+        );
+        let report = fast_mass_springs_step(
+            &mut self.system,
+            self.options.iterations,
+            &self.f_ext,
+            &self.u_prev,
+            &self.u_cur,
+            &mut self.u_next,
+        )?;
+        std::mem::swap(&mut self.u_prev, &mut self.u_cur); // U_prev ← U_cur
+        std::mem::swap(&mut self.u_cur, &mut self.u_next); // U_cur ← U
+        self.steps += 1;
+        Ok(report)
+    }
+
+    /// The current positions `U_cur`.
+    pub fn positions(&self) -> &[[f64; 3]] {
+        &self.u_cur
+    }
+
+    /// The rest positions `V`.
+    pub fn rest_positions(&self) -> &[[f64; 3]] {
+        &self.rest
+    }
+
+    /// The pinned vertices of the scene (not counting a dragged one).
+    pub fn pinned(&self) -> &[usize] {
+        &self.pinned
+    }
+
+    /// Steps taken since the start (or the last reset).
+    pub fn steps(&self) -> usize {
+        self.steps
+    }
+
+    /// Simulated time, `steps · Δt`.
+    pub fn time(&self) -> f64 {
+        self.steps as f64 * self.options.delta_t
+    }
+
+    /// The precomputed system (matrices, factorization).
+    pub fn system(&self) -> &MassSpringSystem<B> {
+        &self.system
+    }
+
+    /// Is the wind blowing?
+    pub fn wind(&self) -> bool {
+        self.options.wind
+    }
+
+    /// Turns the wind on or off.
+    pub fn set_wind(&mut self, wind: bool) {
+        self.options.wind = wind;
+    }
+
+    /// Back to rest, time 0, nothing dragged.
+    ///
+    /// # Errors
+    /// A factorization error when a drag had to be undone.
+    pub fn reset(&mut self) -> Result<(), SimulationError> {
+        self.end_drag()?;
+        self.u_prev.copy_from_slice(&self.rest);
+        self.u_cur.copy_from_slice(&self.rest);
+        self.steps = 0;
+        Ok(())
+    }
+
+    /// Starts dragging `vertex` (0-based) toward `target`: it becomes an
+    /// extra pin, which changes `Q`'s values and refactors it.
+    ///
+    /// # Errors
+    /// [`SimulationError::InvalidInput`] for a vertex out of range; a
+    /// factorization error.
+    pub fn start_drag(&mut self, vertex: usize, target: [f64; 3]) -> Result<(), SimulationError> {
+        if vertex >= self.rest.len() {
+            return Err(SimulationError::InvalidInput(format!(
+                "vertex {vertex} is beyond the {} vertices",
+                self.rest.len()
+            )));
+        }
+        let mut pins = self.pinned.clone();
+        pins.push(vertex);
+        let mut targets = self.pin_rest_targets();
+        targets.push(target);
+        self.system.set_pins(&pins, &targets)?;
+        self.dragged = Some(vertex);
+        Ok(())
+    }
+
+    /// Moves the dragged vertex's target (the right-hand side only).
+    ///
+    /// # Errors
+    /// None in practice; see [`MassSpringSystem::set_pin_targets`].
+    pub fn drag_to(&mut self, target: [f64; 3]) -> Result<(), SimulationError> {
+        if self.dragged.is_some() {
+            let mut targets = self.pin_rest_targets();
+            targets.push(target);
+            self.system.set_pin_targets(&targets)?;
+        }
+        Ok(())
+    }
+
+    /// Lets go of the dragged vertex (restores the scene's pins).
+    ///
+    /// # Errors
+    /// A factorization error.
+    pub fn end_drag(&mut self) -> Result<(), SimulationError> {
+        if self.dragged.take().is_some() {
+            let targets = self.pin_rest_targets();
+            self.system.set_pins(&self.pinned.clone(), &targets)?;
+        }
+        Ok(())
+    }
+
+    /// The vertex being dragged.
+    pub fn dragged(&self) -> Option<usize> {
+        self.dragged
+    }
+
+    /// Rest positions of the scene's pins, `C V`.
+    fn pin_rest_targets(&self) -> Vec<[f64; 3]> {
+        self.pinned.iter().map(|&i| self.rest[i]).collect()
+    }
+}

@@ -1,0 +1,463 @@
+//! The assignment's mathematics, checked against nalgebra and against the
+//! properties the method guarantees.
+mod common;
+
+use common::*;
+use masssprings::linalg::LinalgError;
+use masssprings::sim::local_step::project_springs;
+use masssprings::sim::precomputation::{
+    fast_mass_springs_precomputation, fast_mass_springs_precomputation_dense,
+    fast_mass_springs_precomputation_sparse,
+};
+use masssprings::sim::signed_incidence::{
+    signed_incidence_matrix_dense, signed_incidence_matrix_sparse,
+};
+use masssprings::sim::simulation::SimulationOptions;
+use masssprings::sim::step::{
+    fast_mass_springs_step, fast_mass_springs_step_dense, fast_mass_springs_step_sparse,
+};
+use masssprings::sim::{Dense, Simulation, SimulationError, Sparse, DELTA_T, PIN_WEIGHT};
+use nalgebra::DMatrix;
+use proptest::prelude::*;
+
+/// A small random spring network: positions, springs (no self-loops),
+/// masses and pins.
+#[derive(Debug, Clone)]
+struct Network {
+    v: Vec<[f64; 3]>,
+    springs: Vec<[usize; 2]>,
+    masses: Vec<f64>,
+    pinned: Vec<usize>,
+    k: f64,
+}
+
+fn network(max_n: usize) -> impl Strategy<Value = Network> {
+    (2..=max_n).prop_flat_map(|n| {
+        (
+            prop::collection::vec(prop::array::uniform3(-1.0f64..1.0), n),
+            prop::collection::vec((0..n, 1..n), 1..3 * n),
+            prop::collection::vec(0.1f64..2.0, n),
+            prop::collection::vec(0..n, 0..3),
+            10.0f64..1000.0,
+        )
+            .prop_map(move |(v, pairs, masses, pinned, k)| Network {
+                v,
+                // (i, i + offset mod n) never joins a vertex to itself
+                springs: pairs
+                    .iter()
+                    .map(|&(i, offset)| [i, (i + offset) % n])
+                    .collect(),
+                masses,
+                pinned,
+                k,
+            })
+    })
+}
+
+fn points_to_nalgebra(points: &[[f64; 3]]) -> DMatrix<f64> {
+    DMatrix::from_fn(points.len(), 3, |i, c| points[i][c])
+}
+
+/// The objective E(p) of one step (spring energy,
+/// inertia, external work, pins), the quantity the local/global iteration
+/// decreases.
+fn step_energy(
+    net: &Network,
+    f_ext: &[[f64; 3]],
+    u_prev: &[[f64; 3]],
+    u_cur: &[[f64; 3]],
+    p: &[[f64; 3]],
+) -> f64 {
+    let dt2 = DELTA_T * DELTA_T;
+    let mut energy = 0.0;
+    for &[i, j] in &net.springs {
+        let rest = norm(sub(net.v[i], net.v[j]));
+        let length = norm(sub(p[i], p[j]));
+        energy += 0.5 * net.k * (length - rest).powi(2);
+    }
+    for i in 0..p.len() {
+        let inertial = [0, 1, 2].map(|c| p[i][c] - 2.0 * u_cur[i][c] + u_prev[i][c]);
+        energy += 0.5 * net.masses[i] * dot(inertial, inertial) / dt2;
+        energy -= dot(p[i], f_ext[i]);
+    }
+    for &i in &net.pinned {
+        let off = sub(p[i], net.v[i]);
+        energy += 0.5 * PIN_WEIGHT * dot(off, off);
+    }
+    energy
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+fn gravity(n: usize) -> Vec<[f64; 3]> {
+    vec![[0.0, -9.8, 0.0]; n]
+}
+
+proptest! {
+    #![proptest_config(proptest_config(128))]
+
+    #[test]
+    fn signed_incidence_times_positions_gives_spring_vectors(net in network(10)) {
+        let a_dense = signed_incidence_matrix_dense(net.v.len(), &net.springs);
+        let a_sparse = signed_incidence_matrix_sparse(net.v.len(), &net.springs);
+        let oracle = DMatrix::from_fn(net.springs.len(), 3, |e, c| {
+            let [i, j] = net.springs[e];
+            net.v[i][c] - net.v[j][c]
+        });
+        let p = points_to_nalgebra(&net.v);
+        assert_close(&(dense_to_nalgebra(&a_dense) * &p), &oracle, 1e-15);
+        assert_close(&(csc_to_nalgebra(&a_sparse) * &p), &oracle, 1e-15);
+    }
+
+    #[test]
+    fn q_is_k_at_a_plus_m_over_dt2_plus_w_ct_c(net in network(10)) {
+        let n = net.v.len();
+        let a = csc_to_nalgebra(&signed_incidence_matrix_sparse(n, &net.springs));
+        let m = DMatrix::from_diagonal(&nalgebra::DVector::from_vec(net.masses.clone()));
+        let mut c = DMatrix::zeros(net.pinned.len(), n);
+        for (p, &i) in net.pinned.iter().enumerate() { c[(p, i)] = 1.0; }
+        let oracle = a.transpose() * &a * net.k + m / (DELTA_T * DELTA_T) + c.transpose() * &c * PIN_WEIGHT;
+        let dense = fast_mass_springs_precomputation_dense(&net.v, &net.springs, net.k, &net.masses, &net.pinned, DELTA_T).unwrap();
+        let sparse = fast_mass_springs_precomputation_sparse(&net.v, &net.springs, net.k, &net.masses, &net.pinned, DELTA_T).unwrap();
+        assert_close(&dense_to_nalgebra(&dense.Q), &oracle, 1e-14);
+        assert_close(&csc_to_nalgebra(&sparse.Q), &oracle, 1e-14);
+        // the pins' constant right-hand side, w CᵀC V
+        let pin_rhs = c.transpose() * &c * points_to_nalgebra(&net.v) * PIN_WEIGHT;
+        assert_close(&points_to_nalgebra(&sparse.pin_rhs), &pin_rhs, 1e-14);
+        assert_close(&points_to_nalgebra(&dense.pin_rhs), &pin_rhs, 1e-14);
+        for (e, &[i, j]) in net.springs.iter().enumerate() {
+            prop_assert!((sparse.r[e] - norm(sub(net.v[i], net.v[j]))).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn local_step_projects_every_spring_onto_its_rest_length(net in network(10), seed in prop::collection::vec(prop::array::uniform3(-1.0f64..1.0), 10)) {
+        let p: Vec<[f64; 3]> = net.v.iter().zip(seed.iter().cycle()).map(|(v, s)| [v[0] + s[0], v[1] + s[1], v[2] + s[2]]).collect();
+        let r: Vec<f64> = net.springs.iter().map(|&[i, j]| norm(sub(net.v[i], net.v[j]))).collect();
+        let mut d = vec![[0.0; 3]; net.springs.len()];
+        project_springs(&net.springs, &r, &p, &mut d);
+        for (e, &[i, j]) in net.springs.iter().enumerate() {
+            let spring = sub(p[i], p[j]);
+            if norm(spring) > 1e-12 {
+                prop_assert!((norm(d[e]) - r[e]).abs() <= 1e-12 * (1.0 + r[e]));
+                // same direction: d · spring = |d| |spring|
+                prop_assert!((dot(d[e], spring) - norm(d[e]) * norm(spring)).abs() <= 1e-12 * (1.0 + norm(spring)));
+            }
+        }
+    }
+
+    #[test]
+    fn each_local_global_iteration_lowers_the_step_energy(net in network(8)) {
+        let n = net.v.len();
+        let mut system = fast_mass_springs_precomputation::<Sparse>(&net.v, &net.springs, net.k, &net.masses, &net.pinned, DELTA_T).unwrap();
+        let f_ext = gravity(n);
+        let (u_prev, u_cur) = (net.v.clone(), net.v.clone());
+        let mut previous = f64::INFINITY;
+        for iterations in 1..=8 {
+            let mut u_next = vec![[0.0; 3]; n];
+            fast_mass_springs_step(&mut system, iterations, &f_ext, &u_prev, &u_cur, &mut u_next).unwrap();
+            let energy = step_energy(&net, &f_ext, &u_prev, &u_cur, &u_next);
+            prop_assert!(energy <= previous + 1e-9 * previous.abs().max(1.0), "iteration {iterations}: {energy} > {previous}");
+            previous = energy;
+        }
+    }
+
+    #[test]
+    fn dense_and_sparse_steps_agree(net in network(10)) {
+        let n = net.v.len();
+        let options = SimulationOptions::default();
+        let mut dense = Simulation::<Dense>::new(&net.v, &net.springs, net.k, &net.masses, &net.pinned, options).unwrap();
+        let mut sparse = Simulation::<Sparse>::new(&net.v, &net.springs, net.k, &net.masses, &net.pinned, options).unwrap();
+        for _ in 0..5 {
+            dense.step().unwrap();
+            sparse.step().unwrap();
+        }
+        let scale = 1.0 + net.v.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+        for i in 0..n {
+            for c in 0..3 {
+                let (a, b) = (dense.positions()[i][c], sparse.positions()[i][c]);
+                prop_assert!((a - b).abs() <= 1e-9 * scale, "vertex {i}: {a} vs {b}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_network_at_rest_without_forces_stays_at_rest() {
+    let v = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let springs = vec![[0, 1], [1, 2], [2, 0]];
+    let mut system =
+        fast_mass_springs_precomputation_sparse(&v, &springs, 100.0, &[1.0; 3], &[0], DELTA_T)
+            .unwrap();
+    let mut u_next = vec![[0.0; 3]; 3];
+    let report =
+        fast_mass_springs_step_sparse(&mut system, &[[0.0; 3]; 3], &v, &v, &mut u_next).unwrap();
+    assert_eq!(report.iterations, 50);
+    assert!(report.relative_change < 1e-14, "{report:?}");
+    for i in 0..3 {
+        for c in 0..3 {
+            assert!((u_next[i][c] - v[i][c]).abs() < 1e-12);
+        }
+    }
+}
+
+#[test]
+fn the_dense_and_sparse_entry_points_are_the_same_algorithm() {
+    let v = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
+    let springs = vec![[0, 1]];
+    let mut dense =
+        fast_mass_springs_precomputation_dense(&v, &springs, 500.0, &[1.0; 2], &[0], DELTA_T)
+            .unwrap();
+    let mut sparse =
+        fast_mass_springs_precomputation_sparse(&v, &springs, 500.0, &[1.0; 2], &[0], DELTA_T)
+            .unwrap();
+    let (mut a, mut b) = (vec![[0.0; 3]; 2], vec![[0.0; 3]; 2]);
+    fast_mass_springs_step_dense(&mut dense, &gravity(2), &v, &v, &mut a).unwrap();
+    fast_mass_springs_step_sparse(&mut sparse, &gravity(2), &v, &v, &mut b).unwrap();
+    assert!(a[1][1] < 0.0, "the free end falls");
+    for i in 0..2 {
+        for c in 0..3 {
+            assert!((a[i][c] - b[i][c]).abs() < 1e-12);
+        }
+    }
+}
+
+#[test]
+fn pinned_vertices_stay_within_a_micrometre_of_rest() {
+    let side = 8;
+    let (v, springs) = cloth(side);
+    let masses = vec![1.0 / (side * side) as f64; v.len()];
+    let pinned = vec![0, side - 1];
+    let mut sim = Simulation::<Sparse>::new(
+        &v,
+        &springs,
+        1e4,
+        &masses,
+        &pinned,
+        SimulationOptions::default(),
+    )
+    .unwrap();
+    for _ in 0..30 {
+        sim.step().unwrap();
+        for &i in &pinned {
+            assert!(norm(sub(sim.positions()[i], v[i])) < 1e-6);
+        }
+    }
+}
+
+#[test]
+fn non_finite_forces_are_reported_not_propagated() {
+    let v = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
+    let mut system =
+        fast_mass_springs_precomputation_sparse(&v, &[[0, 1]], 500.0, &[1.0; 2], &[0], DELTA_T)
+            .unwrap();
+    let mut u_next = vec![[0.0; 3]; 2];
+    let forces = [[0.0; 3], [f64::NAN, 0.0, 0.0]];
+    let error =
+        fast_mass_springs_step_sparse(&mut system, &forces, &v, &v, &mut u_next).unwrap_err();
+    assert!(
+        matches!(error, SimulationError::NotFinite { .. }),
+        "{error}"
+    );
+}
+
+#[test]
+fn a_q_that_is_not_positive_definite_is_reported() {
+    // a negative stiffness makes Q indefinite
+    let v = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
+    for result in [
+        fast_mass_springs_precomputation::<Sparse>(&v, &[[0, 1]], -1e6, &[1.0; 2], &[], DELTA_T)
+            .map(|_| ()),
+        fast_mass_springs_precomputation::<Dense>(&v, &[[0, 1]], -1e6, &[1.0; 2], &[], DELTA_T)
+            .map(|_| ()),
+    ] {
+        assert!(
+            matches!(
+                result,
+                Err(SimulationError::Linalg(
+                    LinalgError::NotPositiveDefinite { .. }
+                ))
+            ),
+            "{result:?}"
+        );
+    }
+}
+
+#[test]
+fn inconsistent_inputs_are_rejected() {
+    let v = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
+    let invalid = |r: Result<masssprings::sim::MassSpringSystem<Sparse>, SimulationError>| {
+        matches!(r, Err(SimulationError::InvalidInput(_)))
+    };
+    assert!(invalid(fast_mass_springs_precomputation(
+        &v,
+        &[[0, 2]],
+        1.0,
+        &[1.0; 2],
+        &[],
+        DELTA_T
+    )));
+    assert!(invalid(fast_mass_springs_precomputation(
+        &v,
+        &[[0, 1]],
+        1.0,
+        &[1.0; 3],
+        &[],
+        DELTA_T
+    )));
+    assert!(invalid(fast_mass_springs_precomputation(
+        &v,
+        &[[0, 1]],
+        1.0,
+        &[1.0, 0.0],
+        &[],
+        DELTA_T
+    )));
+    assert!(invalid(fast_mass_springs_precomputation(
+        &v,
+        &[[0, 1]],
+        1.0,
+        &[1.0; 2],
+        &[5],
+        DELTA_T
+    )));
+    let nan = vec![[0.0, f64::NAN, 0.0], [1.0, 0.0, 0.0]];
+    assert!(invalid(fast_mass_springs_precomputation(
+        &nan,
+        &[[0, 1]],
+        1.0,
+        &[1.0; 2],
+        &[],
+        DELTA_T
+    )));
+}
+
+#[test]
+fn changing_pins_refactors_to_the_same_system_as_precomputing_afresh() {
+    let (v, springs) = cloth(6);
+    let masses = vec![0.05; v.len()];
+    let mut moved =
+        fast_mass_springs_precomputation_sparse(&v, &springs, 1e3, &masses, &[0], DELTA_T).unwrap();
+    moved.set_pins(&[0, 5, 30], &[v[0], v[5], v[30]]).unwrap();
+    let fresh =
+        fast_mass_springs_precomputation_sparse(&v, &springs, 1e3, &masses, &[0, 5, 30], DELTA_T)
+            .unwrap();
+    assert_close(&csc_to_nalgebra(&moved.Q), &csc_to_nalgebra(&fresh.Q), 0.0);
+    assert_close(
+        &points_to_nalgebra(&moved.pin_rhs),
+        &points_to_nalgebra(&fresh.pin_rhs),
+        0.0,
+    );
+    let (mut a, mut b) = (moved.clone(), fresh.clone());
+    let (mut ua, mut ub) = (vec![[0.0; 3]; v.len()], vec![[0.0; 3]; v.len()]);
+    let f = gravity(v.len());
+    fast_mass_springs_step(&mut a, 5, &f, &v, &v, &mut ua).unwrap();
+    fast_mass_springs_step(&mut b, 5, &f, &v, &v, &mut ub).unwrap();
+    assert_close(&points_to_nalgebra(&ua), &points_to_nalgebra(&ub), 1e-12);
+}
+
+#[test]
+fn a_dragged_vertex_follows_its_target_and_is_released() {
+    let (v, springs) = cloth(6);
+    let masses = vec![0.05; v.len()];
+    let mut sim = Simulation::<Sparse>::new(
+        &v,
+        &springs,
+        1e3,
+        &masses,
+        &[0, 5],
+        SimulationOptions::default(),
+    )
+    .unwrap();
+    let target = [0.5, 0.5, 1.0];
+    sim.start_drag(35, target).unwrap();
+    sim.step().unwrap();
+    assert!(norm(sub(sim.positions()[35], target)) < 1e-6);
+    let target = [0.2, 0.1, 0.7];
+    sim.drag_to(target).unwrap();
+    sim.step().unwrap();
+    assert!(norm(sub(sim.positions()[35], target)) < 1e-6);
+    sim.end_drag().unwrap();
+    assert_eq!(sim.dragged(), None);
+    sim.step().unwrap();
+    assert!(
+        norm(sub(sim.positions()[35], target)) > 1e-3,
+        "released, it moves on"
+    );
+    sim.reset().unwrap();
+    assert_eq!(sim.positions(), v.as_slice());
+    assert_eq!(sim.steps(), 0);
+}
+
+#[test]
+fn wind_pushes_the_cloth_along_x_and_repeats_exactly() {
+    let (v, springs) = cloth(6);
+    let masses = vec![0.05; v.len()];
+    let options = SimulationOptions {
+        wind: true,
+        ..SimulationOptions::default()
+    };
+    let run = || {
+        let mut sim =
+            Simulation::<Sparse>::new(&v, &springs, 1e3, &masses, &[0, 5], options).unwrap();
+        for _ in 0..10 {
+            sim.step().unwrap();
+        }
+        sim.positions().to_vec()
+    };
+    let (first, second) = (run(), run());
+    assert_eq!(first, second);
+    let mean_x = |p: &[[f64; 3]]| p.iter().map(|q| q[0]).sum::<f64>() / p.len() as f64;
+    let mut calm = Simulation::<Sparse>::new(
+        &v,
+        &springs,
+        1e3,
+        &masses,
+        &[0, 5],
+        SimulationOptions::default(),
+    )
+    .unwrap();
+    for _ in 0..10 {
+        calm.step().unwrap();
+    }
+    assert!(mean_x(&first) > mean_x(calm.positions()));
+}
+
+/// A `side × side` cloth with all six corner pairs of each quad as springs.
+fn cloth(side: usize) -> (Vec<[f64; 3]>, Vec<[usize; 2]>) {
+    let mut v = Vec::new();
+    for j in 0..side {
+        for i in 0..side {
+            v.push([
+                i as f64 / (side - 1) as f64,
+                1.0 - j as f64 / (side - 1) as f64,
+                0.0,
+            ]);
+        }
+    }
+    let mut springs = std::collections::BTreeSet::new();
+    for j in 0..side - 1 {
+        for i in 0..side - 1 {
+            let c = [
+                j * side + i,
+                (j + 1) * side + i,
+                (j + 1) * side + i + 1,
+                j * side + i + 1,
+            ];
+            for a in 0..4 {
+                for b in a + 1..4 {
+                    springs.insert([c[a].min(c[b]), c[a].max(c[b])]);
+                }
+            }
+        }
+    }
+    (v, springs.into_iter().collect())
+}
