@@ -46,22 +46,27 @@ impl QuotientGraph {
     pub fn compute_external_element_sizes(&mut self, pivot: &Pivot) {
         self.reset_flags_if_needed();
         let mark = self.flag_mark;
-        for k in pivot.pattern_start..pivot.pattern_end {
-            let i = self.lists[k] as usize;
-            let elements = self.element_count[i] as usize;
+        // Slices of length n: one bounds check per index serves them all.
+        let n = self.n;
+        let (start, element_count, size) =
+            (&self.start[..n], &self.element_count[..n], &self.size[..n]);
+        let (flag, degree) = (&mut self.flag[..n], &self.degree[..n]);
+        for &i in &self.lists[pivot.pattern_start..pivot.pattern_end] {
+            let i = i as usize;
+            let elements = element_count[i] as usize;
             if elements == 0 {
                 continue;
             }
             // In Lp, so size[i] is negated.
-            let size_i = -self.size[i];
-            let begin = self.start[i] as usize;
+            let size_i = -size[i];
+            let begin = start[i] as usize;
             for &e in &self.lists[begin..begin + elements] {
                 let e = e as usize;
-                let seen = self.flag[e];
+                let seen = flag[e];
                 if seen >= mark {
-                    self.flag[e] = seen - size_i; // met again: remove i
+                    flag[e] = seen - size_i; // met again: remove i
                 } else if seen != 0 {
-                    self.flag[e] = self.degree[e] + mark - size_i; // first time: |Le| − |i|
+                    flag[e] = degree[e] + mark - size_i; // first time: |Le| − |i|
                 }
             }
         }
@@ -96,61 +101,62 @@ impl QuotientGraph {
     /// nothing but `p` is left (mass elimination).
     fn prune_and_bound(&mut self, i: i32, element: i32) -> Option<(i32, u32)> {
         let v = i as usize;
-        let mark = self.flag_mark;
+        let (n, mark, aggressive) = (self.n, self.flag_mark, self.aggressive);
         let begin = self.start[v] as usize;
-        let elements_end = begin + self.element_count[v] as usize;
-        let end = begin + self.length[v] as usize;
-        let mut kept = begin;
+        let element_total = self.element_count[v] as usize;
+        let list = &mut self.lists[begin..begin + self.length[v] as usize];
+        let (flag, size) = (&mut self.flag[..n], &self.size[..n]);
+        let (parent, start) = (&mut self.parent[..n], &mut self.start[..n]);
+        let mut kept = 0;
         let mut degree = 0;
         let mut hash = 0u32;
 
         // Elements: add |Le \ Lp|; absorb those inside Lp.
-        for k in begin..elements_end {
-            let e = self.lists[k];
-            let seen = self.flag[e as usize];
+        for k in 0..element_total {
+            let e = list[k];
+            let seen = flag[e as usize];
             if seen == 0 {
                 continue; // absorbed earlier
             }
             let external = seen - mark;
-            if external > 0 || !self.aggressive {
+            if external > 0 || !aggressive {
                 degree += external;
-                self.lists[kept] = e;
+                list[kept] = e;
                 kept += 1;
                 hash = hash.wrapping_add(e as u32);
             } else {
                 // Aggressive absorption: Le ⊆ Lp.
-                self.parent[e as usize] = element;
-                self.start[e as usize] = NONE;
-                self.flag[e as usize] = 0;
+                parent[e as usize] = element;
+                start[e as usize] = NONE;
+                flag[e as usize] = 0;
                 self.counters.aggressive_absorptions += 1;
             }
         }
         let first_variable = kept;
 
         // Variables: keep those principal and outside Lp (size > 0).
-        for k in elements_end..end {
-            let j = self.lists[k];
-            let size_j = self.size[j as usize];
+        for k in element_total..list.len() {
+            let j = list[k];
+            let size_j = size[j as usize];
             if size_j > 0 {
                 degree += size_j;
-                self.lists[kept] = j;
+                list[kept] = j;
                 kept += 1;
                 hash = hash.wrapping_add(j as u32);
             }
         }
 
-        let kept_elements = first_variable - begin;
-        if kept_elements == 0 && kept == first_variable {
+        if first_variable == 0 && kept == 0 {
             return None;
         }
         // Put p first: the first variable moves to the end, the first
         // element to the end of the element part.
-        self.lists[kept] = self.lists[first_variable];
-        self.lists[first_variable] = self.lists[begin];
-        self.lists[begin] = element;
-        self.element_count[v] = kept_elements as i32 + 1;
-        self.length[v] = (kept - begin + 1) as i32;
-        Some((degree, hash % self.n as u32))
+        list[kept] = list[first_variable];
+        list[first_variable] = list[0];
+        list[0] = element;
+        self.element_count[v] = first_variable as i32 + 1;
+        self.length[v] = kept as i32 + 1;
+        Some((degree, hash % n as u32))
     }
 
     /// Mass elimination: `i` is adjacent to nothing but `p`, so it joins the
@@ -172,22 +178,26 @@ impl QuotientGraph {
     /// variables left, put the variable back at the head of its degree list,
     /// and keep only principal variables in `Lp`.
     pub fn finalize_element(&mut self, pivot: &Pivot) {
-        let left = (self.n - self.eliminated) as i32;
-        let mut kept = pivot.pattern_start;
-        for k in pivot.pattern_start..pivot.pattern_end {
-            let i = self.lists[k];
+        let n = self.n;
+        let left = (n - self.eliminated) as i32;
+        let (size, degree) = (&mut self.size[..n], &mut self.degree[..n]);
+        let pattern = &mut self.lists[pivot.pattern_start..pivot.pattern_end];
+        let mut kept = 0;
+        for k in 0..pattern.len() {
+            let i = pattern[k];
             let v = i as usize;
-            let size_i = -self.size[v];
+            let size_i = -size[v];
             if size_i <= 0 {
                 continue; // merged into another supervariable, or mass eliminated
             }
-            self.size[v] = size_i;
-            let degree = (self.degree[v] + pivot.degree - size_i).min(left - size_i);
-            self.degree_lists.insert(i, degree);
-            self.degree[v] = degree;
-            self.lists[kept] = i;
+            size[v] = size_i;
+            let d = (degree[v] + pivot.degree - size_i).min(left - size_i);
+            self.degree_lists.insert(i, d);
+            degree[v] = d;
+            pattern[kept] = i;
             kept += 1;
         }
+        let kept = pivot.pattern_start + kept;
 
         let p = pivot.element as usize;
         self.size[p] = pivot.pivots;

@@ -140,9 +140,9 @@ pub fn amd(
     }
 
     let mut info = graph.info();
-    let (mut parent, size, front_size) = graph.into_assembly_tree();
-    let perm = postorder::permutation_from_assembly_tree(&mut parent, &size, &front_size);
-    info.elements = size.iter().filter(|&&s| s > 0).count();
+    let tree = graph.into_assembly_tree();
+    info.elements = tree.size.iter().filter(|&&s| s > 0).count();
+    let perm = postorder::permutation_from_assembly_tree(tree);
     let permutation = Permutation::from_perm(perm).expect("AMD produces a permutation");
     Ok((permutation, info))
 }

@@ -27,7 +27,7 @@
 //! and "construct Lp", "element absorption"); SuiteSparse AMD `amd_2.c`
 //! ("get pivot of minimum degree", "construct new element"); Davis 2006, §7.1.
 
-use super::quotient_graph::{QuotientGraph, NONE};
+use super::quotient_graph::{compress, QuotientGraph, NONE};
 
 /// The element being formed in the current pivot step.
 pub(super) struct Pivot {
@@ -83,90 +83,99 @@ impl QuotientGraph {
     /// `Lp = Ap`: keep the principal variables of `p`'s own list, in place.
     /// Returns `(start, end, |Lp|)`.
     fn construct_in_place(&mut self, p: usize) -> (usize, usize, i32) {
+        let n = self.n;
         let begin = self.start[p] as usize;
-        let end = begin + self.length[p] as usize;
-        let mut kept = begin;
-        let mut degree = 0;
-        for k in begin..end {
-            let i = self.lists[k];
-            if self.add_to_pattern(i) {
-                degree += self.size[i as usize].abs();
-                self.lists[kept] = i;
+        let list = &mut self.lists[begin..begin + self.length[p] as usize];
+        let (size, degree) = (&mut self.size[..n], &self.degree[..n]);
+        let mut kept = 0;
+        let mut element_degree = 0;
+        for k in 0..list.len() {
+            let i = list[k];
+            let size_i = size[i as usize];
+            if size_i > 0 {
+                // Principal and not yet in Lp: flag it, unlink it, keep it.
+                size[i as usize] = -size_i;
+                self.degree_lists.remove(i, degree[i as usize]);
+                element_degree += size_i;
+                list[kept] = i;
                 kept += 1;
             }
         }
-        (begin, kept, degree)
+        (begin, begin + kept, element_degree)
     }
 
     /// `Lp = Ap ∪ ⋃ Le` written at the free end of the workspace; each
     /// `e ∈ Ep` is absorbed into `p`. Returns `(start, end, |Lp|)`.
     fn construct_in_free_space(&mut self, p: usize) -> (usize, usize, i32) {
-        let element_total = self.element_count[p] as usize;
-        let variable_total = self.length[p] as usize - element_total;
-        let mut read = self.start[p] as usize;
-        let mut element_start = self.free;
-        let mut degree = 0;
+        let n = self.n;
+        let QuotientGraph {
+            lists,
+            free,
+            start,
+            length,
+            element_count,
+            size,
+            degree,
+            parent,
+            flag,
+            degree_lists,
+            counters,
+            ..
+        } = self;
+        let (start, length, size) = (&mut start[..n], &mut length[..n], &mut size[..n]);
+        let (degree, parent, flag) = (&degree[..n], &mut parent[..n], &mut flag[..n]);
+        let element_total = element_count[p] as usize;
+        let variable_total = length[p] as usize - element_total;
+        let mut read = start[p] as usize;
+        let mut element_start = *free;
+        let mut element_degree = 0;
 
         // Visit each element of Ep, then p itself (its variables Ap).
         for visited in 0..=element_total {
             let (source, mut at, count) = if visited < element_total {
-                let e = self.lists[read];
+                let e = lists[read] as usize;
                 read += 1;
-                (
-                    e as usize,
-                    self.start[e as usize] as usize,
-                    self.length[e as usize] as usize,
-                )
+                (e, start[e] as usize, length[e] as usize)
             } else {
                 (p, read, variable_total)
             };
             for taken in 1..=count {
-                let i = self.lists[at];
+                let i = lists[at];
                 at += 1;
-                if self.size[i as usize] <= 0 {
+                let size_i = size[i as usize];
+                if size_i <= 0 {
                     continue; // not principal, or already in Lp
                 }
-                if self.free >= self.lists.len() {
+                if *free >= lists.len() {
                     // Workspace full: keep only what is still unread, compress.
-                    self.set_unread(p, read, self.length[p] as usize - (visited + 1));
-                    self.set_unread(source, at, count - taken);
-                    element_start = self.compress(element_start);
-                    at = self.start[source] as usize;
-                    read = self.start[p] as usize;
+                    set_unread(start, length, p, read, length[p] as usize - (visited + 1));
+                    set_unread(start, length, source, at, count - taken);
+                    counters.garbage_collections += 1;
+                    (element_start, *free) = compress(lists, start, length, element_start, *free);
+                    at = start[source] as usize;
+                    read = start[p] as usize;
                 }
-                self.add_to_pattern(i);
-                degree += self.size[i as usize].abs();
-                self.lists[self.free] = i;
-                self.free += 1;
+                // Flag i as in Lp, unlink it from its degree list, append it.
+                size[i as usize] = -size_i;
+                degree_lists.remove(i, degree[i as usize]);
+                element_degree += size_i;
+                lists[*free] = i;
+                *free += 1;
             }
             if source != p {
                 // Element absorption: e ⊆ Lp, and p is e's parent.
-                self.parent[source] = p as i32;
-                self.start[source] = NONE;
-                self.flag[source] = 0;
+                parent[source] = p as i32;
+                start[source] = NONE;
+                flag[source] = 0;
             }
         }
-        (element_start, self.free, degree)
+        (element_start, *free, element_degree)
     }
+}
 
-    /// Before a compression: the list of `owner` is now `length` entries
-    /// from `at` (no list at all when empty).
-    fn set_unread(&mut self, owner: usize, at: usize, length: usize) {
-        self.start[owner] = if length == 0 { NONE } else { at as i32 };
-        self.length[owner] = length as i32;
-    }
-
-    /// If `i` is a principal variable not yet in `Lp`: flag it (negate its
-    /// size), unlink it from its degree list, and return `true`.
-    #[inline]
-    fn add_to_pattern(&mut self, i: i32) -> bool {
-        let v = i as usize;
-        let size = self.size[v];
-        if size <= 0 {
-            return false;
-        }
-        self.size[v] = -size;
-        self.degree_lists.remove(i, self.degree[v]);
-        true
-    }
+/// Before a compression: the list of `owner` is now `len` entries from
+/// `at` (no list at all when empty).
+fn set_unread(start: &mut [i32], length: &mut [i32], owner: usize, at: usize, len: usize) {
+    start[owner] = if len == 0 { NONE } else { at as i32 };
+    length[owner] = len as i32;
 }

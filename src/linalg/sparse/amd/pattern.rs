@@ -4,22 +4,33 @@
 //! **What it computes.** For every row `i`, the sorted list of `j ≠ i` with
 //! `A(i, j) ≠ 0` or `A(j, i) ≠ 0`, all rows stored one after the other at the
 //! front of a single `i32` workspace that has elbow room behind them:
-//! `len = nnz(A + Aᵀ) + nnz(A + Aᵀ) / 5 + n`, the size SuiteSparse's
-//! `amd_order` gives `amd_2`. The quotient graph grows into that room.
+//! `len = nnz + nnz / 5 + n` for `nnz` off-diagonal entries of `A + Aᵀ`, the
+//! size SuiteSparse's `amd_order` gives `amd_2`. The quotient graph grows
+//! into that room.
 //!
-//! **The idea.** Row `j` of `A + Aᵀ` is the union of column `j` of `A` and
-//! column `j` of `Aᵀ` (row `j` of `A`). Both are sorted (a CSC invariant, and
-//! a transpose by counting sort produces sorted columns), so one merge per
-//! row gives the union sorted and without duplicates. For a symmetric input
-//! this is exactly the row order SuiteSparse's `amd_1` builds, which matters
-//! for ties.
+//! **The idea.** Every edge `{i, j}` of `A + Aᵀ` must be listed once even
+//! when both `A(i, j)` and `A(j, i)` are stored. Walk the columns `k` in
+//! order; each strictly upper entry `A(j, k)` is an edge, and its mirror
+//! `A(k, j)` (if stored) sits in the lower part of column `j`. Column `j`
+//! keeps a cursor into its lower part, and on meeting `A(j, k)` the cursor
+//! advances up to row `k`: entries `A(i, j)` with `i < k` passed on the way
+//! have no mirror (it would have been met in column `i`), so they are edges
+//! of their own, and `A(k, j)` itself is skipped. Whatever the cursors have
+//! not passed at the end is lower-only too. One walk counts the row lengths,
+//! a second fills the rows.
 //!
-//! **Cost.** `O(nnz(A) + n)` time; the transpose of the pattern is a
-//! temporary of `nnz(A)` entries.
+//! When every edge turned out to be stored both ways, `A` is structurally
+//! symmetric and the rows are simply its columns without the diagonal, copied
+//! in order. Otherwise the second walk fills the rows; they come out sorted
+//! for a triangular input (as in SuiteSparse's `amd_1`, whose order this
+//! is), and any row that is not is sorted, so the ordering depends on the
+//! pattern of `A + Aᵀ` only.
 //!
-//! **Source.** SuiteSparse AMD `amd_aat.c` / `amd_1.c` (which build the same
-//! union in place); Davis 2006, §2.5 (transpose) and §7.1 (`cs_amd` forms
-//! `A + Aᵀ` with `cs_add`).
+//! **Cost.** `O(nnz(A) + n)` time (plus the sorting of out-of-order rows of
+//! an unsymmetric input), no memory beyond the workspace and two `n`-vectors.
+//!
+//! **Source.** SuiteSparse AMD `amd_aat.c` (count) and `amd_1.c` (fill);
+//! Davis 2006, §7.1 (`cs_amd` forms `A + Aᵀ` with `cs_add` instead).
 
 use crate::linalg::error::LinalgError;
 use crate::linalg::sparse::csc::CscMatrix;
@@ -33,7 +44,7 @@ pub(super) struct SymmetricPattern {
     pub start: Vec<i32>,
     /// Number of off-diagonal entries of each row.
     pub length: Vec<i32>,
-    /// Entries of `lists` in use (`nnz(A + Aᵀ)` minus the diagonal).
+    /// Entries of `lists` in use.
     pub used: usize,
 }
 
@@ -46,40 +57,58 @@ pub(super) fn symmetric_pattern(matrix: &CscMatrix) -> Result<SymmetricPattern, 
     let n = matrix.ncols();
     let too_large = || LinalgError::TooLarge { n };
     let limit = i32::MAX as usize;
-    if n >= limit {
+    // A + Aᵀ has at most 2·nnz(A) entries: with that below the limit, no
+    // count below can overflow an i32.
+    if n >= limit || 2 * matrix.nnz() >= limit {
         return Err(too_large());
     }
-    // A + Aᵀ has at most 2·nnz(A) entries, the workspace at most 1.2 times that + n.
-    let worst_used = 2 * matrix.nnz();
-    let worst_len = worst_used + worst_used / 5 + n;
 
-    let (row_start, row_cols) = transpose_pattern(matrix);
-    let (col_ptr, row_idx) = (matrix.col_ptr(), matrix.row_idx());
-
-    let mut lists = Vec::with_capacity(worst_len.min(limit));
+    // Pass 1: row lengths.
+    let mut cursor = vec![0; n];
+    let mut length = vec![0i32; n];
+    let mirrored_pairs = for_each_edge(matrix, &mut cursor, |i, j| {
+        length[i] += 1;
+        length[j] += 1;
+    });
     let mut start = Vec::with_capacity(n);
-    let mut length = Vec::with_capacity(n);
-    for j in 0..n {
-        let row_begin = lists.len();
-        merge_without(
-            j as i32,
-            &row_idx[col_ptr[j]..col_ptr[j + 1]],
-            &row_cols[row_start[j]..row_start[j + 1]],
-            &mut lists,
-        );
-        if lists.len() >= limit {
-            return Err(too_large());
-        }
-        start.push(row_begin as i32);
-        length.push((lists.len() - row_begin) as i32);
+    let mut used = 0usize;
+    for &len in &length {
+        start.push(used as i32);
+        used += len as usize;
     }
-
-    let used = lists.len();
     let workspace_len = used + used / 5 + n;
     if workspace_len >= limit {
         return Err(too_large());
     }
-    lists.resize(workspace_len, 0);
+
+    // Pass 2: the rows.
+    let mut lists = Vec::with_capacity(workspace_len);
+    if used == 2 * mirrored_pairs {
+        // Every edge is stored both ways: A + Aᵀ = A, and row j is column j
+        // without its diagonal, already sorted.
+        let (col_ptr, row_idx) = (matrix.col_ptr(), matrix.row_idx());
+        for j in 0..n {
+            let column = &row_idx[col_ptr[j]..col_ptr[j + 1]];
+            lists.extend(column.iter().filter(|&&i| i != j).map(|&i| i as i32));
+        }
+        lists.resize(workspace_len, 0);
+    } else {
+        lists.resize(workspace_len, 0);
+        let mut end = start.clone();
+        for_each_edge(matrix, &mut cursor, |i, j| {
+            lists[end[i] as usize] = j as i32;
+            end[i] += 1;
+            lists[end[j] as usize] = i as i32;
+            end[j] += 1;
+        });
+        for (&s, &e) in start.iter().zip(&end) {
+            let row = &mut lists[s as usize..e as usize];
+            if !row.is_sorted() {
+                row.sort_unstable();
+            }
+        }
+    }
+
     Ok(SymmetricPattern {
         lists,
         start,
@@ -88,45 +117,54 @@ pub(super) fn symmetric_pattern(matrix: &CscMatrix) -> Result<SymmetricPattern, 
     })
 }
 
-/// The pattern of `Aᵀ` in CSC form (`row_start`, column indices of each row
-/// of `A`, increasing), by counting sort.
-fn transpose_pattern(matrix: &CscMatrix) -> (Vec<usize>, Vec<i32>) {
-    let n = matrix.nrows();
+/// Calls `edge(i, j)` once for every off-diagonal edge `{i, j}` of the
+/// pattern of `A + Aᵀ` (rows of each column of `A` must be sorted, as a
+/// [`CscMatrix`] guarantees) and returns how many edges were stored both
+/// ways, as `A(i, j)` and `A(j, i)`. `cursor` is an `n`-vector of workspace.
+fn for_each_edge(
+    matrix: &CscMatrix,
+    cursor: &mut [usize],
+    mut edge: impl FnMut(usize, usize),
+) -> usize {
     let (col_ptr, row_idx) = (matrix.col_ptr(), matrix.row_idx());
-    let mut row_start = vec![0usize; n + 1];
-    for &i in row_idx {
-        row_start[i + 1] += 1;
+    let mut mirrored_pairs = 0;
+    for k in 0..matrix.ncols() {
+        let mut p = col_ptr[k];
+        while p < col_ptr[k + 1] {
+            let j = row_idx[p];
+            if j >= k {
+                if j == k {
+                    p += 1; // the diagonal
+                }
+                break;
+            }
+            // A(j, k), strictly upper: an edge.
+            edge(j, k);
+            p += 1;
+            // Column j's lower part up to row k: unmirrored entries are edges.
+            let mut q = cursor[j];
+            while q < col_ptr[j + 1] {
+                let i = row_idx[q];
+                if i > k {
+                    break;
+                }
+                q += 1;
+                if i == k {
+                    mirrored_pairs += 1; // A(k, j) mirrors A(j, k)
+                    break;
+                }
+                edge(i, j);
+            }
+            cursor[j] = q;
+        }
+        // Column k's lower part starts here.
+        cursor[k] = p;
     }
-    for i in 0..n {
-        row_start[i + 1] += row_start[i];
-    }
-    let mut next = row_start[..n].to_vec();
-    let mut row_cols = vec![0i32; row_idx.len()];
+    // Lower entries never reached by a cursor have no mirror.
     for j in 0..matrix.ncols() {
-        for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
-            row_cols[next[i]] = j as i32;
-            next[i] += 1;
+        for &i in &row_idx[cursor[j]..col_ptr[j + 1]] {
+            edge(i, j);
         }
     }
-    (row_start, row_cols)
-}
-
-/// Appends the sorted union of `column` (`usize` rows) and `row` (`i32`
-/// columns), both sorted, to `out`, leaving out `diagonal`.
-fn merge_without(diagonal: i32, column: &[usize], row: &[i32], out: &mut Vec<i32>) {
-    let (mut a, mut b) = (0, 0);
-    while a < column.len() || b < row.len() {
-        let from_column = column.get(a).map_or(i32::MAX, |&i| i as i32);
-        let from_row = row.get(b).copied().unwrap_or(i32::MAX);
-        let next = from_column.min(from_row);
-        if from_column == next {
-            a += 1;
-        }
-        if from_row == next {
-            b += 1;
-        }
-        if next != diagonal {
-            out.push(next);
-        }
-    }
+    mirrored_pairs
 }

@@ -25,20 +25,33 @@
 //! variables", "compute output permutation"), `amd_postorder.c`,
 //! `amd_post_tree.c`; Davis 2006, §4.3 (`cs_post`, `cs_tdfs`) and §7.1.
 
-use super::quotient_graph::NONE;
+use super::quotient_graph::{AssemblyTree, NONE};
 
-/// The permutation `perm[new] = old` of the assembly tree given by
-/// `parent`, `size` (> 0 for elements) and `front_size` (of elements).
-/// `parent` is modified by path compression.
-pub(super) fn permutation_from_assembly_tree(
-    parent: &mut [i32],
-    size: &[i32],
-    front_size: &[i32],
-) -> Vec<usize> {
-    attach_variables_to_elements(parent, size);
-    let (first_child, next_sibling) = children_largest_front_last(parent, size, front_size);
-    let rank = postorder_elements(parent, size, first_child, &next_sibling);
-    permutation_from_ranks(parent, size, &rank)
+/// The permutation `perm[new] = old` of the assembly tree.
+pub(super) fn permutation_from_assembly_tree(tree: AssemblyTree) -> Vec<usize> {
+    let AssemblyTree {
+        mut parent,
+        size,
+        front_size,
+        workspace: [mut first_child, mut next_sibling, mut rank, mut stack],
+    } = tree;
+    attach_variables_to_elements(&mut parent, &size);
+    link_children(&parent, &size, &mut first_child, &mut next_sibling);
+    for node in 0..parent.len() {
+        if size[node] > 0 && first_child[node] != NONE {
+            move_largest_child_last(node, &mut first_child, &mut next_sibling, &front_size);
+        }
+    }
+    postorder_elements(
+        &parent,
+        &size,
+        &mut first_child,
+        &next_sibling,
+        &mut rank,
+        &mut stack,
+    );
+    // The children lists are spent: reuse them for the last step.
+    permutation_from_ranks(&parent, &size, &rank, &mut first_child, &mut next_sibling)
 }
 
 /// Step 1: path compression. Each non-principal, non-dense variable ends up
@@ -61,34 +74,22 @@ fn attach_variables_to_elements(parent: &mut [i32], size: &[i32]) {
     }
 }
 
-/// Step 2: linked lists of children (`first_child`, `next_sibling`),
-/// children in increasing order except that the one with the largest front
-/// is moved last.
-fn children_largest_front_last(
-    parent: &[i32],
-    size: &[i32],
-    front_size: &[i32],
-) -> (Vec<i32>, Vec<i32>) {
-    let n = parent.len();
-    let mut first_child = vec![NONE; n];
-    let mut next_sibling = vec![NONE; n];
-    for j in (0..n).rev() {
+/// Step 2a: linked lists of the children of every element, in increasing
+/// order (built by pushing in decreasing order).
+fn link_children(parent: &[i32], size: &[i32], first_child: &mut [i32], next_sibling: &mut [i32]) {
+    first_child.fill(NONE);
+    next_sibling.fill(NONE);
+    for j in (0..parent.len()).rev() {
         if size[j] > 0 && parent[j] != NONE {
             let p = parent[j] as usize;
             next_sibling[j] = first_child[p];
             first_child[p] = j as i32;
         }
     }
-    for node in 0..n {
-        if size[node] > 0 && first_child[node] != NONE {
-            move_largest_child_last(node, &mut first_child, &mut next_sibling, front_size);
-        }
-    }
-    (first_child, next_sibling)
 }
 
-/// Unlinks the child of `node` with the largest front (the last one among
-/// equals) and relinks it at the end of the list.
+/// Step 2b: unlinks the child of `node` with the largest front (the last
+/// one among equals) and relinks it at the end of the list.
 fn move_largest_child_last(
     node: usize,
     first_child: &mut [i32],
@@ -121,60 +122,67 @@ fn move_largest_child_last(
 
 /// Step 3: `rank[e]` = position of element `e` in a depth-first postorder
 /// (children in list order, roots by increasing index); [`NONE`] for
-/// variables. Consumes the children lists.
+/// variables. Empties the children lists; `stack` is workspace.
 fn postorder_elements(
     parent: &[i32],
     size: &[i32],
-    mut first_child: Vec<i32>,
+    first_child: &mut [i32],
     next_sibling: &[i32],
-) -> Vec<i32> {
-    let n = parent.len();
-    let mut rank = vec![NONE; n];
-    let mut stack: Vec<i32> = Vec::with_capacity(n);
+    rank: &mut [i32],
+    stack: &mut [i32],
+) {
+    rank.fill(NONE);
     let mut next_rank = 0;
-    for root in 0..n {
+    for root in 0..parent.len() {
         if parent[root] != NONE || size[root] <= 0 {
             continue;
         }
-        stack.push(root as i32);
-        while let Some(&node) = stack.last() {
-            let node = node as usize;
+        stack[0] = root as i32;
+        let mut top = 1; // stack[..top] is the stack
+        while top > 0 {
+            let node = stack[top - 1] as usize;
             if first_child[node] == NONE {
                 // All children done: number the node.
-                stack.pop();
+                top -= 1;
                 rank[node] = next_rank;
                 next_rank += 1;
                 continue;
             }
-            // Push the children so that the first one is on top.
-            let below = stack.len();
+            // Push the children so that the first one ends on top.
+            let below = top;
             let mut child = first_child[node];
             while child != NONE {
-                stack.push(child);
+                stack[top] = child;
+                top += 1;
                 child = next_sibling[child as usize];
             }
-            stack[below..].reverse();
+            stack[below..top].reverse();
             first_child[node] = NONE;
         }
     }
-    rank
 }
 
-/// Step 4: positions of all variables from the element ranks.
-fn permutation_from_ranks(parent: &[i32], size: &[i32], rank: &[i32]) -> Vec<usize> {
+/// Step 4: positions of all variables from the element ranks
+/// (`element_of_rank` and `position` are workspace).
+fn permutation_from_ranks(
+    parent: &[i32],
+    size: &[i32],
+    rank: &[i32],
+    element_of_rank: &mut [i32],
+    position: &mut [i32],
+) -> Vec<usize> {
     let n = parent.len();
-    let mut element_of_rank = vec![NONE; n];
+    element_of_rank.fill(NONE);
     for (e, &k) in rank.iter().enumerate() {
         if k != NONE {
             element_of_rank[k as usize] = e as i32;
         }
     }
     // position[e]: first position of element e's block, then its next free slot.
-    let mut position = vec![0usize; n];
     let mut next_free = 0;
     for &e in element_of_rank.iter().take_while(|&&e| e != NONE) {
         position[e as usize] = next_free;
-        next_free += size[e as usize] as usize;
+        next_free += size[e as usize];
     }
     for i in 0..n {
         if size[i] != 0 {
@@ -193,7 +201,7 @@ fn permutation_from_ranks(parent: &[i32], size: &[i32], rank: &[i32]) -> Vec<usi
     }
     let mut perm = vec![0; n];
     for (old, &new) in position.iter().enumerate() {
-        perm[new] = old;
+        perm[new as usize] = old;
     }
     perm
 }

@@ -150,45 +150,6 @@ impl QuotientGraph {
         }
     }
 
-    /// Garbage collection: slides every live list to the front of the
-    /// workspace, then the partial new element `lists[element_start..free]`
-    /// after them. Returns where the partial element now starts.
-    ///
-    /// Each live list's first entry is swapped with `-(owner) - 2` (negative,
-    /// unlike any index) so the owners can be found in one sweep; the entry
-    /// itself waits in `start[owner]`.
-    pub fn compress(&mut self, element_start: usize) -> usize {
-        self.counters.garbage_collections += 1;
-        let lists = &mut self.lists;
-        for (owner, start) in self.start.iter_mut().enumerate() {
-            if *start >= 0 {
-                let first = *start as usize;
-                *start = lists[first];
-                lists[first] = -(owner as i32) - 2;
-            }
-        }
-        let (mut source, mut target) = (0, 0);
-        while source < element_start {
-            let owner = -lists[source] - 2;
-            source += 1;
-            if owner >= 0 {
-                // A tagged first entry: copy its list down.
-                let owner = owner as usize;
-                lists[target] = self.start[owner];
-                self.start[owner] = target as i32;
-                target += 1;
-                let rest = self.length[owner] as usize - 1;
-                lists.copy_within(source..source + rest, target);
-                source += rest;
-                target += rest;
-            }
-        }
-        let moved_start = target;
-        lists.copy_within(element_start..self.free, moved_start);
-        self.free = moved_start + (self.free - element_start);
-        moved_start
-    }
-
     /// The statistics gathered so far (without the tree's node count).
     pub fn info(&self) -> AmdInfo {
         let c = &self.counters;
@@ -207,20 +168,77 @@ impl QuotientGraph {
         }
     }
 
-    /// The assembly tree once every variable is eliminated: `(parent, size,
-    /// front_size)`. A node with `size > 0` is an element (a supernode of
-    /// `size` pivots); a variable with size 0 points to the supervariable or
-    /// element that absorbed it, or has no parent if it is dense. The front
-    /// of element `e` has `size[e] + degree[e]` rows: its pivots plus `|Le|`
-    /// when it was formed (mass elimination moves rows from one to the other
-    /// without changing the sum).
-    pub fn into_assembly_tree(self) -> (Vec<i32>, Vec<i32>, Vec<i32>) {
-        let front_size = self
-            .size
-            .iter()
-            .zip(&self.degree)
-            .map(|(&s, &d)| if s > 0 { s + d } else { 0 })
-            .collect();
-        (self.parent, self.size, front_size)
+    /// The assembly tree once every variable is eliminated. A node with
+    /// `size > 0` is an element (a supernode of `size` pivots); a variable
+    /// with size 0 points to the supervariable or element that absorbed it,
+    /// or has no parent if it is dense. The front of element `e` has
+    /// `size[e] + degree[e]` rows: its pivots plus `|Le|` when it was formed
+    /// (mass elimination moves rows from one to the other without changing
+    /// the sum). The graph's other `n`-vectors are handed over as workspace.
+    pub fn into_assembly_tree(self) -> AssemblyTree {
+        let mut front_size = self.degree;
+        for (front, &size) in front_size.iter_mut().zip(&self.size) {
+            *front = if size > 0 { size + *front } else { 0 };
+        }
+        AssemblyTree {
+            parent: self.parent,
+            size: self.size,
+            front_size,
+            workspace: [self.start, self.length, self.element_count, self.flag],
+        }
     }
+}
+
+/// The assembly tree of the elimination, see [`QuotientGraph::into_assembly_tree`].
+pub(super) struct AssemblyTree {
+    /// Parent element or supervariable, or [`NONE`] for a root or dense row.
+    pub parent: Vec<i32>,
+    /// Pivots of an element; 0 for a variable merged away or dense.
+    pub size: Vec<i32>,
+    /// Rows of each element's frontal matrix.
+    pub front_size: Vec<i32>,
+    /// Four spare `n`-vectors.
+    pub workspace: [Vec<i32>; 4],
+}
+
+/// Garbage collection: slides every live list (those with `start ≥ 0`) to
+/// the front of `lists`, then the partial new element
+/// `lists[element_start..free]` after them. Returns the new
+/// `(element_start, free)`.
+///
+/// Each live list's first entry is swapped with `-(owner) - 2` (negative,
+/// unlike any index) so the owners can be found in one sweep; the entry
+/// itself waits in `start[owner]`.
+pub(super) fn compress(
+    lists: &mut [i32],
+    start: &mut [i32],
+    length: &[i32],
+    element_start: usize,
+    free: usize,
+) -> (usize, usize) {
+    for (owner, first) in start.iter_mut().enumerate() {
+        if *first >= 0 {
+            let at = *first as usize;
+            *first = lists[at];
+            lists[at] = -(owner as i32) - 2;
+        }
+    }
+    let (mut source, mut target) = (0, 0);
+    while source < element_start {
+        let owner = -lists[source] - 2;
+        source += 1;
+        if owner >= 0 {
+            // A tagged first entry: copy its list down.
+            let owner = owner as usize;
+            lists[target] = start[owner];
+            start[owner] = target as i32;
+            target += 1;
+            let rest = length[owner] as usize - 1;
+            lists.copy_within(source..source + rest, target);
+            source += rest;
+            target += rest;
+        }
+    }
+    lists.copy_within(element_start..free, target);
+    (target, target + (free - element_start))
 }
