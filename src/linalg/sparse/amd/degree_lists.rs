@@ -21,14 +21,32 @@
 
 use super::quotient_graph::NONE;
 
-/// Supervariables bucketed by approximate degree.
+/// The neighbours of a supervariable in the one list it is in: a degree
+/// list, or (while it is in `Lp`) a hash bucket of
+/// [`supervariables`](super::supervariables). Side by side so that one cache
+/// line holds both (SuiteSparse's `Next` and `Last`).
+#[derive(Clone, Copy)]
+pub(super) struct Link {
+    /// Next supervariable in the same list, or [`NONE`].
+    pub next: i32,
+    /// Degree list: previous supervariable, or [`NONE`] at the head.
+    /// Hash bucket: the bucket's number.
+    pub previous: i32,
+}
+
+impl Link {
+    /// In no list.
+    pub const UNLINKED: Link = Link {
+        next: NONE,
+        previous: NONE,
+    };
+}
+
+/// Heads of the degree lists; the links live in a `[Link]` shared with the
+/// hash buckets.
 pub(super) struct DegreeLists {
     /// `head[d]`: first supervariable of degree `d`, or [`NONE`].
     head: Vec<i32>,
-    /// Next supervariable in the same list, or [`NONE`].
-    next: Vec<i32>,
-    /// Previous supervariable in the same list, or [`NONE`] at the head.
-    previous: Vec<i32>,
     /// No list below this degree is non-empty.
     min_degree: usize,
 }
@@ -38,38 +56,37 @@ impl DegreeLists {
     pub fn new(n: usize) -> Self {
         DegreeLists {
             head: vec![NONE; n],
-            next: vec![NONE; n],
-            previous: vec![NONE; n],
             min_degree: 0,
         }
     }
 
     /// Pushes `variable` at the head of the list of `degree`.
     #[inline]
-    pub fn insert(&mut self, variable: i32, degree: i32) {
-        let (v, d) = (variable as usize, degree as usize);
+    pub fn insert(&mut self, links: &mut [Link], variable: i32, degree: i32) {
+        let d = degree as usize;
         let old_head = self.head[d];
         if old_head != NONE {
-            self.previous[old_head as usize] = variable;
+            links[old_head as usize].previous = variable;
         }
-        self.next[v] = old_head;
-        self.previous[v] = NONE;
+        links[variable as usize] = Link {
+            next: old_head,
+            previous: NONE,
+        };
         self.head[d] = variable;
         self.min_degree = self.min_degree.min(d);
     }
 
     /// Unlinks `variable` from the list of `degree` (its current degree).
     #[inline]
-    pub fn remove(&mut self, variable: i32, degree: i32) {
-        let v = variable as usize;
-        let (before, after) = (self.previous[v], self.next[v]);
-        if after != NONE {
-            self.previous[after as usize] = before;
+    pub fn remove(&mut self, links: &mut [Link], variable: i32, degree: i32) {
+        let Link { next, previous } = links[variable as usize];
+        if next != NONE {
+            links[next as usize].previous = previous;
         }
-        if before != NONE {
-            self.next[before as usize] = after;
+        if previous != NONE {
+            links[previous as usize].next = next;
         } else {
-            self.head[degree as usize] = after;
+            self.head[degree as usize] = next;
         }
     }
 
@@ -78,17 +95,13 @@ impl DegreeLists {
     ///
     /// # Panics
     /// When every list is empty (the caller knows variables remain).
-    pub fn pop_min(&mut self) -> i32 {
+    pub fn pop_min(&mut self, links: &mut [Link]) -> i32 {
         let degree = (self.min_degree..self.head.len())
             .find(|&d| self.head[d] != NONE)
             .expect("a variable remains to be eliminated");
         self.min_degree = degree;
         let variable = self.head[degree];
-        let after = self.next[variable as usize];
-        if after != NONE {
-            self.previous[after as usize] = NONE;
-        }
-        self.head[degree] = after;
+        self.remove(links, variable, degree as i32);
         variable
     }
 }

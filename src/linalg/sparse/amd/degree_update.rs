@@ -82,7 +82,7 @@ impl QuotientGraph {
                 Some((partial_degree, hash)) => {
                     let v = i as usize;
                     self.degree[v] = self.degree[v].min(partial_degree);
-                    self.hash_buckets.insert(i, hash);
+                    self.hash_buckets.insert(&mut self.links, i, hash);
                 }
                 None => self.mass_eliminate(i, pivot),
             }
@@ -156,7 +156,7 @@ impl QuotientGraph {
         list[0] = element;
         self.element_count[v] = first_variable as i32 + 1;
         self.length[v] = kept as i32 + 1;
-        Some((degree, hash % n as u32))
+        Some((degree, hash))
     }
 
     /// Mass elimination: `i` is adjacent to nothing but `p`, so it joins the
@@ -192,7 +192,7 @@ impl QuotientGraph {
             }
             size[v] = size_i;
             let d = (degree[v] + pivot.degree - size_i).min(left - size_i);
-            self.degree_lists.insert(i, d);
+            self.degree_lists.insert(&mut self.links, i, d);
             degree[v] = d;
             pattern[kept] = i;
             kept += 1;
@@ -208,7 +208,8 @@ impl QuotientGraph {
             self.flag[p] = 0;
         }
         if pivot.built_in_free_space {
-            self.free = kept;
+            // Merged variables left Lp: give their slots back.
+            self.lists.truncate(kept);
         }
         let (f, r) = (
             pivot.pivots as u64,

@@ -48,7 +48,7 @@ impl QuotientGraph {
     /// Select pivot: a supervariable of minimum approximate degree, removed
     /// from its degree list.
     pub fn select_pivot(&mut self) -> i32 {
-        self.degree_lists.pop_min()
+        self.degree_lists.pop_min(&mut self.links)
     }
 
     /// Construct `Lp` for the pivot supervariable `pivot` and absorb the
@@ -95,7 +95,8 @@ impl QuotientGraph {
             if size_i > 0 {
                 // Principal and not yet in Lp: flag it, unlink it, keep it.
                 size[i as usize] = -size_i;
-                self.degree_lists.remove(i, degree[i as usize]);
+                self.degree_lists
+                    .remove(&mut self.links, i, degree[i as usize]);
                 element_degree += size_i;
                 list[kept] = i;
                 kept += 1;
@@ -110,7 +111,7 @@ impl QuotientGraph {
         let n = self.n;
         let QuotientGraph {
             lists,
-            free,
+            workspace_len,
             start,
             length,
             element_count,
@@ -119,6 +120,7 @@ impl QuotientGraph {
             parent,
             flag,
             degree_lists,
+            links,
             counters,
             ..
         } = self;
@@ -127,7 +129,7 @@ impl QuotientGraph {
         let element_total = element_count[p] as usize;
         let variable_total = length[p] as usize - element_total;
         let mut read = start[p] as usize;
-        let mut element_start = *free;
+        let mut element_start = lists.len();
         let mut element_degree = 0;
 
         // Visit each element of Ep, then p itself (its variables Ap).
@@ -146,21 +148,20 @@ impl QuotientGraph {
                 if size_i <= 0 {
                     continue; // not principal, or already in Lp
                 }
-                if *free >= lists.len() {
+                if lists.len() == *workspace_len {
                     // Workspace full: keep only what is still unread, compress.
                     set_unread(start, length, p, read, length[p] as usize - (visited + 1));
                     set_unread(start, length, source, at, count - taken);
                     counters.garbage_collections += 1;
-                    (element_start, *free) = compress(lists, start, length, element_start, *free);
+                    element_start = compress(lists, start, length, element_start);
                     at = start[source] as usize;
                     read = start[p] as usize;
                 }
                 // Flag i as in Lp, unlink it from its degree list, append it.
                 size[i as usize] = -size_i;
-                degree_lists.remove(i, degree[i as usize]);
+                degree_lists.remove(links, i, degree[i as usize]);
                 element_degree += size_i;
-                lists[*free] = i;
-                *free += 1;
+                lists.push(i);
             }
             if source != p {
                 // Element absorption: e ⊆ Lp, and p is e's parent.
@@ -169,7 +170,7 @@ impl QuotientGraph {
                 flag[source] = 0;
             }
         }
-        (element_start, *free, element_degree)
+        (element_start, lists.len(), element_degree)
     }
 }
 

@@ -37,15 +37,15 @@ use crate::linalg::sparse::csc::CscMatrix;
 
 /// Rows of `A + Aᵀ` (diagonal dropped) in the front of a workspace.
 pub(super) struct SymmetricPattern {
-    /// The workspace: row `i` is `lists[start[i] .. start[i] + length[i]]`;
-    /// `lists[used ..]` is free.
+    /// The rows: row `i` is `lists[start[i] .. start[i] + length[i]]`; the
+    /// capacity is the workspace length.
     pub lists: Vec<i32>,
+    /// Capacity reserved for `lists`: `nnz + nnz / 5 + n`.
+    pub workspace_len: usize,
     /// Where each row starts in `lists`.
     pub start: Vec<i32>,
     /// Number of off-diagonal entries of each row.
     pub length: Vec<i32>,
-    /// Entries of `lists` in use.
-    pub used: usize,
 }
 
 /// Builds the rows of `A + Aᵀ` without the diagonal, in a workspace sized
@@ -91,9 +91,8 @@ pub(super) fn symmetric_pattern(matrix: &CscMatrix) -> Result<SymmetricPattern, 
             let column = &row_idx[col_ptr[j]..col_ptr[j + 1]];
             lists.extend(column.iter().filter(|&&i| i != j).map(|&i| i as i32));
         }
-        lists.resize(workspace_len, 0);
     } else {
-        lists.resize(workspace_len, 0);
+        lists.resize(used, 0);
         let mut end = start.clone();
         for_each_edge(matrix, &mut cursor, |i, j| {
             lists[end[i] as usize] = j as i32;
@@ -111,9 +110,9 @@ pub(super) fn symmetric_pattern(matrix: &CscMatrix) -> Result<SymmetricPattern, 
 
     Ok(SymmetricPattern {
         lists,
+        workspace_len,
         start,
         length,
-        used,
     })
 }
 

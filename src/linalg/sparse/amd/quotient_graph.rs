@@ -29,7 +29,7 @@
 //! (arrays `Iw`, `Pe`, `Len`, `Elen`, `Nv`, `Degree`, `W`, and its
 //! compression step); Davis 2006, §7.1.
 
-use super::degree_lists::DegreeLists;
+use super::degree_lists::{DegreeLists, Link};
 use super::pattern::SymmetricPattern;
 use super::supervariables::HashBuckets;
 use super::AmdInfo;
@@ -54,10 +54,12 @@ pub(super) struct Counters {
 pub(super) struct QuotientGraph {
     /// Order of the matrix.
     pub n: usize,
-    /// The workspace holding every list (SuiteSparse `Iw`).
+    /// The workspace holding every list (SuiteSparse `Iw`); its length is
+    /// the part in use (SuiteSparse `pfree`), new elements are pushed into
+    /// its spare capacity.
     pub lists: Vec<i32>,
-    /// `lists[free ..]` is unused (SuiteSparse `pfree`).
-    pub free: usize,
+    /// Capacity of `lists` (SuiteSparse `iwlen`): compress when reached.
+    pub workspace_len: usize,
     /// Where the list of a live variable or element starts, or [`NONE`].
     pub start: Vec<i32>,
     /// Length of that list (elements and variables together for a variable).
@@ -85,6 +87,8 @@ pub(super) struct QuotientGraph {
     pub aggressive: bool,
     pub degree_lists: DegreeLists,
     pub hash_buckets: HashBuckets,
+    /// List links of every supervariable (degree list or hash bucket).
+    pub links: Vec<Link>,
     pub counters: Counters,
 }
 
@@ -95,7 +99,7 @@ impl QuotientGraph {
         let n = pattern.start.len();
         QuotientGraph {
             n,
-            free: pattern.used,
+            workspace_len: pattern.workspace_len,
             lists: pattern.lists,
             degree: pattern.length.clone(),
             start: pattern.start,
@@ -110,6 +114,7 @@ impl QuotientGraph {
             aggressive,
             degree_lists: DegreeLists::new(n),
             hash_buckets: HashBuckets::new(n),
+            links: vec![Link::UNLINKED; n],
             counters: Counters::default(),
         }
     }
@@ -132,7 +137,7 @@ impl QuotientGraph {
                 self.size[i] = 0;
                 self.start[i] = NONE;
             } else {
-                self.degree_lists.insert(i as i32, degree);
+                self.degree_lists.insert(&mut self.links, i as i32, degree);
             }
         }
     }
@@ -163,7 +168,7 @@ impl QuotientGraph {
             mass_eliminated: c.mass_eliminated,
             aggressive_absorptions: c.aggressive_absorptions,
             garbage_collections: c.garbage_collections,
-            workspace_len: self.lists.len(),
+            workspace_len: self.workspace_len,
             factor_nnz_estimate: (c.lower_nnz_estimate + dense_block) as usize + self.n,
         }
     }
@@ -202,20 +207,19 @@ pub(super) struct AssemblyTree {
 }
 
 /// Garbage collection: slides every live list (those with `start ≥ 0`) to
-/// the front of `lists`, then the partial new element
-/// `lists[element_start..free]` after them. Returns the new
-/// `(element_start, free)`.
+/// the front of `lists`, then the partial new element `lists[element_start..]`
+/// after them, and shortens `lists` to what is in use. Returns where the
+/// partial element now starts.
 ///
 /// Each live list's first entry is swapped with `-(owner) - 2` (negative,
 /// unlike any index) so the owners can be found in one sweep; the entry
 /// itself waits in `start[owner]`.
 pub(super) fn compress(
-    lists: &mut [i32],
+    lists: &mut Vec<i32>,
     start: &mut [i32],
     length: &[i32],
     element_start: usize,
-    free: usize,
-) -> (usize, usize) {
+) -> usize {
     for (owner, first) in start.iter_mut().enumerate() {
         if *first >= 0 {
             let at = *first as usize;
@@ -239,6 +243,8 @@ pub(super) fn compress(
             target += rest;
         }
     }
-    lists.copy_within(element_start..free, target);
-    (target, target + (free - element_start))
+    let element_len = lists.len() - element_start;
+    lists.copy_within(element_start.., target);
+    lists.truncate(target + element_len);
+    target
 }

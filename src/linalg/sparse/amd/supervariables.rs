@@ -8,7 +8,7 @@
 //! variables of `Lp` can newly become indistinguishable, so only they are
 //! checked.
 //!
-//! **The idea.** Scan 2 gave each `i` the hash `(Σ Ei + Σ Ai) mod n`; equal
+//! **The idea.** Scan 2 gave each `i` the hash `Σ Ei + Σ Ai`; equal
 //! lists give equal hashes, so only variables in the same hash bucket are
 //! compared. For the first variable `i` of a bucket its list is flagged in
 //! `flag`, then every later `j` of the bucket with the same list lengths is
@@ -25,43 +25,55 @@
 //! after Ashcraft's hash 1995); SuiteSparse AMD `amd_2.c` ("supervariable
 //! detection", with its separate `Hhead` variant); Davis 2006, §7.1.
 
+use super::degree_lists::Link;
 use super::new_element::Pivot;
 use super::quotient_graph::{QuotientGraph, NONE};
 
 /// Hash buckets of the variables of `Lp`, keyed by the hash of their lists.
+/// A variable of `Lp` is in no degree list, so its [`Link`] chains the
+/// bucket instead (`next`), and remembers the bucket number (`previous`).
+///
+/// SuiteSparse uses `n` buckets (`hash mod n`). Since the outcome does not
+/// depend on the hash function, a power of two no larger than
+/// [`MAX_BUCKETS`] is used instead: the bucket heads then stay in the L1
+/// cache, and `mod` becomes a mask. Only the variables of one `Lp` are in
+/// the buckets at a time, so collisions stay rare.
 pub(super) struct HashBuckets {
-    /// `head[h]`: most recently inserted variable with hash `h`, or [`NONE`].
+    /// `head[h]`: most recently inserted variable of bucket `h`, or [`NONE`].
     head: Vec<i32>,
-    /// Next variable in the same bucket, or [`NONE`].
-    next: Vec<i32>,
-    /// The hash of each variable inserted.
-    key: Vec<u32>,
+    /// `head.len() − 1`.
+    mask: u32,
 }
 
+/// Upper bound on the number of hash buckets (16 KiB of heads).
+const MAX_BUCKETS: usize = 4096;
+
 impl HashBuckets {
-    /// `n` empty buckets.
+    /// Buckets for `n` variables.
     pub fn new(n: usize) -> Self {
+        let buckets = n.clamp(1, MAX_BUCKETS).next_power_of_two();
         HashBuckets {
-            head: vec![NONE; n],
-            next: vec![NONE; n],
-            key: vec![0; n],
+            head: vec![NONE; buckets],
+            mask: buckets as u32 - 1,
         }
     }
 
-    /// Pushes `variable` at the head of bucket `hash` (`hash < n`).
+    /// Pushes `variable` at the head of the bucket of `hash`.
     #[inline]
-    pub fn insert(&mut self, variable: i32, hash: u32) {
-        let v = variable as usize;
-        self.next[v] = self.head[hash as usize];
-        self.head[hash as usize] = variable;
-        self.key[v] = hash;
+    pub fn insert(&mut self, links: &mut [Link], variable: i32, hash: u32) {
+        let bucket = (hash & self.mask) as usize;
+        links[variable as usize] = Link {
+            next: self.head[bucket],
+            previous: bucket as i32,
+        };
+        self.head[bucket] = variable;
     }
 
     /// Empties the bucket `variable` was put in and returns its first
     /// variable ([`NONE`] if the bucket was already taken).
-    fn take_bucket_of(&mut self, variable: i32) -> i32 {
-        let hash = self.key[variable as usize] as usize;
-        std::mem::replace(&mut self.head[hash], NONE)
+    fn take_bucket_of(&mut self, links: &[Link], variable: i32) -> i32 {
+        let bucket = links[variable as usize].previous as usize;
+        std::mem::replace(&mut self.head[bucket], NONE)
     }
 }
 
@@ -72,7 +84,7 @@ impl QuotientGraph {
             let i = self.lists[k];
             // Still principal and in Lp (not mass eliminated, not merged).
             if self.size[i as usize] < 0 {
-                let first = self.hash_buckets.take_bucket_of(i);
+                let first = self.hash_buckets.take_bucket_of(&self.links, i);
                 self.merge_bucket(first);
             }
         }
@@ -82,15 +94,15 @@ impl QuotientGraph {
     /// at `first`, merging `j` into `i` when their lists are equal.
     fn merge_bucket(&mut self, first: i32) {
         let mut i = first;
-        while i != NONE && self.hash_buckets.next[i as usize] != NONE {
+        while i != NONE && self.links[i as usize].next != NONE {
             self.flag_list_of(i);
             let mut previous = i;
-            let mut j = self.hash_buckets.next[i as usize];
+            let mut j = self.links[i as usize].next;
             while j != NONE {
-                let after = self.hash_buckets.next[j as usize];
+                let after = self.links[j as usize].next;
                 if self.has_flagged_list(i, j) {
                     self.merge_into(j, i);
-                    self.hash_buckets.next[previous as usize] = after;
+                    self.links[previous as usize].next = after;
                 } else {
                     previous = j;
                 }
@@ -98,7 +110,7 @@ impl QuotientGraph {
             }
             // A fresh mark unflags i's list for the next comparison.
             self.flag_mark += 1;
-            i = self.hash_buckets.next[i as usize];
+            i = self.links[i as usize].next;
         }
     }
 
