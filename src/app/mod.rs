@@ -4,6 +4,7 @@
 mod analyze;
 mod args;
 mod generate;
+mod simulate;
 mod timing;
 
 /// What went wrong, and whether it was the way the program was called.
@@ -37,6 +38,11 @@ commands:
   generate examples [--out DIR]
       Writes the five teaching scenes (single-spring-horizontal,
       horizontal-chain, net, flag, skirt) and their PNG textures.
+  simulate SCENE.json [--dense] [--steps N] [--every K] [--out DIR] [--wind]
+                      [--json]
+      Runs the simulation (sparse unless --dense) for N steps (default 100).
+      With --out, writes DIR/frame-NNNNNN.obj for step 0 and every K-th step.
+      Ends with n, springs, precomputation time and the median step time.
   help
       This text.
 ";
@@ -46,6 +52,7 @@ commands:
 pub fn run(args: &[String]) -> i32 {
     let result = match args.first().map(String::as_str) {
         Some("analyze") => analyze::run(&args[1..]),
+        Some("simulate") => simulate::run(&args[1..]),
         Some("generate") => generate::run(&args[1..]),
         Some("help" | "--help" | "-h") => {
             print!("{USAGE}");

@@ -37,6 +37,8 @@ pub const DELTA_T: f64 = 1.0 / 30.0;
 pub struct MassSpringSystem<B: LinearAlgebra> {
     /// Rest length of every spring.
     pub r: Vec<f64>,
+    /// The masses `m`, one per vertex.
+    pub m: Vec<f64>,
     /// The mass matrix `diag(m)`.
     pub M: B::Matrix,
     /// The signed incidence matrix.
@@ -99,7 +101,7 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
         check_pins(n, pinned, targets.len())?;
         self.C = selection_matrix::<B>(n, pinned);
         self.pin_count = pinned.len();
-        self.Q = assemble_q::<B>(&self.A, &self.M, &self.C, self.k, self.delta_t, self.w);
+        self.Q = assemble_q::<B>(&self.A, &self.m, &self.C, self.k, self.delta_t, self.w);
         B::refactor(&mut self.prefactorization, &self.Q)?;
         self.pin_rhs = pin_right_hand_side::<B>(&self.C, n, targets, self.w);
         Ok(())
@@ -147,12 +149,13 @@ pub fn fast_mass_springs_precomputation<B: LinearAlgebra>(
     let mass_matrix = B::from_entries(n, n, m.iter().enumerate().map(|(i, &mi)| (i, i, mi)));
     let a = signed_incidence_matrix::<B>(n, springs);
     let c = selection_matrix::<B>(n, pinned);
-    let q = assemble_q::<B>(&a, &mass_matrix, &c, k, delta_t, PIN_WEIGHT);
+    let q = assemble_q::<B>(&a, m, &c, k, delta_t, PIN_WEIGHT);
     let prefactorization = B::factor(&q)?;
     let pinned_rest: Vec<[f64; 3]> = pinned.iter().map(|&i| v[i]).collect();
     let pin_rhs = pin_right_hand_side::<B>(&c, n, &pinned_rest, PIN_WEIGHT);
     Ok(MassSpringSystem {
         r,
+        m: m.to_vec(),
         M: mass_matrix,
         A: a,
         C: c,
@@ -226,16 +229,25 @@ fn selection_matrix<B: LinearAlgebra>(n: usize, pinned: &[usize]) -> B::Matrix {
     )
 }
 
-/// `Q = k AᵀA + M/Δt² + w CᵀC`.
+/// `Q = k AᵀA + M/Δt² + w CᵀC`, each term as the handout writes it (so the
+/// rounding matches a direct transcription: `mᵢ/Δt²`, not `mᵢ·(1/Δt²)`).
 fn assemble_q<B: LinearAlgebra>(
     a: &B::Matrix,
-    mass_matrix: &B::Matrix,
+    m: &[f64],
     c: &B::Matrix,
     k: f64,
     delta_t: f64,
     w: f64,
 ) -> B::Matrix {
-    let springs_and_mass = B::combine(k, &B::gram(a), 1.0 / (delta_t * delta_t), mass_matrix);
+    let n = m.len();
+    let m_over_dt2 = B::from_entries(
+        n,
+        n,
+        m.iter()
+            .enumerate()
+            .map(|(i, &mi)| (i, i, mi / (delta_t * delta_t))),
+    );
+    let springs_and_mass = B::combine(k, &B::gram(a), 1.0, &m_over_dt2);
     B::combine(1.0, &springs_and_mass, w, &B::gram(c))
 }
 

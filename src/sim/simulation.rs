@@ -10,6 +10,7 @@ use super::forces::{bounding_box_diagonal, external_forces};
 use super::precomputation::{fast_mass_springs_precomputation, MassSpringSystem, DELTA_T};
 use super::step::{fast_mass_springs_step, StepReport, ITERATIONS};
 use super::SimulationError;
+use crate::mesh::Scene;
 
 /// How a simulation runs.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -85,6 +86,21 @@ impl<B: LinearAlgebra> Simulation<B> {
             steps: 0,
             dragged: None,
         })
+    }
+
+    /// The simulation of a loaded scene, starting at rest.
+    ///
+    /// # Errors
+    /// As [`fast_mass_springs_precomputation`].
+    pub fn from_scene(scene: &Scene, options: SimulationOptions) -> Result<Self, SimulationError> {
+        Self::new(
+            &scene.vertices,
+            &scene.springs,
+            scene.k,
+            &scene.masses,
+            &scene.pinned,
+            options,
+        )
     }
 
     /// Advances one time step.

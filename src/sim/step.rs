@@ -96,9 +96,9 @@ fn inertial_term<B: LinearAlgebra>(
         *inertia = std::array::from_fn(|c| 2.0 * cur[c] - prev[c]);
     }
     B::mul_points(&system.M, &buffers.inertia, &mut buffers.y);
-    let inverse_dt2 = 1.0 / (system.delta_t * system.delta_t);
+    let dt2 = system.delta_t * system.delta_t;
     for (y, f) in buffers.y.iter_mut().zip(f_ext) {
-        *y = std::array::from_fn(|c| y[c] * inverse_dt2 + f[c]);
+        *y = std::array::from_fn(|c| y[c] / dt2 + f[c]);
     }
 }
 
