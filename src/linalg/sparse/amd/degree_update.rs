@@ -3,12 +3,12 @@
 //! **What it computes.** After pivot `p`, only the variables `i ∈ Lp` change
 //! degree. The exact external degree `|Ai ∪ ⋃_{e ∈ Ei} Le| − |i|` would need
 //! a set union per variable; AMD uses the upper bound (Amestoy, Davis & Duff
-//! 1996, eq. (4); the `|·|` count variables, i.e. sum supervariable sizes)
+//! 1996, §3; every `|·|` counts variables, i.e. sums supervariable sizes)
 //!
 //! ```text
-//! d̄i = min( n − k − |i|,                          nothing exceeds what is left
+//! d̄i = min( n − k − |i|,                          k variables eliminated so far
 //!           d̄i_old + |Lp \ i|,                      the old bound grows by Lp at most
-//!           |Ai \ i| + |Lp \ i| + Σ_{e ∈ Ei \ {p}} |Le \ Lp| )
+//!           |Ai \ Lp| + |Lp \ i| + Σ_{e ∈ Ei, e ≠ p} |Le \ Lp| )
 //! ```
 //!
 //! in two scans over `Lp`:

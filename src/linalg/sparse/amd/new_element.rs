@@ -17,7 +17,8 @@
 //! **Where.** If `p` is adjacent to no element, `Lp ⊆ Ap` and the element
 //! overwrites `p`'s own list. Otherwise it is written at the free end of the
 //! workspace; should that fill, the workspace is compressed first (see
-//! [`QuotientGraph::compress`]), keeping the parts of the lists not yet read.
+//! [`compress`](super::quotient_graph::compress)), keeping the parts of the
+//! lists not yet read.
 //!
 //! **Cost.** `O(|Ap| + Σ_{e ∈ Ep} |Le|)`; every entry read belongs to a
 //! list that is freed here, so over the whole ordering this is `O(nnz(A))`

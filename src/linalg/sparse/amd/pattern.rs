@@ -2,11 +2,11 @@
 //! quotient graph.
 //!
 //! **What it computes.** For every row `i`, the sorted list of `j ≠ i` with
-//! `A(i, j) ≠ 0` or `A(j, i) ≠ 0`, all rows stored one after the other at the
-//! front of a single `i32` workspace that has elbow room behind them:
-//! `len = nnz + nnz / 5 + n` for `nnz` off-diagonal entries of `A + Aᵀ`, the
-//! size SuiteSparse's `amd_order` gives `amd_2`. The quotient graph grows
-//! into that room.
+//! `A(i, j) ≠ 0` or `A(j, i) ≠ 0`, all rows stored one after the other in a
+//! single `i32` vector whose capacity leaves elbow room behind them:
+//! `nnz + nnz / 5 + n` for `nnz` off-diagonal entries of `A + Aᵀ`, the
+//! workspace SuiteSparse's `amd_order` gives `amd_2`. The quotient graph
+//! grows into that room.
 //!
 //! **The idea.** Every edge `{i, j}` of `A + Aᵀ` must be listed once even
 //! when both `A(i, j)` and `A(j, i)` are stored. Walk the columns `k` in

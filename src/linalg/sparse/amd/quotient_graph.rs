@@ -22,7 +22,7 @@
 //!
 //! **Garbage collection.** New elements are written at the end of the used
 //! part of the workspace. When it is full, the live lists are slid to the
-//! front ([`QuotientGraph::compress`]), `O(workspace)` each time, rare with
+//! front ([`compress`]), `O(workspace)` each time, rare with
 //! the 20 % elbow room of [`pattern`](super::pattern).
 //!
 //! **Source.** Amestoy, Davis & Duff 1996, §2–3; SuiteSparse AMD `amd_2.c`

@@ -21,9 +21,9 @@
 //! well; a bucket of `b` distinct lists costs `O(b²)` list comparisons in
 //! the worst case.
 //!
-//! **Source.** Amestoy, Davis & Duff 1996, §3 ("supervariable detection",
-//! after Ashcraft's hash 1995); SuiteSparse AMD `amd_2.c` ("supervariable
-//! detection", with its separate `Hhead` variant); Davis 2006, §7.1.
+//! **Source.** Amestoy, Davis & Duff 1996, §3 ("supervariable
+//! detection"); SuiteSparse AMD `amd_2.c` ("supervariable detection");
+//! Davis 2006, §7.1.
 
 use super::degree_lists::Link;
 use super::new_element::Pivot;
