@@ -1,5 +1,6 @@
-//! Sparse Cholesky on the grid-N cloth matrices: symbolic analysis, numeric
-//! factorization (simplicial and supernodal) and the 3-column solve.
+//! Sparse Cholesky on the `Q` of the flag, the skirt and the grid-N
+//! cloths: symbolic analysis, numeric factorization (simplicial and
+//! supernodal) and the 3-column solve.
 //!
 //! `cargo bench --bench cholesky`; add `MASSSPRINGS_BENCH_LARGE=1` for
 //! grid-1000. Compare with the peers (`benches/peers/`, `eigen-ref bench`)
@@ -7,11 +8,23 @@
 
 mod common;
 
-use common::{grid_matrix, grid_sides, right_hand_side};
+use common::{assignment_scene, grid_scene, grid_sides, q_matrix, right_hand_side};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use masssprings::linalg::sparse::{Method, Ordering, SparseCholesky, SymbolicCholesky};
 use std::hint::black_box;
 use std::time::Duration;
+
+/// The matrices to run: flag, skirt, then the grids.
+fn matrices() -> Vec<(String, usize, masssprings::linalg::sparse::CscMatrix)> {
+    let mut list = vec![];
+    for name in ["flag", "skirt"] {
+        list.push((name.to_string(), 0, q_matrix(&assignment_scene(name))));
+    }
+    for side in grid_sides() {
+        list.push((format!("grid-{side}"), side, q_matrix(&grid_scene(side))));
+    }
+    list
+}
 
 fn configure(group: &mut criterion::BenchmarkGroup<criterion::measurement::WallTime>, side: usize) {
     if side >= 316 {
@@ -22,11 +35,10 @@ fn configure(group: &mut criterion::BenchmarkGroup<criterion::measurement::WallT
 
 fn symbolic(c: &mut Criterion) {
     let mut group = c.benchmark_group("symbolic");
-    for side in grid_sides() {
-        let q = grid_matrix(side);
+    for (name, side, q) in matrices() {
         let perm = Ordering::Amd.permutation(&q).unwrap();
         configure(&mut group, side);
-        group.bench_function(BenchmarkId::from_parameter(format!("grid-{side}")), |b| {
+        group.bench_function(BenchmarkId::from_parameter(&name), |b| {
             b.iter(|| SymbolicCholesky::with_permutation(black_box(&q), &perm).unwrap())
         });
     }
@@ -35,11 +47,10 @@ fn symbolic(c: &mut Criterion) {
 
 fn numeric(c: &mut Criterion) {
     let mut group = c.benchmark_group("numeric");
-    for side in grid_sides() {
-        let q = grid_matrix(side);
+    for (name, side, q) in matrices() {
         let symbolic = SymbolicCholesky::analyze(&q, Ordering::Amd).unwrap();
         configure(&mut group, side);
-        for (name, method) in [
+        for (method_name, method) in [
             ("supernodal", Method::Supernodal),
             ("simplicial", Method::Simplicial),
         ] {
@@ -47,7 +58,7 @@ fn numeric(c: &mut Criterion) {
                 continue; // minutes per sample; the ratio is clear from grid-316
             }
             let mut cholesky = SparseCholesky::factor(symbolic.clone(), &q, method).unwrap();
-            group.bench_function(BenchmarkId::new(name, format!("grid-{side}")), |b| {
+            group.bench_function(BenchmarkId::new(method_name, &name), |b| {
                 b.iter(|| cholesky.refactor(black_box(&q)).unwrap())
             });
         }
@@ -57,14 +68,13 @@ fn numeric(c: &mut Criterion) {
 
 fn solve(c: &mut Criterion) {
     let mut group = c.benchmark_group("solve_3_columns");
-    for side in grid_sides() {
-        let q = grid_matrix(side);
+    for (name, side, q) in matrices() {
         let symbolic = SymbolicCholesky::analyze(&q, Ordering::Amd).unwrap();
         let mut cholesky = SparseCholesky::factor(symbolic, &q, Method::Supernodal).unwrap();
         let rhs = right_hand_side(q.ncols());
         let mut x = rhs.clone();
         configure(&mut group, side);
-        group.bench_function(BenchmarkId::from_parameter(format!("grid-{side}")), |b| {
+        group.bench_function(BenchmarkId::from_parameter(&name), |b| {
             b.iter(|| {
                 x.copy_from_slice(&rhs);
                 cholesky.solve_points_in_place(black_box(&mut x));

@@ -1,38 +1,57 @@
-//! Matrices shared by the benchmarks.
+//! Scenes and matrices shared by the benchmarks, built through the library
+//! itself: the grid-N cloth of `shared/anchors.md` is generated, written
+//! and read back as a scene, and its `Q` comes from the precomputation.
 #![allow(dead_code)]
 
-use masssprings::linalg::sparse::{CscMatrix, TripletMatrix};
+use masssprings::linalg::sparse::{CscMatrix, Triangle};
+use masssprings::mesh::procedural::grid;
+use masssprings::mesh::{load_scene, Scene};
+use masssprings::sim::precomputation::fast_mass_springs_precomputation_sparse;
+use masssprings::sim::DELTA_T;
+use std::path::{Path, PathBuf};
 
-/// The grid-N cloth matrix of `shared/anchors.md` (lower triangle):
-/// `Q = k AᵀA + M/Δt² + w CᵀC` for an N×N grid, every quad with its six
-/// corner pairs as springs, k = 1e4, m = 1/N², Δt = 1/30, w = 1e10, the two
-/// top corners pinned. Vertex `(i, j)` is `j·N + i`; the springs of a quad
-/// couple each vertex with its eight neighbours.
-pub fn grid_matrix(side: usize) -> CscMatrix {
-    let n = side * side;
-    let (k, mass, dt, w) = (1e4, 1.0 / n as f64, 1.0 / 30.0, 1e10);
-    let mut t = TripletMatrix::with_capacity(n, n, 5 * n);
-    for j in 0..side {
-        for i in 0..side {
-            let v = j * side + i;
-            t.push(v, v, mass / (dt * dt)).unwrap();
-            // springs to the neighbours after v: right, and the row below
-            let neighbours = [(1, 0), (-1, 1), (0, 1), (1, 1)];
-            for (di, dj) in neighbours {
-                let (ii, jj) = (i as i64 + di, j as i64 + dj);
-                if (0..side as i64).contains(&ii) && (jj as usize) < side {
-                    let u = jj as usize * side + ii as usize;
-                    t.push(v, v, k).unwrap();
-                    t.push(u, u, k).unwrap();
-                    t.push(u.max(v), u.min(v), -k).unwrap();
-                }
-            }
-        }
-    }
-    for pinned in [0, side - 1] {
-        t.push(pinned, pinned, w).unwrap();
-    }
-    t.to_csc()
+/// The grid-N scene (`masssprings generate grid N`), read back from a
+/// temporary folder.
+pub fn grid_scene(side: usize) -> Scene {
+    let folder = std::env::temp_dir().join(format!("masssprings-bench-{}", std::process::id()));
+    std::fs::create_dir_all(&folder).unwrap();
+    let generated = grid(side);
+    let obj = folder.join(generated.obj_file_name());
+    let json = folder.join(generated.json_file_name());
+    generated
+        .write_obj(&mut std::fs::File::create(&obj).unwrap())
+        .unwrap();
+    std::fs::write(&json, generated.json_text()).unwrap();
+    let scene = load_scene(&json).unwrap();
+    let _ = std::fs::remove_dir_all(&folder);
+    scene
+}
+
+/// One of the assignment's scenes from `../shared/original-data/`, if that
+/// folder is there; else the project's own version from `data/`.
+pub fn assignment_scene(name: &str) -> Scene {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let shared = root.join(format!("../shared/original-data/{name}.json"));
+    let path: PathBuf = if shared.exists() {
+        shared
+    } else {
+        root.join(format!("data/{name}.json"))
+    };
+    load_scene(&path).unwrap()
+}
+
+/// `Q = k AᵀA + M/Δt² + w CᵀC` of a scene, lower triangle.
+pub fn q_matrix(scene: &Scene) -> CscMatrix {
+    let system = fast_mass_springs_precomputation_sparse(
+        &scene.vertices,
+        &scene.springs,
+        scene.k,
+        &scene.masses,
+        &scene.pinned,
+        DELTA_T,
+    )
+    .unwrap();
+    system.Q.triangle(Triangle::Lower)
 }
 
 /// Grid sizes to run: 32, 100, 316, and 1000 when

@@ -1,0 +1,316 @@
+//! The command line, run as a user runs it: outputs, exit codes, errors.
+mod common;
+
+use common::grid_matrix;
+use masssprings::linalg::matrix_market::{write_coordinate, write_file, Symmetry};
+use masssprings::linalg::sparse::{Ordering, SymbolicCholesky};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn masssprings(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_masssprings"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn stdout(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+/// A fresh, empty folder under the system's temporary folder.
+fn temp_folder(name: &str) -> PathBuf {
+    let folder =
+        std::env::temp_dir().join(format!("masssprings-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&folder);
+    std::fs::create_dir_all(&folder).unwrap();
+    folder
+}
+
+fn data(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("data")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+fn json(output: &Output) -> serde_json::Value {
+    assert!(output.status.success(), "failed: {}", stderr(output));
+    serde_json::from_str(stdout(output).trim()).expect("one JSON object on stdout")
+}
+
+#[test]
+fn analyze_reports_every_key_and_a_small_residual() {
+    let folder = temp_folder("analyze");
+    let path = folder.join("grid-12.mtx");
+    let q = grid_matrix(12);
+    write_file(&path, |out| {
+        write_coordinate(out, &q, Symmetry::Symmetric, "grid-12")
+    })
+    .unwrap();
+    let report = json(&masssprings(&[
+        "analyze",
+        path.to_str().unwrap(),
+        "--json",
+        "--repeats",
+        "3",
+    ]));
+    for key in [
+        "n",
+        "nnz_a",
+        "nnz_l",
+        "flops",
+        "ordering_s",
+        "symbolic_s",
+        "numeric_s",
+        "solve_s",
+        "residual",
+    ] {
+        assert!(report.get(key).is_some(), "missing {key} in {report}");
+    }
+    let symbolic = SymbolicCholesky::analyze(&q, Ordering::Amd).unwrap();
+    assert_eq!(report["n"], 144);
+    assert_eq!(report["nnz_l"], symbolic.nnz_l());
+    assert_eq!(
+        report["nnz_a"],
+        q.triangle(masssprings::linalg::sparse::Triangle::Lower)
+            .nnz()
+    );
+    assert!(report["residual"].as_f64().unwrap() < 1e-12, "{report}");
+    let natural = json(&masssprings(&[
+        "analyze",
+        path.to_str().unwrap(),
+        "--json",
+        "--ordering",
+        "natural",
+        "--repeats",
+        "1",
+    ]));
+    assert!(natural["nnz_l"].as_u64() >= report["nnz_l"].as_u64());
+    let human = masssprings(&[
+        "analyze",
+        path.to_str().unwrap(),
+        "--repeats",
+        "1",
+        "--method",
+        "simplicial",
+    ]);
+    assert!(human.status.success());
+    assert!(stdout(&human).contains("nnz(L)"));
+}
+
+#[test]
+fn analyze_uses_the_right_hand_side_file_when_there_is_one() {
+    let folder = temp_folder("analyze-rhs");
+    let path = folder.join("q.mtx");
+    let q = grid_matrix(5);
+    write_file(&path, |out| {
+        write_coordinate(out, &q, Symmetry::Symmetric, "q")
+    })
+    .unwrap();
+    std::fs::write(
+        folder.join("q.b.mtx"),
+        "%%MatrixMarket matrix array real general\n2 3\n1\n2\n3\n4\n5\n6\n",
+    )
+    .unwrap();
+    let output = masssprings(&["analyze", path.to_str().unwrap(), "--json"]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stderr(&output).contains("q.b.mtx"), "{}", stderr(&output));
+}
+
+#[test]
+fn analyze_names_the_file_and_line_of_a_bad_matrix() {
+    let folder = temp_folder("analyze-bad");
+    let path = folder.join("bad.mtx");
+    std::fs::write(
+        &path,
+        "%%MatrixMarket matrix coordinate real symmetric\n2 2 2\n1 1 4\n2 x 1\n",
+    )
+    .unwrap();
+    let output = masssprings(&["analyze", path.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stderr(&output).contains("bad.mtx:4"), "{}", stderr(&output));
+    let missing = masssprings(&["analyze", folder.join("missing.mtx").to_str().unwrap()]);
+    assert_eq!(missing.status.code(), Some(1));
+    assert!(stderr(&missing).contains("missing.mtx"));
+}
+
+#[test]
+fn analyze_reports_a_matrix_that_is_not_positive_definite() {
+    let folder = temp_folder("analyze-indefinite");
+    let path = folder.join("indefinite.mtx");
+    std::fs::write(
+        &path,
+        "%%MatrixMarket matrix coordinate real symmetric\n3 3 3\n1 1 1\n2 2 -2\n3 3 1\n",
+    )
+    .unwrap();
+    let output = masssprings(&["analyze", path.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        stderr(&output).contains("not positive definite"),
+        "{}",
+        stderr(&output)
+    );
+    assert!(stderr(&output).contains("column 1"), "{}", stderr(&output));
+}
+
+#[test]
+fn usage_errors_exit_with_two() {
+    for args in [
+        vec![],
+        vec!["frobnicate"],
+        vec!["analyze"],
+        vec!["analyze", "a.mtx", "--ordering", "metis"],
+        vec!["analyze", "a.mtx", "--bogus"],
+        vec!["simulate", "scene.json", "--steps", "many"],
+        vec!["simulate", "scene.json", "--every", "0"],
+    ] {
+        let output = masssprings(&args);
+        assert_eq!(
+            output.status.code(),
+            Some(2),
+            "{args:?}: {}",
+            stderr(&output)
+        );
+        assert!(!stderr(&output).is_empty());
+    }
+    assert!(masssprings(&["help"]).status.success());
+}
+
+#[test]
+fn simulate_writes_frames_that_read_back_exactly() {
+    let folder = temp_folder("frames");
+    let output = masssprings(&[
+        "simulate",
+        &data("net.json"),
+        "--steps",
+        "7",
+        "--every",
+        "3",
+        "--out",
+        folder.to_str().unwrap(),
+        "--json",
+    ]);
+    let summary = json(&output);
+    for key in ["n", "springs", "steps", "precompute_s", "step_median_s"] {
+        assert!(summary.get(key).is_some(), "missing {key} in {summary}");
+    }
+    assert_eq!(summary["steps"], 7);
+    let mut names: Vec<String> = std::fs::read_dir(&folder)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        ["frame-000000.obj", "frame-000003.obj", "frame-000006.obj"]
+    );
+    // a frame is a scene mesh: the original JSON pointed at a frame loads
+    let frame = std::fs::read_to_string(folder.join("frame-000006.obj")).unwrap();
+    let vertices = frame.lines().filter(|l| l.starts_with("v ")).count();
+    assert_eq!(serde_json::Value::from(vertices), summary["n"]);
+    // the same run through the library gives exactly the written numbers
+    let scene = masssprings::mesh::load_scene(Path::new(&data("net.json"))).unwrap();
+    let mut sim = masssprings::sim::Simulation::<masssprings::sim::Sparse>::from_scene(
+        &scene,
+        Default::default(),
+    )
+    .unwrap();
+    for _ in 0..6 {
+        sim.step().unwrap();
+    }
+    let written: Vec<[f64; 3]> = frame
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| {
+            let v: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
+            [v[0], v[1], v[2]]
+        })
+        .collect();
+    assert_eq!(written.as_slice(), sim.positions());
+}
+
+#[test]
+fn simulate_dense_and_sparse_both_run() {
+    for backend in [&["--dense"][..], &[][..]] {
+        let mut args = vec![
+            "simulate",
+            "data/single-spring-horizontal.json",
+            "--steps",
+            "3",
+            "--json",
+        ];
+        let path = data("single-spring-horizontal.json");
+        args[1] = &path;
+        args.extend_from_slice(backend);
+        let summary = json(&masssprings(&args));
+        assert_eq!(summary["n"], 2);
+        assert_eq!(summary["springs"], 1);
+    }
+}
+
+#[test]
+fn simulate_names_the_file_and_line_of_a_bad_scene() {
+    let folder = temp_folder("bad-scene");
+    std::fs::write(
+        folder.join("s.json"),
+        r#"{"obj": "s.obj", "k": 1, "b": [1], "m": 1}"#,
+    )
+    .unwrap();
+    std::fs::write(folder.join("s.obj"), "v 0 0 0\nv 1 0 0\nf 1 3\n").unwrap();
+    let output = masssprings(&[
+        "simulate",
+        folder.join("s.json").to_str().unwrap(),
+        "--out",
+        folder.join("frames").to_str().unwrap(),
+    ]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stderr(&output).contains("s.obj:3"), "{}", stderr(&output));
+    assert!(
+        !folder.join("frames").exists(),
+        "no output for a scene that did not load"
+    );
+}
+
+#[test]
+fn a_step_that_blows_up_is_reported_and_leaves_only_whole_frames() {
+    // astronomically stiff springs stretched far from rest overflow to inf
+    let folder = temp_folder("blow-up");
+    std::fs::write(
+        folder.join("s.json"),
+        r#"{"obj": "s.obj", "k": 1e300, "b": [1], "m": 1e-300}"#,
+    )
+    .unwrap();
+    std::fs::write(
+        folder.join("s.obj"),
+        "v 0 0 0\nv 1e300 0 0\nv 0 1e300 0\nf 1 2\nf 2 3\n",
+    )
+    .unwrap();
+    let frames = folder.join("frames");
+    let output = masssprings(&[
+        "simulate",
+        folder.join("s.json").to_str().unwrap(),
+        "--out",
+        frames.to_str().unwrap(),
+    ]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        stderr(&output).contains("step 1: the step produced a non-finite position"),
+        "{}",
+        stderr(&output)
+    );
+    let names: Vec<String> = std::fs::read_dir(&frames)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(
+        names,
+        ["frame-000000.obj"],
+        "only the whole frame of step 0, no temporary"
+    );
+}
