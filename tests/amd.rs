@@ -325,6 +325,21 @@ proptest! {
     }
 
     #[test]
+    fn amd_orders_the_dense_rows_last_by_increasing_index(p in pattern(60)) {
+        // Threshold 0: rows with more than 16 off-diagonal entries are dense.
+        let a = from_pattern(p.n, &p.entries, |_, _| 1.0);
+        let full = symmetrized(&a);
+        let dense: Vec<usize> = (0..p.n)
+            .filter(|&j| full.column(j).0.iter().filter(|&&i| i != j).count() > 16)
+            .collect();
+        let options = AmdOptions { dense_threshold: 0.0, ..AmdOptions::default() };
+        let (perm, info) = amd(&a, &options).unwrap();
+        prop_assert_eq!(info.dense_rows, dense.len());
+        prop_assert_eq!(&perm.perm()[p.n - dense.len()..], &dense[..]);
+        prop_assert!(factor_nnz(&a, &perm) <= info.factor_nnz_estimate);
+    }
+
+    #[test]
     fn amd_without_dense_rows_returns_a_permutation(p in pattern(60)) {
         let a = from_pattern(p.n, &p.entries, |_, _| 1.0);
         let options = AmdOptions { dense_threshold: -1.0, ..AmdOptions::default() };
