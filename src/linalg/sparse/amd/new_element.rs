@@ -151,7 +151,8 @@ impl QuotientGraph {
                 }
                 if lists.len() == *workspace_len {
                     // Workspace full: keep only what is still unread, compress.
-                    set_unread(start, length, p, read, length[p] as usize - (visited + 1));
+                    let unread_of_p = element_total + variable_total - (visited + 1);
+                    set_unread(start, length, p, read, unread_of_p);
                     set_unread(start, length, source, at, count - taken);
                     counters.garbage_collections += 1;
                     element_start = compress(lists, start, length, element_start);
