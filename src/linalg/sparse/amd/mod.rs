@@ -66,8 +66,8 @@ use quotient_graph::QuotientGraph;
 pub struct AmdOptions {
     /// A row of `A + Aᵀ` with more than `max(16, dense_threshold · √n)`
     /// off-diagonal entries is "dense": it is removed before the ordering
-    /// starts and placed last. A negative value turns the detection off
-    /// (SuiteSparse would still remove rows that are completely full).
+    /// starts and placed last. A negative value (or NaN) turns the detection
+    /// off; SuiteSparse would still remove rows that are completely full.
     /// Default 10.
     pub dense_threshold: f64,
     /// Absorb every element `e` whose pattern lies inside the new element
