@@ -85,7 +85,10 @@ impl QuotientGraph {
             // Still principal and in Lp (not mass eliminated, not merged).
             if self.size[i as usize] < 0 {
                 let first = self.hash_buckets.take_bucket_of(&self.links, i);
-                self.merge_bucket(first);
+                // Only a bucket of two or more variables can merge anything.
+                if first != NONE && self.links[first as usize].next != NONE {
+                    self.merge_bucket(first);
+                }
             }
         }
     }
