@@ -3,10 +3,10 @@
 //! **What it computes.** The elimination leaves an *assembly tree*: each
 //! element (supernode) points to the element that absorbed it, and each
 //! non-principal variable points to the supervariable or element it was
-//! merged into. Any topological order of the tree (children before parents)
-//! gives the same fill as the pivot order itself; a *postorder* (every
-//! subtree numbered contiguously) also makes the factor's columns of a
-//! subtree adjacent, which the numeric factorization likes. The steps:
+//! merged into. A depth-first *postorder* of the tree (children before
+//! parents, every subtree numbered contiguously) gives the same fill as the
+//! pivot order itself, and keeps the columns of each subtree of the factor
+//! together, which the numeric factorization likes. The steps:
 //!
 //! 1. **Path compression**: every non-principal variable is attached
 //!    directly to the element it was eliminated with.
@@ -19,7 +19,8 @@
 //!    `size[e]` positions; the variables merged into `e` come first, by
 //!    increasing index, then `e` itself. Dense variables come last.
 //!
-//! **Cost.** `O(n)` time and memory.
+//! **Cost.** `O(n)` time; the work arrays are spare `n`-vectors of the
+//! quotient graph, only the permutation itself is allocated.
 //!
 //! **Source.** SuiteSparse AMD `amd_2.c` ("compress the paths of the
 //! variables", "compute output permutation"), `amd_postorder.c`,
