@@ -45,8 +45,8 @@ pub(super) struct HashBuckets {
     mask: u32,
 }
 
-/// Upper bound on the number of hash buckets (16 KiB of heads).
-const MAX_BUCKETS: usize = 4096;
+/// Upper bound on the number of hash buckets (4 KiB of heads).
+const MAX_BUCKETS: usize = 1024;
 
 impl HashBuckets {
     /// Buckets for `n` variables.
