@@ -25,9 +25,9 @@
 //!   permutation ([`postorder`]).
 //!
 //! **Cost.** `O(nnz(A))` memory (one integer workspace of about
-//! `1.2 · nnz(A + Aᵀ) + n` entries plus a dozen `n`-vectors); time is not
-//! bounded polynomially in theory but is close to `O(nnz(A))` times a small
-//! factor in practice (Amestoy, Davis & Duff 1996, §4).
+//! `1.2 · nnz(A + Aᵀ) + n` entries plus a dozen `n`-vectors); time at most
+//! `O(n · nnz(A))` (the paper's bound), close to linear in `nnz(A)` in
+//! practice.
 //!
 //! **Source.** The paper above, as implemented in SuiteSparse AMD
 //! (`amd_aat`, `amd_1`, `amd_2`, `amd_postorder`, `amd_post_tree`), and
