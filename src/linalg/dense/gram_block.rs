@@ -6,18 +6,21 @@
 //! one block of four columns of that product:
 //!
 //! ```text
-//! block[r][t] = Σ_k X(first + r, k) · X(first + t, k)      t = 0..4, r = 0..rows
+//! block[t][r] = Σ_k X(first + r, k) · X(first + t, k)      t = 0..4, r = 0..rows
 //! ```
 //!
 //! `X` is addressed column by column: row `p` of column `k` is
 //! `values[column_base[k] + p]` (the columns of a supernode in CSC are
-//! contiguous but each starts at its own offset).
+//! contiguous but each starts at its own offset). The block is stored by
+//! columns: `block[t * rows + r]`.
 //!
-//! Register blocking: eight rows by four columns of `block` stay in
-//! registers while `k` runs, so each value of `X` loaded from memory is
-//! used for four multiply-adds. Where the CPU has AVX2 and FMA (checked at
-//! run time), the same code is compiled with those instructions; elsewhere
-//! it runs as plain portable Rust.
+//! Register blocking: a tile of eight rows by four columns of the block
+//! stays in registers while `k` runs, so each value of `X` loaded from
+//! memory serves four multiply-adds. On a CPU with AVX2 and FMA (checked at
+//! run time) the tile is eight 256-bit registers and the loop is written
+//! with those instructions directly: left to itself the compiler keeps the
+//! tile in scalars and spills it to the stack. Elsewhere a plain loop
+//! computes the same sums.
 //!
 //! Cost `4 · rows · ncols(X)` multiply-adds per call. Source: the
 //! register-blocked micro-kernel of Goto & van de Geijn, "Anatomy of
@@ -26,15 +29,16 @@
 
 /// Columns of the product computed per call.
 pub const BLOCK_COLUMNS: usize = 4;
-const BLOCK_ROWS: usize = 8;
 
-/// `block[r * 4 + t] = Σ_k X(first + r, k) · X(first + t, k)` for
-/// `r in 0..rows`, with `X(p, k) = values[column_base[k] + p]`. Columns
-/// `t ≥ width` of the block are set to zero.
+/// `block[t * rows + r] = Σ_k X(first + r, k) · X(first + t, k)` for
+/// `r in 0..rows`, `t in 0..4`, with `X(p, k) = values[column_base[k] + p]`.
+/// Columns `t ≥ width` of the block are zero. `rows_of_y` is a work buffer
+/// with room for one entry per column of `X`.
 ///
 /// # Panics
-/// When `width > 4`, `block` holds fewer than `4 · rows` values, `rows <
-/// width`, or a column of `X` does not reach row `first + rows`.
+/// When `width > 4`, `rows < width`, `block` holds fewer than `4 · rows`
+/// values, `rows_of_y` is shorter than `column_base`, or a column of `X`
+/// does not reach row `first + rows`.
 pub fn gram_block(
     values: &[f64],
     column_base: &[usize],
@@ -42,91 +46,120 @@ pub fn gram_block(
     width: usize,
     rows: usize,
     block: &mut [f64],
+    rows_of_y: &mut [[f64; BLOCK_COLUMNS]],
 ) {
     assert!(width <= BLOCK_COLUMNS && rows >= width && block.len() >= BLOCK_COLUMNS * rows);
+    assert!(rows_of_y.len() >= column_base.len());
+    // Y(k) = X(first .. first + width, k), padded with zeros to four values
+    for (y, &base) in rows_of_y.iter_mut().zip(column_base) {
+        *y = [0.0; BLOCK_COLUMNS];
+        y[..width].copy_from_slice(&values[base + first..base + first + width]);
+    }
+    let ys = &rows_of_y[..column_base.len()];
+    let block = &mut block[..BLOCK_COLUMNS * rows];
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
         // SAFETY: the CPU supports the features the function is compiled for.
-        unsafe { gram_block_avx2(values, column_base, first, width, rows, block) };
+        unsafe { avx2::gram_block(values, column_base, first, rows, ys, block) };
         return;
     }
-    gram_block_portable::<false>(values, column_base, first, width, rows, block);
+    gram_block_portable(values, column_base, first, rows, ys, block);
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn gram_block_avx2(
+/// The same sums, one entry at a time.
+fn gram_block_portable(
     values: &[f64],
     column_base: &[usize],
     first: usize,
-    width: usize,
     rows: usize,
+    ys: &[[f64; BLOCK_COLUMNS]],
     block: &mut [f64],
 ) {
-    gram_block_portable::<true>(values, column_base, first, width, rows, block);
-}
-
-/// `a · b + c`, fused into one rounding where the CPU has FMA.
-#[inline(always)]
-fn multiply_add<const FUSED: bool>(a: f64, b: f64, c: f64) -> f64 {
-    if FUSED {
-        a.mul_add(b, c)
-    } else {
-        a * b + c
-    }
-}
-
-#[inline(always)]
-fn gram_block_portable<const FUSED: bool>(
-    values: &[f64],
-    column_base: &[usize],
-    first: usize,
-    width: usize,
-    rows: usize,
-    block: &mut [f64],
-) {
-    let mut r = 0;
-    while r + BLOCK_ROWS <= rows {
-        let tile = gram_tile::<FUSED, BLOCK_ROWS>(values, column_base, first, width, first + r);
-        store_tile(&tile, &mut block[r * BLOCK_COLUMNS..]);
-        r += BLOCK_ROWS;
-    }
-    while r < rows {
-        let tile = gram_tile::<FUSED, 1>(values, column_base, first, width, first + r);
-        store_tile(&tile, &mut block[r * BLOCK_COLUMNS..]);
-        r += 1;
-    }
-}
-
-/// `tile[t][i] = Σ_k X(row + i, k) · X(first + t, k)` for `R` rows.
-#[inline(always)]
-fn gram_tile<const FUSED: bool, const R: usize>(
-    values: &[f64],
-    column_base: &[usize],
-    first: usize,
-    width: usize,
-    row: usize,
-) -> [[f64; R]; BLOCK_COLUMNS] {
-    let mut tile = [[0.0; R]; BLOCK_COLUMNS];
-    for &base in column_base {
-        let x: &[f64; R] = values[base + row..base + row + R].try_into().unwrap();
-        let mut y = [0.0; BLOCK_COLUMNS];
-        y[..width].copy_from_slice(&values[base + first..base + first + width]);
+    block.fill(0.0);
+    for (&base, y) in column_base.iter().zip(ys) {
+        let x = &values[base + first..base + first + rows];
         for t in 0..BLOCK_COLUMNS {
-            for i in 0..R {
-                tile[t][i] = multiply_add::<FUSED>(x[i], y[t], tile[t][i]);
+            let column = &mut block[t * rows..(t + 1) * rows];
+            for (b, &x_r) in column.iter_mut().zip(x) {
+                *b += x_r * y[t];
             }
         }
     }
-    tile
 }
 
-/// Writes a tile into the row-major block (`4` values per row).
-#[inline(always)]
-fn store_tile<const R: usize>(tile: &[[f64; R]; BLOCK_COLUMNS], block: &mut [f64]) {
-    for i in 0..R {
+#[cfg(target_arch = "x86_64")]
+mod avx2 {
+    use super::BLOCK_COLUMNS;
+    use std::arch::x86_64::*;
+
+    /// Tiles of eight rows (two registers per column), then the last rows
+    /// one at a time.
+    #[target_feature(enable = "avx2,fma")]
+    pub fn gram_block(
+        values: &[f64],
+        column_base: &[usize],
+        first: usize,
+        rows: usize,
+        ys: &[[f64; BLOCK_COLUMNS]],
+        block: &mut [f64],
+    ) {
+        for &base in column_base {
+            assert!(
+                base + first + rows <= values.len(),
+                "a column of X is too short"
+            );
+        }
+        let mut r = 0;
+        while r + 8 <= rows {
+            // SAFETY: every column reaches row first + rows (checked above),
+            // and the tile's stores stay inside block (4 · rows values).
+            unsafe { tile_of_eight(values, column_base, first + r, ys, block, rows, r) };
+            r += 8;
+        }
+        for r in r..rows {
+            let mut sum = [0.0; BLOCK_COLUMNS];
+            for (&base, y) in column_base.iter().zip(ys) {
+                let x = values[base + first + r];
+                for t in 0..BLOCK_COLUMNS {
+                    sum[t] = x.mul_add(y[t], sum[t]);
+                }
+            }
+            for t in 0..BLOCK_COLUMNS {
+                block[t * rows + r] = sum[t];
+            }
+        }
+    }
+
+    /// `block[t·rows + r .. + 8] = Σ_k X(row .. row + 8, k) · Y(k)[t]`.
+    ///
+    /// # Safety
+    /// Rows `row .. row + 8` exist in every column of `X`, and
+    /// `r + 8 ≤ rows`.
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn tile_of_eight(
+        values: &[f64],
+        column_base: &[usize],
+        row: usize,
+        ys: &[[f64; BLOCK_COLUMNS]],
+        block: &mut [f64],
+        rows: usize,
+        r: usize,
+    ) {
+        let v = values.as_ptr();
+        let mut acc = [[_mm256_setzero_pd(); 2]; BLOCK_COLUMNS];
+        for (&base, y) in column_base.iter().zip(ys) {
+            let x_low = _mm256_loadu_pd(v.add(base + row));
+            let x_high = _mm256_loadu_pd(v.add(base + row + 4));
+            for t in 0..BLOCK_COLUMNS {
+                let y_t = _mm256_set1_pd(y[t]);
+                acc[t][0] = _mm256_fmadd_pd(x_low, y_t, acc[t][0]);
+                acc[t][1] = _mm256_fmadd_pd(x_high, y_t, acc[t][1]);
+            }
+        }
+        let out = block.as_mut_ptr();
         for t in 0..BLOCK_COLUMNS {
-            block[i * BLOCK_COLUMNS + t] = tile[t][i];
+            _mm256_storeu_pd(out.add(t * rows + r), acc[t][0]);
+            _mm256_storeu_pd(out.add(t * rows + r + 4), acc[t][1]);
         }
     }
 }

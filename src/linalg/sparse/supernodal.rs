@@ -54,6 +54,10 @@ pub struct SupernodalWorkspace {
     column_base: Vec<usize>,
     /// One block of four columns of an update (longest row list × 4).
     block: Vec<f64>,
+    /// The kernel's copy of the four target rows of each source column.
+    rows_of_y: Vec<[f64; BLOCK_COLUMNS]>,
+    /// Positions in the target supernode of a descendant's rows.
+    relative: Vec<usize>,
 }
 
 impl SupernodalWorkspace {
@@ -74,6 +78,8 @@ impl SupernodalWorkspace {
             next_row: vec![0; count],
             column_base: vec![0; widest],
             block: vec![0.0; BLOCK_COLUMNS * tallest],
+            rows_of_y: vec![[0.0; BLOCK_COLUMNS]; widest],
+            relative: vec![0; tallest],
         }
     }
 }
@@ -165,6 +171,11 @@ fn update_from_descendant(
         work.column_base[k] = column_base(symbolic, d, k);
     }
     let s_first_column = symbolic.supernodes().columns(s).start;
+    // where each of d's rows from the first target down sits in s
+    let below = &d_rows[targets.start..];
+    for (relative, &row) in work.relative.iter_mut().zip(below) {
+        *relative = work.position_in_block[row as usize];
+    }
     let mut first = targets.start;
     while first < targets.end {
         let width = (targets.end - first).min(BLOCK_COLUMNS);
@@ -176,16 +187,35 @@ fn update_from_descendant(
             width,
             rows,
             &mut work.block,
+            &mut work.rows_of_y,
         );
+        let relative = &work.relative[first - targets.start..];
         for t in 0..width {
             let k = d_rows[first + t] as usize - s_first_column; // column in s
             let base = column_base(symbolic, s, k);
-            for r in t..rows {
-                let position = work.position_in_block[d_rows[first + r] as usize];
-                values[base + position] -= work.block[r * BLOCK_COLUMNS + t];
-            }
+            let update = &work.block[t * rows + t..(t + 1) * rows];
+            let positions = &relative[t..rows];
+            subtract_at(&mut values[base..], positions, update);
         }
         first += width;
+    }
+}
+
+/// `target[positions[r]] −= update[r]`; a run of consecutive positions (the
+/// common case: a descendant's rows often sit together in the target) is a
+/// plain slice subtraction, which the compiler vectorizes.
+fn subtract_at(target: &mut [f64], positions: &[usize], update: &[f64]) {
+    let (Some(&start), Some(&end)) = (positions.first(), positions.last()) else {
+        return;
+    };
+    if end - start + 1 == positions.len() {
+        for (t, &u) in target[start..=end].iter_mut().zip(update) {
+            *t -= u;
+        }
+    } else {
+        for (&p, &u) in positions.iter().zip(update) {
+            target[p] -= u;
+        }
     }
 }
 
@@ -205,19 +235,23 @@ fn factor_block(
     while first < columns.len() {
         let width = (columns.len() - first).min(BLOCK_COLUMNS);
         let rows = height - first;
-        // panel −= (earlier columns of the block)(their rows in the panel)ᵀ
-        gram_block(
-            values,
-            &work.column_base[..first],
-            first,
-            width,
-            rows,
-            &mut work.block,
-        );
-        for t in 0..width {
-            let base = work.column_base[first + t];
-            for r in t..rows {
-                values[base + first + r] -= work.block[r * BLOCK_COLUMNS + t];
+        if first > 0 {
+            // panel −= (earlier columns of the block)(their rows in the panel)ᵀ
+            gram_block(
+                values,
+                &work.column_base[..first],
+                first,
+                width,
+                rows,
+                &mut work.block,
+                &mut work.rows_of_y,
+            );
+            for t in 0..width {
+                let base = work.column_base[first + t] + first;
+                let update = &work.block[t * rows..(t + 1) * rows];
+                for r in t..rows {
+                    values[base + r] -= update[r];
+                }
             }
         }
         factor_panel(&work.column_base, first, width, height, values)
@@ -251,8 +285,9 @@ fn factor_panel(
         }
         let diagonal = pivot.sqrt();
         values[base_k + k] = diagonal;
-        for p in k + 1..height {
-            values[base_k + p] /= diagonal;
+        let inverse = 1.0 / diagonal; // one division, then multiplications
+        for value in &mut values[base_k + k + 1..base_k + height] {
+            *value *= inverse;
         }
     }
     Ok(())
