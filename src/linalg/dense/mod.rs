@@ -9,7 +9,6 @@
 pub mod cholesky;
 pub mod gram_block;
 pub mod matrix;
-pub mod row_kernels;
 
 pub use cholesky::{back_substitution, forward_substitution, DenseCholesky};
 pub use matrix::DenseMatrix;

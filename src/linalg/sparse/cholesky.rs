@@ -55,8 +55,6 @@ pub struct SparseCholesky {
     workspace: Workspace,
     /// Room for `n` rows of four values, for the permuted right-hand side.
     solve_buffer: Vec<f64>,
-    /// Room for the rows below the tallest supernode, four values each.
-    below_buffer: Vec<f64>,
     /// False after a failed refactorization: the values are not a factor.
     factored: bool,
 }
@@ -79,15 +77,7 @@ impl SparseCholesky {
             Method::Simplicial => Workspace::Simplicial(UpLookingWorkspace::new(n)),
             Method::Supernodal => Workspace::Supernodal(SupernodalWorkspace::new(&symbolic)),
         };
-        let tallest_below = (0..symbolic.supernodes().len())
-            .map(|s| {
-                let columns = symbolic.supernodes().columns(s);
-                symbolic.column_counts()[columns.start] - columns.len()
-            })
-            .max()
-            .unwrap_or(0);
         let mut cholesky = SparseCholesky {
-            below_buffer: vec![0.0; 4 * tallest_below],
             values: vec![0.0; symbolic.nnz_l()],
             symbolic,
             workspace,
@@ -199,8 +189,7 @@ impl SparseCholesky {
             // L⁻ᵀ L⁻¹ P b, column by column or supernode by supernode
             Workspace::Simplicial(_) => triangular_solve::solve_in_place(l, buffer),
             Workspace::Supernodal(_) => {
-                let (below, _) = self.below_buffer.as_chunks_mut::<LANES>();
-                supernodal_solve::solve_in_place(l, self.symbolic.supernodes(), buffer, below)
+                supernodal_solve::solve_in_place(l, self.symbolic.supernodes(), buffer)
             }
         }
         for (row, &old) in buffer.iter().zip(perm) {

@@ -1,228 +1,230 @@
-//! Forward and back substitution, one supernode at a time.
+//! Forward and back substitution, a few columns of a supernode at a time.
 //!
 //! The same two sweeps as [`triangular_solve`](super::triangular_solve),
-//! but each supernode's columns are handled as a dense block: its diagonal
-//! block `L₁₁` (w × w, lower triangular) over the contiguous unknowns
-//! `x_s = x[first .. first + w]`, and the block `L₂₁` below it, whose rows
-//! `R` are shared by all w columns.
+//! but the columns of a supernode share one list of rows, so they can be
+//! swept together. The columns are taken in *panels* of up to four. For a
+//! panel `c₀ … c₃` and every row `i` below it:
 //!
 //! ```text
-//! forward (L y = b), supernodes in order:      back (Lᵀ x = y), in reverse:
-//!   x_s ← L₁₁⁻¹ x_s                              t   ← x[R]             (gather)
-//!   t   ← L₂₁ x_s          (dense, into t)       x_s ← x_s − L₂₁ᵀ t     (dense)
-//!   x[R] ← x[R] − t        (scatter)             x_s ← L₁₁⁻ᵀ x_s
+//! forward (L y = b):   x_i ← x_i − (L_i,c₀ x_c₀ + … + L_i,c₃ x_c₃)     one update of x_i
+//! back (Lᵀ x = y):     s_c ← s_c + L_i,c x_i  for c = c₀ … c₃           one read of x_i
 //! ```
 //!
-//! Compared with the column-by-column sweep, each row index is read once
-//! per supernode rather than once per entry, and each unknown below the
-//! block is updated once per supernode rather than once per column. The
-//! dense parts run down contiguous columns.
+//! Column by column, each of those rows would be read and written (or
+//! gathered) once per column, and its row index loaded once per entry; a
+//! panel does both once per row. Inside the panel (its small dense
+//! triangle) the sweep goes column by column as usual.
 //!
 //! As there, the right-hand side is a block of `W` columns stored row by
 //! row (padded to four lanes for x, y, z), and the loops are compiled a
 //! second time with AVX2 and FMA, chosen at run time.
 //!
-//! Cost `2 · nnz(L) · W` multiply-adds, plus a gather and a scatter of the
-//! rows below each supernode. Source: Davis 2006, §4.6 and §8.1; CHOLMOD's
-//! supernodal solve (Chen, Davis, Hager, Rajamanickam, ACM TOMS 35(3), 2008).
+//! Cost `2 · nnz(L) · W` multiply-adds, as column by column; fewer loads and
+//! stores. Source: Davis 2006, §4.6 and §8.1; the supernodal triangular
+//! solves of CHOLMOD (Chen, Davis, Hager, Rajamanickam, ACM TOMS 35(3),
+//! 2008), here without a dense work block.
 
 use super::supernodes::Supernodes;
 use super::triangular_solve::FactorView;
-use crate::linalg::dense::row_kernels::{axpy_rows, dot_rows};
 
-/// Solves `L Lᵀ x = b` in place, supernode by supernode; `below` is a work
-/// buffer with room for the rows below the tallest supernode.
-pub fn solve_in_place<const W: usize>(
-    l: FactorView,
-    supernodes: &Supernodes,
-    x: &mut [[f64; W]],
-    below: &mut [[f64; W]],
-) {
+/// Columns swept together.
+const PANEL: usize = 4;
+
+/// Solves `L Lᵀ x = b` in place, supernode by supernode.
+pub fn solve_in_place<const W: usize>(l: FactorView, supernodes: &Supernodes, x: &mut [[f64; W]]) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
         // SAFETY: the CPU supports the features the function is compiled for.
-        unsafe { solve_in_place_avx2(l, supernodes, x, below) };
+        unsafe { solve_in_place_avx2(l, supernodes, x) };
         return;
     }
-    forward::<W, false>(l, supernodes, x, below);
-    backward::<W, false>(l, supernodes, x, below);
+    forward::<W, false>(l, supernodes, x);
+    backward::<W, false>(l, supernodes, x);
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-fn solve_in_place_avx2<const W: usize>(
-    l: FactorView,
-    supernodes: &Supernodes,
-    x: &mut [[f64; W]],
-    below: &mut [[f64; W]],
-) {
-    forward::<W, true>(l, supernodes, x, below);
-    backward::<W, true>(l, supernodes, x, below);
+fn solve_in_place_avx2<const W: usize>(l: FactorView, supernodes: &Supernodes, x: &mut [[f64; W]]) {
+    forward::<W, true>(l, supernodes, x);
+    backward::<W, true>(l, supernodes, x);
 }
 
-/// Supernodes at least this wide go through the dense block path; narrower
-/// ones are swept column by column (the gather/scatter would cost more
-/// than it saves).
-const WIDE: usize = 16;
-
-/// One supernode as the solve sees it: its first column, width, and the
-/// rows below its diagonal block.
-struct Block<'a> {
+/// A panel: up to four consecutive columns of one supernode, the rows they
+/// share, and where each column's entry for row position `p` is stored.
+struct Panel<'a, const P: usize> {
+    /// The first column (its unknown is `x[first]`).
     first: usize,
-    width: usize,
-    rows_below: &'a [u32],
+    /// The supernode's rows by position (diagonal block first).
+    rows: &'a [u32],
+    /// Position of the panel's first column in the supernode.
+    offset: usize,
+    /// `values[base[c] + p]` is the entry of column `first + c` at row
+    /// position `p` (valid for `p ≥ offset + c`).
+    base: [usize; P],
 }
 
-impl<'a> Block<'a> {
-    fn new(l: &FactorView<'a>, supernodes: &Supernodes, s: usize) -> Self {
-        let columns = supernodes.columns(s);
-        let start = l.col_ptr[columns.start];
-        let end = l.col_ptr[columns.start + 1];
-        Block {
-            first: columns.start,
-            width: columns.len(),
-            rows_below: &l.row_idx[start + columns.len()..end],
+impl<'a, const P: usize> Panel<'a, P> {
+    fn new(l: &FactorView<'a>, supernode_first: usize, offset: usize) -> Self {
+        let col_ptr = l.col_ptr;
+        let rows = &l.row_idx[col_ptr[supernode_first]..col_ptr[supernode_first + 1]];
+        let first = supernode_first + offset;
+        Panel {
+            first,
+            rows,
+            offset,
+            base: std::array::from_fn(|c| col_ptr[first + c] - (offset + c)),
         }
     }
 
-    /// Column `k` of the block from its diagonal down, split into its part
-    /// in `L₁₁` (diagonal first) and its part in `L₂₁`.
-    fn column<'v>(&self, l: &FactorView<'v>, k: usize) -> (&'v [f64], &'v [f64]) {
-        let j = self.first + k;
-        l.values[l.col_ptr[j]..l.col_ptr[j + 1]].split_at(self.width - k)
+    /// The rows below the panel, and each panel column's entries for them
+    /// (all of one length, so the loops over them need no bounds checks).
+    #[inline(always)]
+    fn below<'v>(&self, values: &'v [f64]) -> (&'a [u32], [&'v [f64]; P]) {
+        let start = self.offset + P;
+        let rows = &self.rows[start..];
+        let columns = std::array::from_fn(|c| {
+            let base = self.base[c];
+            &values[base + start..base + self.rows.len()]
+        });
+        (rows, columns)
     }
 }
 
-/// `L y = b`: supernodes in order.
+/// `a · b + c`, fused into one rounding in the AVX2 + FMA build.
 #[inline(always)]
-fn forward<const W: usize, const SIMD: bool>(
+fn multiply_add<const FUSED: bool>(a: f64, b: f64, c: f64) -> f64 {
+    if FUSED {
+        a.mul_add(b, c)
+    } else {
+        a * b + c
+    }
+}
+
+/// `L y = b`: supernodes in order, panels in order.
+#[inline(always)]
+fn forward<const W: usize, const FUSED: bool>(
     l: FactorView,
     supernodes: &Supernodes,
     x: &mut [[f64; W]],
-    below: &mut [[f64; W]],
 ) {
     for s in 0..supernodes.len() {
-        let block = Block::new(&l, supernodes, s);
-        if block.width < WIDE {
-            forward_narrow(&l, &block, x);
-            continue;
-        }
-        let t = &mut below[..block.rows_below.len()];
-        t.fill([0.0; W]);
-        for k in 0..block.width {
-            let (diagonal_part, below_part) = block.column(&l, k);
-            // x_s ← L₁₁⁻¹ x_s, column k
-            let xk = x[block.first + k].map(|v| v / diagonal_part[0]);
-            x[block.first + k] = xk;
-            for (r, &l_rk) in diagonal_part.iter().enumerate().skip(1) {
-                let xr = &mut x[block.first + k + r];
-                for c in 0..W {
-                    xr[c] -= l_rk * xk[c];
-                }
+        let columns = supernodes.columns(s);
+        let mut offset = 0;
+        while offset < columns.len() {
+            let width = (columns.len() - offset).min(PANEL);
+            match width {
+                1 => forward_panel::<W, 1, FUSED>(&l, columns.start, offset, x),
+                2 => forward_panel::<W, 2, FUSED>(&l, columns.start, offset, x),
+                3 => forward_panel::<W, 3, FUSED>(&l, columns.start, offset, x),
+                _ => forward_panel::<W, 4, FUSED>(&l, columns.start, offset, x),
             }
-            axpy_rows::<W, SIMD>(t, below_part, xk); // t ← t + L₂₁(:, k) x_k
-        }
-        // x[R] ← x[R] − t
-        for (&row, tr) in block.rows_below.iter().zip(t.iter()) {
-            let xr = &mut x[row as usize];
-            for c in 0..W {
-                xr[c] -= tr[c];
-            }
+            offset += width;
         }
     }
 }
 
-/// Forward sweep over a narrow supernode, column by column: like the
-/// simplicial sweep, but all columns use the one shared list of rows.
+/// Forward sweep over one panel of `P` columns.
 #[inline(always)]
-fn forward_narrow<const W: usize>(l: &FactorView, block: &Block, x: &mut [[f64; W]]) {
-    for k in 0..block.width {
-        let (diagonal_part, below_part) = block.column(l, k);
-        let xk = x[block.first + k].map(|v| v / diagonal_part[0]);
-        x[block.first + k] = xk;
-        for (r, &l_rk) in diagonal_part.iter().enumerate().skip(1) {
-            let xr = &mut x[block.first + k + r];
-            for c in 0..W {
-                xr[c] -= l_rk * xk[c];
+fn forward_panel<const W: usize, const P: usize, const FUSED: bool>(
+    l: &FactorView,
+    supernode_first: usize,
+    offset: usize,
+    x: &mut [[f64; W]],
+) {
+    let panel = Panel::<P>::new(l, supernode_first, offset);
+    let values = l.values;
+    // the panel's own triangle, column by column
+    let mut x_panel = [[0.0; W]; P];
+    for c in 0..P {
+        let diagonal = values[panel.base[c] + offset + c];
+        let xc = x[panel.first + c].map(|v| v / diagonal);
+        x[panel.first + c] = xc;
+        x_panel[c] = xc;
+        for r in c + 1..P {
+            let l_rc = values[panel.base[c] + offset + r];
+            let xr = &mut x[panel.first + r];
+            for lane in 0..W {
+                xr[lane] -= l_rc * xc[lane];
             }
         }
-        for (&row, &l_rk) in block.rows_below.iter().zip(below_part) {
-            let xr = &mut x[row as usize];
-            for c in 0..W {
-                xr[c] -= l_rk * xk[c];
+    }
+    // every row below the panel: x_i ← x_i − Σ_c L_ic x_c
+    let (rows, columns) = panel.below(values);
+    for (q, &row) in rows.iter().enumerate() {
+        let mut update = [0.0; W];
+        for c in 0..P {
+            let l_ic = columns[c][q];
+            for lane in 0..W {
+                update[lane] = multiply_add::<FUSED>(l_ic, x_panel[c][lane], update[lane]);
             }
+        }
+        let xi = &mut x[row as usize];
+        for lane in 0..W {
+            xi[lane] -= update[lane];
         }
     }
 }
 
-/// `Lᵀ x = y`: supernodes in reverse order.
+/// `Lᵀ x = y`: supernodes in reverse order, panels in reverse order.
 #[inline(always)]
-fn backward<const W: usize, const SIMD: bool>(
+fn backward<const W: usize, const FUSED: bool>(
     l: FactorView,
     supernodes: &Supernodes,
     x: &mut [[f64; W]],
-    below: &mut [[f64; W]],
 ) {
     for s in (0..supernodes.len()).rev() {
-        let block = Block::new(&l, supernodes, s);
-        if block.width < WIDE {
-            backward_narrow(&l, &block, x);
-            continue;
-        }
-        let t = &mut below[..block.rows_below.len()];
-        // t ← x[R]
-        for (tr, &row) in t.iter_mut().zip(block.rows_below) {
-            *tr = x[row as usize];
-        }
-        for k in (0..block.width).rev() {
-            let (diagonal_part, below_part) = block.column(&l, k);
-            // x_k ← (x_k − L₂₁(:, k)ᵀ t − L₁₁(k+1.., k)ᵀ x_s(k+1..)) / L_kk
-            let mut sum = dot_rows::<W, SIMD>(below_part, t);
-            for (r, &l_rk) in diagonal_part.iter().enumerate().skip(1) {
-                let xr = x[block.first + k + r];
-                for c in 0..W {
-                    sum[c] += l_rk * xr[c];
-                }
+        let columns = supernodes.columns(s);
+        // the same panels as the forward sweep, last one first
+        let mut offset = (columns.len() - 1) / PANEL * PANEL;
+        loop {
+            match (columns.len() - offset).min(PANEL) {
+                1 => backward_panel::<W, 1, FUSED>(&l, columns.start, offset, x),
+                2 => backward_panel::<W, 2, FUSED>(&l, columns.start, offset, x),
+                3 => backward_panel::<W, 3, FUSED>(&l, columns.start, offset, x),
+                _ => backward_panel::<W, 4, FUSED>(&l, columns.start, offset, x),
             }
-            let xk = &mut x[block.first + k];
-            *xk = std::array::from_fn(|c| (xk[c] - sum[c]) / diagonal_part[0]);
+            if offset == 0 {
+                break;
+            }
+            offset -= PANEL;
         }
     }
 }
 
-/// Back sweep over a narrow supernode, column by column, reading `x` at
-/// the shared rows directly.
+/// Back sweep over one panel of `P` columns.
 #[inline(always)]
-fn backward_narrow<const W: usize>(l: &FactorView, block: &Block, x: &mut [[f64; W]]) {
-    for k in (0..block.width).rev() {
-        let (diagonal_part, below_part) = block.column(l, k);
-        // two partial sums, so consecutive terms do not wait on each other
-        let (mut even, mut odd) = ([0.0; W], [0.0; W]);
-        let mut pairs = block
-            .rows_below
-            .chunks_exact(2)
-            .zip(below_part.chunks_exact(2));
-        for (rows, l_pair) in &mut pairs {
-            let (x0, x1) = (x[rows[0] as usize], x[rows[1] as usize]);
-            for c in 0..W {
-                even[c] += l_pair[0] * x0[c];
-                odd[c] += l_pair[1] * x1[c];
+fn backward_panel<const W: usize, const P: usize, const FUSED: bool>(
+    l: &FactorView,
+    supernode_first: usize,
+    offset: usize,
+    x: &mut [[f64; W]],
+) {
+    let panel = Panel::<P>::new(l, supernode_first, offset);
+    let values = l.values;
+    // s_c = Σ_i L_ic x_i over every row below the panel, each x_i read once
+    let mut sums = [[0.0; W]; P];
+    let (rows, columns) = panel.below(values);
+    for (q, &row) in rows.iter().enumerate() {
+        let xi = x[row as usize];
+        for c in 0..P {
+            let l_ic = columns[c][q];
+            for lane in 0..W {
+                sums[c][lane] = multiply_add::<FUSED>(l_ic, xi[lane], sums[c][lane]);
             }
         }
-        if below_part.len() % 2 == 1 {
-            let last = below_part.len() - 1;
-            let xr = x[block.rows_below[last] as usize];
-            for c in 0..W {
-                even[c] += below_part[last] * xr[c];
+    }
+    // the panel's own triangle, last column first
+    for c in (0..P).rev() {
+        let mut sum = sums[c];
+        for r in c + 1..P {
+            let l_rc = values[panel.base[c] + offset + r];
+            let xr = x[panel.first + r];
+            for lane in 0..W {
+                sum[lane] += l_rc * xr[lane];
             }
         }
-        for (r, &l_rk) in diagonal_part.iter().enumerate().skip(1) {
-            let xr = x[block.first + k + r];
-            for c in 0..W {
-                even[c] += l_rk * xr[c];
-            }
-        }
-        let xk = &mut x[block.first + k];
-        *xk = std::array::from_fn(|c| (xk[c] - even[c] - odd[c]) / diagonal_part[0]);
+        let diagonal = values[panel.base[c] + offset + c];
+        let xc = &mut x[panel.first + c];
+        *xc = std::array::from_fn(|lane| (xc[lane] - sum[lane]) / diagonal);
     }
 }
