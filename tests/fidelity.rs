@@ -15,6 +15,9 @@
 //!
 //! The scenes and trajectories live outside the repository, in
 //! `../shared/`; without it these tests say so and check nothing else.
+//!
+//! `cargo test --release --test fidelity -- --nocapture --test-threads 1`
+//! prints the measured distances (`docs/fidelity.md`).
 
 use masssprings::mesh::load_scene;
 use masssprings::sim::simulation::SimulationOptions;
@@ -94,9 +97,19 @@ fn rms_from_rest(p: &[[f64; 3]], rest: &[[f64; 3]]) -> f64 {
 /// Simulates `name` for 300 steps (sparse) and compares with the reference
 /// at steps 1, 10, 100, 300.
 fn check_against_reference(name: &str, chaotic: bool) {
-    let Some(shared) = shared() else { return };
+    let Some(largest_drift) = run_against_reference(name, chaotic) else {
+        return;
+    };
+    println!("{name}: largest pin drift over 300 steps {largest_drift:.3e} (tolerance 1e-6)");
+}
+
+/// The run behind [`check_against_reference`]; returns the largest pin
+/// drift, or `None` without `../shared`.
+fn run_against_reference(name: &str, chaotic: bool) -> Option<f64> {
+    let shared = shared()?;
     let scene = load_scene(&shared.join(format!("original-data/{name}.json"))).unwrap();
     let mut sim = Simulation::<Sparse>::from_scene(&scene, SimulationOptions::default()).unwrap();
+    let mut largest_drift = 0.0f64;
     for step in 1..=300 {
         sim.step().unwrap();
         for &pin in &scene.pinned {
@@ -105,6 +118,7 @@ fn check_against_reference(name: &str, chaotic: bool) {
                 drift <= 1e-6,
                 "{name} step {step}: pin {pin} drifted {drift:e}"
             );
+            largest_drift = largest_drift.max(drift);
         }
         if ![1, 10, 100, 300].contains(&step) {
             continue;
@@ -114,6 +128,9 @@ fn check_against_reference(name: &str, chaotic: bool) {
         if step == 1 || !chaotic {
             let tolerance = if step == 1 { 1e-8 } else { 1e-6 };
             let error = max_distance(ours, &reference);
+            println!(
+                "{name} step {step}: max vertex distance {error:.3e} (tolerance {tolerance:e})"
+            );
             assert!(
                 error <= tolerance,
                 "{name} step {step}: max vertex distance {error:e} > {tolerance:e}"
@@ -134,12 +151,18 @@ fn check_against_reference(name: &str, chaotic: bool) {
                 rms_from_rest(&reference, &scene.vertices),
             );
             let relative = (rms - rms_reference).abs() / rms_reference;
+            println!(
+                "{name} step {step}: centroid {centroid_error:.3e} apart (tolerance {centroid_tolerance:e}), \
+                 RMS from rest {relative:.3e} relative (tolerance {rms_tolerance:e}), max vertex distance {:.3e}",
+                max_distance(ours, &reference)
+            );
             assert!(
                 relative <= rms_tolerance,
                 "{name} step {step}: RMS from rest {rms} vs {rms_reference}"
             );
         }
     }
+    Some(largest_drift)
 }
 
 #[test]
@@ -175,6 +198,7 @@ fn dense_and_sparse_agree_on_the_small_scenes() {
         let options = SimulationOptions::default();
         let mut dense = Simulation::<Dense>::from_scene(&scene, options).unwrap();
         let mut sparse = Simulation::<Sparse>::from_scene(&scene, options).unwrap();
+        let mut largest = 0.0f64;
         for step in 1..=100 {
             dense.step().unwrap();
             sparse.step().unwrap();
@@ -183,6 +207,10 @@ fn dense_and_sparse_agree_on_the_small_scenes() {
                 error <= 1e-9,
                 "{name} step {step}: dense and sparse {error:e} apart"
             );
+            largest = largest.max(error);
         }
+        println!(
+            "{name}: dense and sparse at most {largest:.3e} apart over 100 steps (tolerance 1e-9)"
+        );
     }
 }

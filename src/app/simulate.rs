@@ -89,7 +89,7 @@ fn simulate<B: LinearAlgebra>(
             .map_err(|e| AppError::Failed(format!("step {step}: {e}")))?;
         step_times.push(t.elapsed().as_secs_f64());
         if let Some(folder) = &run.out {
-            if step % run.every == 0 {
+            if step.is_multiple_of(run.every) {
                 write_frame(folder, step, scene, simulation.positions())?;
             }
         }
