@@ -4,6 +4,7 @@
 mod analyze;
 mod args;
 mod generate;
+mod render;
 mod simulate;
 mod timing;
 
@@ -43,6 +44,13 @@ commands:
       Runs the simulation (sparse unless --dense) for N steps (default 100).
       With --out, writes DIR/frame-NNNNNN.obj for step 0 and every K-th step.
       Ends with n, springs, precomputation time and the median step time.
+  render SCENE.json -o OUT.gif|OUT.png [--steps N] [--every K] [--size WxH]
+                    [--dense] [--wind] [--springs]
+      Simulates N steps (default 100) and draws step 0 and every K-th step
+      (default 2) with the viewer's look into a looping GIF that plays in
+      real time, or draws the last step into a PNG. Size default 480x360.
+      Cloths show their surface and pins; --springs adds every spring and
+      point mass (always drawn for scenes made only of springs).
   help
       This text.
 ";
@@ -54,6 +62,7 @@ pub fn run(args: &[String]) -> i32 {
         Some("analyze") => analyze::run(&args[1..]),
         Some("simulate") => simulate::run(&args[1..]),
         Some("generate") => generate::run(&args[1..]),
+        Some("render") => render::run(&args[1..]),
         Some("help" | "--help" | "-h") => {
             print!("{USAGE}");
             Ok(())
