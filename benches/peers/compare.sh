@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# Ours beside the peers, in one session, interleaved: the figures of
+# docs/performance.md.
+#
+#   benches/peers/compare.sh [ROUNDS]      (default 5 rounds)
+#
+# Needs: ../shared (the assignment's scenes and tools/eigen-ref), g++ with
+# Eigen 3.4 (apt-get install -y libeigen3-dev), SuiteSparse
+# (apt-get install -y libsuitesparse-dev), python3. Each round runs, for each
+# matrix, our `masssprings analyze` then `cholmod_peer`, and for each scene
+# our `masssprings simulate` then `eigen-ref bench`, so that every pair is
+# measured seconds apart; the summary gives the median over rounds of each
+# figure and the ratio ours / peer. Set LARGE=1 to add grid-1000 (minutes).
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+root="$(cd "$here/../.." && pwd)"
+shared="$root/../shared"
+rounds="${1:-5}"
+work="${WORK:-${TMPDIR:-/tmp}/masssprings-compare}"
+mkdir -p "$work"
+
+# --- build everything -------------------------------------------------------
+(cd "$root" && cargo build --release --quiet)
+ours="$root/target/release/masssprings"
+[ -x "$here/cholmod_peer" ] || "$here/build.sh" >/dev/null
+if [ ! -x "$work/eigen-ref/ref" ]; then
+    rm -rf "$work/eigen-ref" && cp -r "$shared/tools/eigen-ref" "$work/eigen-ref"
+    chmod -R u+w "$work/eigen-ref" && (cd "$work/eigen-ref" && ./build.sh >/dev/null)
+fi
+eigen="$work/eigen-ref/ref"
+# CHOLMOD's supernodal code calls BLAS: use a single-threaded OpenBLAS when
+# installed (apt-get install -y libopenblas0-serial), see README.md here.
+serial_blas=/usr/lib/x86_64-linux-gnu/openblas-serial
+[ -d "$serial_blas" ] && export LD_LIBRARY_PATH="$serial_blas${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+
+# --- the matrices and scenes ------------------------------------------------
+sides="316"
+[ "${LARGE:-0}" = 1 ] && sides="316 1000"
+scenes=""
+for name in flag skirt; do
+    cp "$shared/original-data/$name".* "$work/" 2>/dev/null || true
+    cp "$shared/original-data/"*.png "$work/" 2>/dev/null || true
+    scenes="$scenes $work/$name.json"
+done
+for n in $sides; do
+    "$ours" generate grid "$n" --out "$work" >/dev/null
+    scenes="$scenes $work/grid-$n.json"
+done
+for scene in $scenes; do
+    base="${scene%.json}"
+    [ -f "$base.mtx" ] || "$eigen" export-q "$scene" "$base.mtx" >/dev/null
+done
+
+# --- interleaved rounds -----------------------------------------------------
+out="$work/results.jsonl"
+: > "$out"
+for round in $(seq "$rounds"); do
+    for scene in $scenes; do
+        base="${scene%.json}"
+        name="$(basename "$base")"
+        echo "round $round/$rounds: $name" >&2
+        echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"ours\",\"data\":$("$ours" analyze "$base.mtx" --json)}" >>"$out"
+        echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"cholmod\",\"data\":$("$here/cholmod_peer" "$base.mtx" 11 --json)}" >>"$out"
+        steps=30
+        [ "$name" = grid-1000 ] && steps=3
+        echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"ours-step\",\"data\":$("$ours" simulate "$scene" --steps "$steps" --json)}" >>"$out"
+        csv="$("$eigen" bench "$scene" 120 | grep '^CSV,')"
+        echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"eigen\",\"data\":{\"csv\":\"$csv\"}}" >>"$out"
+    done
+done
+
+python3 "$here/summarize.py" "$out"

@@ -1,0 +1,80 @@
+#!/usr/bin/env python3
+"""Summarise compare.sh's results.jsonl: medians over rounds, and ratios.
+
+Each line of the input is one measurement: {"round", "matrix", "tool",
+"data"}, where tool is ours (masssprings analyze --json), cholmod
+(cholmod_peer --json), ours-step (masssprings simulate --json) or eigen
+(eigen-ref bench, its CSV line). Prints Markdown tables.
+"""
+import json
+import statistics
+import sys
+from collections import defaultdict
+
+# eigen-ref bench's CSV line: CSV,name,n,springs,nnzQl,nnzL,build,analyze,
+# factorize,solve,local,assembly,step,GB/s,steps
+EIGEN_FIELDS = {"nnz_l": 5, "analyze_s": 7, "numeric_s": 8, "solve_s": 9, "step_s": 12}
+
+
+def load(path):
+    values = defaultdict(list)  # (matrix, tool, key) -> [value per round]
+    order = []
+    for line in open(path):
+        record = json.loads(line)
+        matrix, tool, data = record["matrix"], record["tool"], record["data"]
+        if matrix not in order:
+            order.append(matrix)
+        if tool == "eigen":
+            fields = data["csv"].split(",")
+            data = {key: float(fields[i]) for key, i in EIGEN_FIELDS.items()}
+        for key, value in data.items():
+            if isinstance(value, (int, float)):
+                values[(matrix, tool, key)].append(float(value))
+    return values, order
+
+
+def median(values, matrix, tool, key):
+    samples = values.get((matrix, tool, key))
+    return statistics.median(samples) if samples else float("nan")
+
+
+def ms(seconds):
+    return f"{seconds * 1e3:.3f}"
+
+
+def main():
+    values, order = load(sys.argv[1])
+    m = lambda matrix, tool, key: median(values, matrix, tool, key)
+    rounds = max(len(v) for v in values.values())
+    print(f"Medians over {rounds} rounds; times in ms; ratio = ours / peer.\n")
+
+    print("| matrix | nnz(L) ours | SuiteSparse AMD | Eigen | ordering ours | SuiteSparse AMD | ratio |")
+    print("|---|---|---|---|---|---|---|")
+    for x in order:
+        ours, ss = m(x, "ours", "ordering_s"), m(x, "cholmod", "amd_s")
+        print(f"| {x} | {m(x, 'ours', 'nnz_l'):,.0f} | {m(x, 'cholmod', 'amd_nnz_l'):,.0f} | "
+              f"{m(x, 'eigen', 'nnz_l'):,.0f} | {ms(ours)} | {ms(ss)} | {ours / ss:.2f} |")
+
+    print("\n| matrix | solve ours | CHOLMOD simplicial | ratio | Eigen | ratio | residual |")
+    print("|---|---|---|---|---|---|---|")
+    for x in order:
+        ours, ch, ei = m(x, "ours", "solve_s"), m(x, "cholmod", "simplicial_solve_s"), m(x, "eigen", "solve_s")
+        print(f"| {x} | {ms(ours)} | {ms(ch)} | {ours / ch:.2f} | {ms(ei)} | {ours / ei:.2f} | "
+              f"{m(x, 'ours', 'residual'):.1e} |")
+
+    print("\n| matrix | numeric ours (supernodal) | Eigen | ratio | CHOLMOD simplicial | CHOLMOD supernodal | ratio |")
+    print("|---|---|---|---|---|---|---|")
+    for x in order:
+        ours, ei = m(x, "ours", "numeric_s"), m(x, "eigen", "numeric_s")
+        cs, cn = m(x, "cholmod", "simplicial_numeric_s"), m(x, "cholmod", "supernodal_numeric_s")
+        print(f"| {x} | {ms(ours)} | {ms(ei)} | {ours / ei:.2f} | {ms(cs)} | {ms(cn)} | {ours / cn:.2f} |")
+
+    print("\n| scene | step ours (50 iterations) | Eigen (the assignment's solver) | ratio |")
+    print("|---|---|---|---|")
+    for x in order:
+        ours, ei = m(x, "ours-step", "step_median_s"), m(x, "eigen", "step_s")
+        print(f"| {x} | {ms(ours)} | {ms(ei)} | {ours / ei:.2f} |")
+
+
+if __name__ == "__main__":
+    main()
