@@ -17,6 +17,7 @@
 //!   precomputation (`r, M, A, C, Q` and the factorization of `Q`), the
 //!   local/global time step, forces; dense and sparse from one code.
 
+pub mod files;
 pub mod linalg;
 pub mod mesh;
 pub mod sim;

@@ -1,43 +1,16 @@
 //! The command line, run as a user runs it: outputs, exit codes, errors.
+#[path = "common/cli.rs"]
+mod cli;
 mod common;
 
+use cli::{data, masssprings, stderr, stdout, temp_folder};
+
 use common::grid_matrix;
-use masssprings::linalg::matrix_market::{write_coordinate, write_file, Symmetry};
+use masssprings::files::write_file;
+use masssprings::linalg::matrix_market::{write_coordinate, Symmetry};
 use masssprings::linalg::sparse::{Ordering, SymbolicCholesky};
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn masssprings(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_masssprings"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
-
-/// A fresh, empty folder under the system's temporary folder.
-fn temp_folder(name: &str) -> PathBuf {
-    let folder =
-        std::env::temp_dir().join(format!("masssprings-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&folder);
-    std::fs::create_dir_all(&folder).unwrap();
-    folder
-}
-
-fn data(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("data")
-        .join(name)
-        .display()
-        .to_string()
-}
+use std::path::Path;
+use std::process::Output;
 
 fn json(output: &Output) -> serde_json::Value {
     assert!(output.status.success(), "failed: {}", stderr(output));
@@ -281,8 +254,16 @@ fn simulate_names_the_file_and_line_of_a_bad_scene() {
 fn a_step_that_blows_up_is_reported_and_leaves_only_whole_frames() {
     // y = M (2U − U_prev)/Δt² overflows: 1000 · 1e306 · 900 is beyond f64
     let folder = temp_folder("blow-up");
-    std::fs::write(folder.join("s.json"), r#"{"obj": "s.obj", "k": 1, "b": [1], "m": 1000}"#).unwrap();
-    std::fs::write(folder.join("s.obj"), "v 0 0 0\nv 1e306 0 0\nv 0 1e306 0\nf 1 2\nf 2 3\n").unwrap();
+    std::fs::write(
+        folder.join("s.json"),
+        r#"{"obj": "s.obj", "k": 1, "b": [1], "m": 1000}"#,
+    )
+    .unwrap();
+    std::fs::write(
+        folder.join("s.obj"),
+        "v 0 0 0\nv 1e306 0 0\nv 0 1e306 0\nf 1 2\nf 2 3\n",
+    )
+    .unwrap();
     let frames = folder.join("frames");
     let output = masssprings(&[
         "simulate",

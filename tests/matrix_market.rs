@@ -4,10 +4,11 @@
 mod common;
 
 use common::*;
+use masssprings::files::write_file;
 use masssprings::linalg::dense::DenseMatrix;
 use masssprings::linalg::matrix_market::{
-    parse, read, write_array, write_coordinate, write_file, MatrixMarket, MatrixMarketError,
-    SparseFile, Symmetry,
+    parse, read, write_array, write_coordinate, MatrixMarket, MatrixMarketError, SparseFile,
+    Symmetry,
 };
 use masssprings::linalg::sparse::{CscMatrix, TripletMatrix};
 use proptest::prelude::*;

@@ -7,37 +7,12 @@
 //! belongs to the command line, not to the library.
 #![cfg(feature = "app")]
 
+#[path = "common/cli.rs"]
+mod cli;
+
+use cli::{data, masssprings, stderr, temp_folder};
 use std::fs::{self, File};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn masssprings(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_masssprings"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
-
-/// A fresh, empty folder under the system's temporary folder.
-fn temp_folder(name: &str) -> PathBuf {
-    let folder =
-        std::env::temp_dir().join(format!("masssprings-render-{}-{name}", std::process::id()));
-    let _ = fs::remove_dir_all(&folder);
-    fs::create_dir_all(&folder).unwrap();
-    folder
-}
-
-fn data(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("data")
-        .join(name)
-        .display()
-        .to_string()
-}
 
 /// The names of the files in `folder` (temporary files included).
 fn files_in(folder: &Path) -> Vec<String> {

@@ -2,15 +2,14 @@
 //! scenes (JSON + OBJ, and PNG textures) into `DIR` (default `.`).
 //!
 //! Each file is written all or nothing: into a temporary file in `DIR`,
-//! renamed into place once complete (`linalg::matrix_market::write_file`
-//! does exactly that for any content, not only matrices).
+//! renamed into place once complete (`masssprings::files::write_file`).
 
 use super::args::Args;
+use super::render::encode::write_png;
 use super::AppError;
-use masssprings::linalg::matrix_market::write_file;
-use masssprings::mesh::procedural::{self, GeneratedScene, RgbImage};
+use masssprings::files::write_file;
+use masssprings::mesh::procedural::{self, GeneratedScene};
 use std::fs;
-use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 pub fn run(args: &[String]) -> Result<(), AppError> {
@@ -67,21 +66,10 @@ fn write_scene(scene: &GeneratedScene, folder: &Path) -> Result<(), AppError> {
     let mut written = vec![obj_path, json_path];
     if let Some(texture) = &scene.texture {
         let png_path = folder.join(&texture.file_name);
-        write_file(&png_path, |out| write_png(&texture.image, out))?;
+        write_file(&png_path, |out| write_png(out, &texture.image))?;
         written.push(png_path);
     }
     let names: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
     println!("wrote {}", names.join(", "));
-    Ok(())
-}
-
-/// `image` encoded as an 8-bit RGB PNG.
-fn write_png(image: &RgbImage, out: &mut dyn Write) -> io::Result<()> {
-    let mut encoder = png::Encoder::new(out, image.width, image.height);
-    encoder.set_color(png::ColorType::Rgb);
-    encoder.set_depth(png::BitDepth::Eight);
-    let mut writer = encoder.write_header()?;
-    writer.write_image_data(&image.pixels)?;
-    writer.finish()?;
     Ok(())
 }

@@ -4,7 +4,7 @@
 use super::args::Args;
 use super::timing::median;
 use super::AppError;
-use masssprings::linalg::matrix_market::write_file;
+use masssprings::files::write_file;
 use masssprings::mesh::{load_scene, Scene};
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Dense, LinearAlgebra, Simulation, Sparse};

@@ -43,12 +43,10 @@
 //! file in the destination's folder and renames it into place, so a failed
 //! write never leaves a half-written file behind.
 
-use std::fmt;
-use std::fs;
 use std::io::{self, BufWriter, Write};
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::path::Path;
 
+use crate::files::{read_text, FileError};
 use crate::linalg::dense::DenseMatrix;
 use crate::linalg::sparse::{CscMatrix, Triangle, TripletMatrix};
 
@@ -79,86 +77,16 @@ pub enum MatrixMarket {
     Dense(DenseMatrix),
 }
 
-/// A file that could not be read or written: where, and what went wrong.
-#[derive(Debug)]
-pub struct MatrixMarketError {
-    path: Option<PathBuf>,
-    line: Option<usize>,
-    problem: Problem,
-}
-
-#[derive(Debug)]
-enum Problem {
-    Io(io::Error),
-    Format(String),
-}
-
-impl MatrixMarketError {
-    fn at_line(line: usize, message: String) -> Self {
-        MatrixMarketError {
-            path: None,
-            line: Some(line),
-            problem: Problem::Format(message),
-        }
-    }
-
-    fn io(path: &Path, error: io::Error) -> Self {
-        MatrixMarketError {
-            path: Some(path.to_path_buf()),
-            line: None,
-            problem: Problem::Io(error),
-        }
-    }
-
-    fn in_file(mut self, path: &Path) -> Self {
-        self.path = Some(path.to_path_buf());
-        self
-    }
-
-    /// The file, when the text came from one.
-    pub fn path(&self) -> Option<&Path> {
-        self.path.as_deref()
-    }
-
-    /// The 1-based line of the problem; `None` for an I/O error.
-    pub fn line(&self) -> Option<usize> {
-        self.line
-    }
-
-    /// The underlying I/O error, when reading or writing the file failed.
-    pub fn io_error(&self) -> Option<&io::Error> {
-        match &self.problem {
-            Problem::Io(error) => Some(error),
-            Problem::Format(_) => None,
-        }
-    }
-}
-
-impl fmt::Display for MatrixMarketError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match (&self.path, self.line) {
-            (Some(path), Some(line)) => write!(f, "{}:{line}: ", path.display())?,
-            (Some(path), None) => write!(f, "{}: ", path.display())?,
-            (None, Some(line)) => write!(f, "line {line}: ")?,
-            (None, None) => {}
-        }
-        match &self.problem {
-            Problem::Io(error) => write!(f, "{error}"),
-            Problem::Format(message) => f.write_str(message),
-        }
-    }
-}
-
-impl std::error::Error for MatrixMarketError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        match &self.problem {
-            Problem::Io(error) => Some(error),
-            Problem::Format(_) => None,
-        }
-    }
-}
+/// A Matrix Market file that could not be read or written: which file,
+/// which line, and what went wrong (see [`FileError`]).
+pub type MatrixMarketError = FileError;
 
 type ParseResult<T> = Result<T, MatrixMarketError>;
+
+/// A problem placed on a 1-based line.
+fn at_line(line: usize, message: String) -> MatrixMarketError {
+    FileError::invalid(message).at_line(line)
+}
 
 // ---------------------------------------------------------------- reading --
 
@@ -168,7 +96,7 @@ type ParseResult<T> = Result<T, MatrixMarketError>;
 /// As [`parse`], with the path in the message; an I/O error when the file
 /// cannot be read (or is not UTF-8).
 pub fn read(path: &Path) -> Result<MatrixMarket, MatrixMarketError> {
-    let text = fs::read_to_string(path).map_err(|e| MatrixMarketError::io(path, e))?;
+    let text = read_text(path)?;
     parse(&text).map_err(|e| e.in_file(path))
 }
 
@@ -188,7 +116,7 @@ pub fn read(path: &Path) -> Result<MatrixMarket, MatrixMarketError> {
 /// line declares.
 pub fn parse(text: &str) -> Result<MatrixMarket, MatrixMarketError> {
     if text.trim().is_empty() {
-        return Err(MatrixMarketError::at_line(1, "the file is empty".into()));
+        return Err(at_line(1, "the file is empty".into()));
     }
     let mut lines = DataLines::new(text);
     let header = Header::parse(lines.banner())?;
@@ -273,7 +201,7 @@ const BANNER: &str = "%%MatrixMarket";
 
 impl Header {
     fn parse((line, text): (usize, &str)) -> ParseResult<Header> {
-        let at_banner = |message: String| MatrixMarketError::at_line(line, message);
+        let at_banner = |message: String| at_line(line, message);
         let words: Vec<&str> = text.split_ascii_whitespace().collect();
         if words.first() != Some(&BANNER) {
             return Err(at_banner(format!(
@@ -343,7 +271,7 @@ fn parse_symmetry(word: &str) -> Result<Symmetry, String> {
 /// The size line: `rows columns` (array) or `rows columns entries` (coordinate).
 fn parse_size_line<const N: usize>(lines: &mut DataLines) -> ParseResult<(usize, [usize; N])> {
     let Some((line, text)) = lines.next() else {
-        return Err(MatrixMarketError::at_line(
+        return Err(at_line(
             lines.last_line,
             "missing size line: the file ends after the banner and comments".into(),
         ));
@@ -354,7 +282,7 @@ fn parse_size_line<const N: usize>(lines: &mut DataLines) -> ParseResult<(usize,
         } else {
             "rows columns"
         };
-        MatrixMarketError::at_line(
+        at_line(
             line,
             format!("malformed size line `{text}`: expected `{expected}` (non-negative integers)"),
         )
@@ -379,7 +307,7 @@ fn split_fields<const N: usize>(text: &str) -> Option<[&str; N]> {
 
 fn wrong_field_count(line: usize, text: &str, expected: &str) -> MatrixMarketError {
     let found = text.split_ascii_whitespace().count();
-    MatrixMarketError::at_line(
+    at_line(
         line,
         format!("expected {expected}, found {found} field(s): `{text}`"),
     )
@@ -388,13 +316,13 @@ fn wrong_field_count(line: usize, text: &str, expected: &str) -> MatrixMarketErr
 /// A 1-based index in `1..=bound`, returned 0-based.
 fn parse_index(word: &str, what: &str, bound: usize, line: usize) -> ParseResult<usize> {
     let index: usize = word.parse().map_err(|_| {
-        MatrixMarketError::at_line(
+        at_line(
             line,
             format!("{what} index `{word}` is not a positive integer"),
         )
     })?;
     if index == 0 || index > bound {
-        return Err(MatrixMarketError::at_line(
+        return Err(at_line(
             line,
             format!("{what} index {index} is out of range 1..={bound}"),
         ));
@@ -406,12 +334,9 @@ fn parse_index(word: &str, what: &str, bound: usize, line: usize) -> ParseResult
 fn parse_value(word: &str, line: usize) -> ParseResult<f64> {
     let value: f64 = word
         .parse()
-        .map_err(|_| MatrixMarketError::at_line(line, format!("`{word}` is not a number")))?;
+        .map_err(|_| at_line(line, format!("`{word}` is not a number")))?;
     if !value.is_finite() {
-        return Err(MatrixMarketError::at_line(
-            line,
-            format!("value `{word}` is not finite"),
-        ));
+        return Err(at_line(line, format!("value `{word}` is not finite")));
     }
     Ok(value)
 }
@@ -444,7 +369,7 @@ fn parse_coordinate(header: &Header, lines: &mut DataLines) -> ParseResult<Spars
     let (size_line, [nrows, ncols, declared]) = parse_size_line(lines)?;
     let symmetric = header.symmetry == Symmetry::Symmetric;
     if symmetric && nrows != ncols {
-        return Err(MatrixMarketError::at_line(
+        return Err(at_line(
             size_line,
             format!("a symmetric matrix must be square, the size line says {nrows}×{ncols}"),
         ));
@@ -458,9 +383,7 @@ fn parse_coordinate(header: &Header, lines: &mut DataLines) -> ParseResult<Spars
         }
         let (row, col, value) = parse_entry(numbered_line, header.field, nrows, ncols)?;
         if symmetric && row < col {
-            return Err(MatrixMarketError::at_line(
-                numbered_line.0,
-                format!(
+            return Err(at_line(numbered_line.0, format!(
                     "entry ({}, {}) lies above the diagonal: a symmetric file lists the lower triangle only (row ≥ column)",
                     row + 1,
                     col + 1
@@ -490,7 +413,7 @@ fn push_checked(triplets: &mut TripletMatrix, row: usize, col: usize, value: f64
 }
 
 fn too_many_entries(line: usize, declared: usize, size_line: usize) -> MatrixMarketError {
-    MatrixMarketError::at_line(
+    at_line(
         line,
         format!("more entries than the {declared} the size line (line {size_line}) declares"),
     )
@@ -502,9 +425,7 @@ fn too_few_entries(
     declared: usize,
     size_line: usize,
 ) -> MatrixMarketError {
-    MatrixMarketError::at_line(
-        line,
-        format!(
+    at_line(line, format!(
             "the file ends after {found} entries, the size line (line {size_line}) declares {declared}"
         ),
     )
@@ -512,9 +433,9 @@ fn too_few_entries(
 
 fn parse_array(lines: &mut DataLines) -> ParseResult<DenseMatrix> {
     let (size_line, [nrows, ncols]) = parse_size_line(lines)?;
-    let declared = nrows.checked_mul(ncols).ok_or_else(|| {
-        MatrixMarketError::at_line(size_line, format!("a {nrows}×{ncols} array is too large"))
-    })?;
+    let declared = nrows
+        .checked_mul(ncols)
+        .ok_or_else(|| at_line(size_line, format!("a {nrows}×{ncols} array is too large")))?;
     let mut column_major = Vec::with_capacity(declared.min(lines.max_entries()));
     for (line, text) in lines.by_ref() {
         if column_major.len() == declared {
@@ -639,68 +560,4 @@ fn check_finite(values: &[f64]) -> io::Result<()> {
 
 fn invalid_input(message: String) -> io::Error {
     io::Error::new(io::ErrorKind::InvalidInput, message)
-}
-
-/// Creates (or replaces) the file at `path` with what `write` produces, all
-/// or nothing.
-///
-/// `write` fills a temporary file in the same folder, which is flushed to
-/// disk and then renamed to `path`; if `write` or any step fails, the
-/// temporary is removed and `path` is left as it was. Use it with the
-/// writers above:
-///
-/// ```no_run
-/// # use masssprings::linalg::matrix_market::{write_file, write_coordinate, Symmetry};
-/// # use masssprings::linalg::sparse::CscMatrix;
-/// # let q = CscMatrix::identity(3);
-/// write_file("Q.mtx".as_ref(), |out| write_coordinate(out, &q, Symmetry::Symmetric, "Q"))?;
-/// # Ok::<(), masssprings::linalg::matrix_market::MatrixMarketError>(())
-/// ```
-///
-/// # Errors
-/// The first I/O error (from `write`, creating, syncing or renaming), with
-/// `path` in the message.
-pub fn write_file(
-    path: &Path,
-    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
-) -> Result<(), MatrixMarketError> {
-    let temporary = temporary_path(path).map_err(|e| MatrixMarketError::io(path, e))?;
-    let result = write_then_rename(&temporary, path, write);
-    if result.is_err() {
-        // The temporary may not exist (creation failed, or it was renamed); either is fine.
-        let _ = fs::remove_file(&temporary);
-    }
-    result.map_err(|e| MatrixMarketError::io(path, e))
-}
-
-fn write_then_rename(
-    temporary: &Path,
-    path: &Path,
-    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
-) -> io::Result<()> {
-    let file = fs::OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(temporary)?;
-    let mut out = BufWriter::new(file);
-    write(&mut out)?;
-    let file = out.into_inner().map_err(|e| e.into_error())?;
-    file.sync_all()?;
-    fs::rename(temporary, path)
-}
-
-/// `.NAME.PID-COUNTER.tmp` beside `path`: unique per process and per call, so
-/// concurrent writers never share a temporary.
-fn temporary_path(path: &Path) -> io::Result<PathBuf> {
-    static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let name = path
-        .file_name()
-        .ok_or_else(|| invalid_input(format!("`{}` does not name a file", path.display())))?;
-    let unique = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let temporary = format!(
-        ".{}.{}-{unique}.tmp",
-        name.to_string_lossy(),
-        std::process::id()
-    );
-    Ok(path.with_file_name(temporary))
 }

@@ -28,10 +28,9 @@
 //! Indices: the files are 1-based (OBJ faces, the JSON's `b`); everything in
 //! a [`Scene`] is 0-based. Messages quote indices 1-based, as in the files.
 
-use std::fmt;
-use std::fs;
-use std::io;
 use std::path::{Path, PathBuf};
+
+pub use crate::files::FileError;
 
 pub mod obj;
 pub mod procedural;
@@ -156,97 +155,6 @@ fn file_stem(path: &Path) -> String {
         .unwrap_or_default()
 }
 
-/// A scene that could not be read: which file, where, and what went wrong.
-///
-/// Displays as `path:line: problem` (or `path: problem` without a line).
-#[derive(Debug)]
-pub struct SceneError {
-    path: Option<PathBuf>,
-    line: Option<usize>,
-    problem: Problem,
-}
-
-#[derive(Debug)]
-enum Problem {
-    Io(io::Error),
-    Invalid(String),
-}
-
-impl SceneError {
-    /// A problem with the content of a file, not yet placed.
-    pub(crate) fn invalid(message: impl Into<String>) -> Self {
-        SceneError {
-            path: None,
-            line: None,
-            problem: Problem::Invalid(message.into()),
-        }
-    }
-
-    /// A file that could not be read.
-    pub(crate) fn io(path: &Path, error: io::Error) -> Self {
-        SceneError {
-            path: Some(path.to_path_buf()),
-            line: None,
-            problem: Problem::Io(error),
-        }
-    }
-
-    /// Places the problem on a 1-based line.
-    pub(crate) fn at_line(mut self, line: usize) -> Self {
-        self.line = Some(line);
-        self
-    }
-
-    /// Names the file, unless one is named already.
-    pub(crate) fn in_file(mut self, path: &Path) -> Self {
-        self.path.get_or_insert_with(|| path.to_path_buf());
-        self
-    }
-
-    /// The file the problem is in (the JSON or the OBJ), when known.
-    pub fn path(&self) -> Option<&Path> {
-        self.path.as_deref()
-    }
-
-    /// The 1-based line of the problem, when there is one.
-    pub fn line(&self) -> Option<usize> {
-        self.line
-    }
-
-    /// The underlying I/O error, when a file could not be read.
-    pub fn io_error(&self) -> Option<&io::Error> {
-        match &self.problem {
-            Problem::Io(error) => Some(error),
-            Problem::Invalid(_) => None,
-        }
-    }
-}
-
-impl fmt::Display for SceneError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match (&self.path, self.line) {
-            (Some(path), Some(line)) => write!(f, "{}:{line}: ", path.display())?,
-            (Some(path), None) => write!(f, "{}: ", path.display())?,
-            (None, Some(line)) => write!(f, "line {line}: ")?,
-            (None, None) => {}
-        }
-        match &self.problem {
-            Problem::Io(error) => write!(f, "cannot read the file: {error}"),
-            Problem::Invalid(message) => f.write_str(message),
-        }
-    }
-}
-
-impl std::error::Error for SceneError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        match &self.problem {
-            Problem::Io(error) => Some(error),
-            Problem::Invalid(_) => None,
-        }
-    }
-}
-
-/// The text of the file at `path`.
-fn read_text(path: &Path) -> Result<String, SceneError> {
-    fs::read_to_string(path).map_err(|error| SceneError::io(path, error))
-}
+/// A scene that could not be read: which file (the JSON or the OBJ), which
+/// line, and what went wrong (see [`FileError`]).
+pub type SceneError = FileError;

@@ -38,7 +38,8 @@
 
 use std::path::Path;
 
-use super::{read_text, SceneError};
+use super::SceneError;
+use crate::files::read_text;
 
 /// The content of an OBJ file, 0-based.
 #[derive(Debug, Clone, PartialEq, Default)]

@@ -27,7 +27,8 @@ use std::path::Path;
 use serde::de::{self, Deserializer, MapAccess, Unexpected, Visitor};
 use serde::Deserialize;
 
-use super::{read_text, SceneError};
+use super::SceneError;
+use crate::files::read_text;
 
 /// The keys of a scene file, checked one by one as they are parsed.
 #[derive(Debug, Deserialize)]

@@ -12,7 +12,7 @@
 //!    (`triangle.rs`, `lighting.rs`, `texture.rs`), springs (`lines.rs`),
 //!    point masses (`discs.rs`), at 2× and filtered down;
 //! 4. encode (`palette.rs`, `encode.rs`) and write the file all or nothing
-//!    (a temporary file renamed into place, `matrix_market::write_file`).
+//!    (a temporary file renamed into place, `masssprings::files::write_file`).
 //!
 //! Nothing is written unless every step succeeds. This is teaching code:
 //! a rasterizer in a few hundred lines, written for reading, not a
@@ -22,7 +22,7 @@
 mod camera;
 mod canvas;
 mod discs;
-mod encode;
+pub(super) mod encode;
 mod frame;
 mod lighting;
 mod lines;
@@ -42,7 +42,7 @@ use super::AppError;
 use camera::{BoundingBox, Camera};
 use frame::FrameRenderer;
 use look::SUPERSAMPLING;
-use masssprings::linalg::matrix_market::write_file;
+use masssprings::files::write_file;
 use masssprings::mesh::procedural::RgbImage;
 use masssprings::mesh::{load_scene, Scene};
 use masssprings::sim::simulation::SimulationOptions;
