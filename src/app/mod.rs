@@ -7,6 +7,7 @@ mod generate;
 mod render;
 mod simulate;
 mod timing;
+mod view;
 
 /// What went wrong, and whether it was the way the program was called.
 #[derive(Debug)]
@@ -51,6 +52,13 @@ commands:
       real time, or draws the last step into a PNG. Size default 480x360.
       Cloths show their surface and pins; --springs adds every spring and
       point mass (always drawn for scenes made only of springs).
+  view SCENE.json [--port P] [--address ADDR] [--dense]
+      Serves an interactive viewer on http://127.0.0.1:P/ (P defaults to
+      8080, 0 picks a free port; --address serves on another address) and
+      prints its URL. The simulation runs here in real time; the page draws
+      it with WebGL. Keys: space step, A animate, L springs, R reset,
+      W wind; drag to orbit, wheel to zoom, shift-drag to pull a vertex.
+      Ctrl-C stops it.
   help
       This text.
 ";
@@ -62,6 +70,7 @@ pub fn run(args: &[String]) -> i32 {
         Some("analyze") => analyze::run(&args[1..]),
         Some("simulate") => simulate::run(&args[1..]),
         Some("generate") => generate::run(&args[1..]),
+        Some("view") => view::run(&args[1..]),
         Some("render") => render::run(&args[1..]),
         Some("help" | "--help" | "-h") => {
             print!("{USAGE}");

@@ -1,0 +1,182 @@
+//! What the page and the server say to each other, besides the static files:
+//!
+//! | endpoint | answer |
+//! |---|---|
+//! | `GET /api/scene` | JSON [`DisplayMesh`](super::display_mesh::DisplayMesh): triangles, springs, pins, texture coordinates (once) |
+//! | `GET /api/frame[?since=S]` | binary [`Frame`]: the positions; `204` when serial `S` is still the latest |
+//! | `GET /api/status` | JSON [`Status`]: steps, time, toggles, timings |
+//! | `POST /api/command` | JSON [`Command`] in; the new [`Status`] out (`409` with `{"error"}` when refused) |
+
+use serde::{Deserialize, Serialize};
+
+/// A command of the page, as JSON: `{"command": "step"}`,
+/// `{"command": "drag_start", "vertex": 12, "target": [x, y, z]}`.
+///
+/// The variants without data are written `Step {}` rather than `Step`:
+/// serde refuses unknown fields only in struct variants, and a command with
+/// a field it does not know is refused as a whole.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(tag = "command", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Command {
+    /// Space: pause, then advance exactly one step.
+    Step {},
+    /// A: start or stop the real-time animation.
+    ToggleAnimation {},
+    /// L: show or hide the springs and point masses.
+    ToggleSprings {},
+    /// R: back to the rest shape, time 0.
+    Reset {},
+    /// W: wind on or off.
+    ToggleWind {},
+    /// Start dragging `vertex` (0-based) toward `target`.
+    DragStart { vertex: usize, target: [f64; 3] },
+    /// Move the dragged vertex's target.
+    DragTo { target: [f64; 3] },
+    /// Let go.
+    DragEnd {},
+}
+
+impl Command {
+    /// Parses a command from the body of `POST /api/command`: one JSON
+    /// object (serde would also take `["step"]`, which the page never sends).
+    ///
+    /// # Errors
+    /// What is wrong with the body, for the `400` answer.
+    pub fn from_json(body: &[u8]) -> Result<Command, String> {
+        let value: serde_json::Value = serde_json::from_slice(body).map_err(|e| e.to_string())?;
+        if !value.is_object() {
+            return Err("a command is a JSON object such as {\"command\": \"step\"}".into());
+        }
+        serde_json::from_value(value).map_err(|e| e.to_string())
+    }
+}
+
+/// The viewer's state, as `/api/status` and `/api/command` send it.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Status {
+    /// The scene's name.
+    pub scene: String,
+    /// `"dense"` or `"sparse"`.
+    pub backend: &'static str,
+    /// Vertices.
+    pub n: usize,
+    /// Springs.
+    pub springs: usize,
+    /// Steps since the start or the last reset.
+    pub steps: usize,
+    /// Simulated time, `steps · Δt`, in seconds.
+    pub time: f64,
+    pub animating: bool,
+    pub wind: bool,
+    /// Are springs and point masses drawn (key L)?
+    pub show_springs: bool,
+    /// Moving average of the time one step takes, in milliseconds.
+    pub ms_per_step: f64,
+    /// Steps over the last second (0 while paused).
+    pub steps_per_second: f64,
+    /// The vertex being dragged (0-based).
+    pub dragged: Option<usize>,
+    /// Why the animation stopped, if a step failed.
+    pub error: Option<String>,
+}
+
+/// The latest positions, encoded once per step for every client:
+///
+/// ```text
+/// offset  0  u32  n, the number of vertices
+///         4  u32  serial: changes whenever the positions do
+///         8  u32  steps (saturating)
+///        12  f32  simulated time, seconds
+///        16  f32 × 3n  x0 y0 z0 x1 y1 z1 …
+/// ```
+///
+/// All little-endian. The positions start at a multiple of 4 bytes, so the
+/// page can view them as a `Float32Array` without copying.
+#[derive(Debug)]
+pub struct Frame {
+    bytes: Vec<u8>,
+    serial: u32,
+}
+
+/// Bytes before the positions.
+pub const FRAME_HEADER_BYTES: usize = 16;
+
+impl Frame {
+    /// A frame for `n` vertices, all at the origin, serial 0.
+    pub fn new(n: usize) -> Self {
+        let mut frame = Frame {
+            bytes: vec![0; FRAME_HEADER_BYTES + 12 * n],
+            serial: 0,
+        };
+        frame.bytes[..4].copy_from_slice(&(n as u32).to_le_bytes());
+        frame
+    }
+
+    /// Overwrites the positions in place (no allocation) and moves the
+    /// serial on.
+    ///
+    /// # Panics
+    /// When `positions` is not as long as the frame was made for.
+    pub fn write(&mut self, positions: &[[f64; 3]], steps: usize, time: f64) {
+        assert_eq!(12 * positions.len(), self.bytes.len() - FRAME_HEADER_BYTES);
+        self.serial = self.serial.wrapping_add(1);
+        let steps = u32::try_from(steps).unwrap_or(u32::MAX);
+        self.bytes[4..8].copy_from_slice(&self.serial.to_le_bytes());
+        self.bytes[8..12].copy_from_slice(&steps.to_le_bytes());
+        self.bytes[12..16].copy_from_slice(&(time as f32).to_le_bytes());
+        let floats = positions.iter().flatten();
+        for (slot, &value) in self.bytes[FRAME_HEADER_BYTES..]
+            .chunks_exact_mut(4)
+            .zip(floats)
+        {
+            slot.copy_from_slice(&(value as f32).to_le_bytes());
+        }
+    }
+
+    /// Changes whenever the positions do.
+    pub fn serial(&self) -> u32 {
+        self.serial
+    }
+
+    /// The encoded frame.
+    pub fn bytes(&self) -> &[u8] {
+        &self.bytes
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn commands_parse_from_the_pages_json() {
+        let parse = |text: &str| Command::from_json(text.as_bytes());
+        assert_eq!(parse(r#"{"command":"step"}"#).unwrap(), Command::Step {});
+        assert!(parse(r#"{"command":"step","x":1}"#).is_err());
+        assert_eq!(
+            parse(r#"{"command":"drag_start","vertex":3,"target":[1,2,3]}"#).unwrap(),
+            Command::DragStart {
+                vertex: 3,
+                target: [1.0, 2.0, 3.0]
+            }
+        );
+        assert!(parse(r#"{"command":"explode"}"#).is_err());
+        assert!(parse(r#"["step"]"#).is_err());
+        assert!(parse(r#"{"command":"drag_to","target":[1,2]}"#).is_err());
+        assert!(parse(r#"{"command":"drag_to","target":[1,2,3],"x":1}"#).is_err());
+        assert!(parse(r#"{"command":"drag_start","vertex":-1,"target":[1,2,3]}"#).is_err());
+    }
+
+    #[test]
+    fn a_frame_is_a_header_and_little_endian_floats() {
+        let mut frame = Frame::new(2);
+        frame.write(&[[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]], 7, 0.5);
+        let bytes = frame.bytes();
+        let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
+        let float = |at: usize| f32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
+        assert_eq!((word(0), word(4), word(8), float(12)), (2, 1, 7, 0.5));
+        let positions: Vec<f32> = (0..6).map(|i| float(16 + 4 * i)).collect();
+        assert_eq!(positions, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+        assert_eq!(frame.serial(), 1);
+    }
+}

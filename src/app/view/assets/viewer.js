@@ -1,0 +1,818 @@
+// The page of `masssprings view`: draws, with plain WebGL, the simulation
+// that runs in the masssprings process, and sends it keys and drags.
+//
+// Data flow (see src/app/view/api.rs):
+//   GET  /api/scene         once: triangles, springs, pins, texture coordinates
+//   GET  /api/frame?since=S every animation frame: the positions (binary f32),
+//                           or 204 when nothing moved since frame serial S
+//   GET  /api/status        four times a second: steps, timings, toggles
+//   POST /api/command       keys (space, A, L, R, W) and vertex drags
+//
+// Drawing, back to front: a background gradient, the mesh (textured or
+// flat, lit on both sides), then, when shown (key L), the springs as lines
+// and the point masses as discs, and always the pinned vertices as silver
+// discs.
+'use strict';
+
+// ---------------------------------------------------------------------------
+// The look: the same numbers as `masssprings render` (src/app/render/look.rs),
+// so a rendered GIF looks like this page.
+
+function hex(rgb) {
+  return [(rgb >> 16) & 255, (rgb >> 8) & 255, rgb & 255].map((c) => c / 255);
+}
+
+const LOOK = {
+  backgroundTop: hex(0xf4f6f8),
+  backgroundBottom: hex(0xdde3ea),
+  cloth: hex(0x5b8fd6), // the mesh's colour without texture
+  towardLight: normalize([-0.4, 0.8, 0.45]), // world space, upper left front
+  ambient: 0.35,
+  diffuse: 0.65, // brightness = ambient + diffuse · max(0, n·l)
+  spring: hex(0x33414f),
+  springOpacity: 0.5,
+  mass: hex(0xc0392b),
+  massRadius: 2, // CSS pixels
+  pin: hex(0xc8ccd0),
+  pinOutline: hex(0x7f8c8d),
+  pinRadius: 3,
+  pinOutlineWidth: 1,
+  azimuthDegrees: 30, // camera direction: from +z toward +x…
+  elevationDegrees: 20, // …and above the horizontal plane
+  fieldOfViewDegrees: 35, // vertical
+  margin: 1.1, // the scene fills at most 1/1.1 of the view
+};
+
+/** Pixels within which a shift-click picks the nearest vertex. */
+const PICK_RADIUS = 24;
+/** Milliseconds between two status polls. */
+const STATUS_PERIOD = 250;
+
+// ---------------------------------------------------------------------------
+// Small vector and matrix helpers. Matrices are 4×4, column-major
+// Float32Arrays, as WebGL's uniformMatrix4fv expects: m[4 * column + row].
+
+function add(a, b) { return [a[0] + b[0], a[1] + b[1], a[2] + b[2]]; }
+function sub(a, b) { return [a[0] - b[0], a[1] - b[1], a[2] - b[2]]; }
+function scale(a, s) { return [a[0] * s, a[1] * s, a[2] * s]; }
+function dot(a, b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+function cross(a, b) {
+  return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+}
+function normalize(a) {
+  const length = Math.hypot(a[0], a[1], a[2]);
+  return length > 0 ? scale(a, 1 / length) : [0, 0, 1];
+}
+
+/** The product a·b of two column-major 4×4 matrices. */
+function multiply(a, b) {
+  const out = new Float32Array(16);
+  for (let column = 0; column < 4; column++) {
+    for (let row = 0; row < 4; row++) {
+      let sum = 0;
+      for (let k = 0; k < 4; k++) sum += a[4 * k + row] * b[4 * column + k];
+      out[4 * column + row] = sum;
+    }
+  }
+  return out;
+}
+
+/** Perspective projection: camera space (looking down −z) → clip space. */
+function perspective(fovY, aspect, near, far) {
+  const f = 1 / Math.tan(fovY / 2);
+  const depth = 1 / (near - far);
+  return new Float32Array([
+    f / aspect, 0, 0, 0,
+    0, f, 0, 0,
+    0, 0, (far + near) * depth, -1,
+    0, 0, 2 * far * near * depth, 0,
+  ]);
+}
+
+/** View matrix: world → camera space, for a camera at `eye` with the
+ *  orthonormal axes right, up and back (it looks along −back). */
+function viewMatrix(eye, right, up, back) {
+  return new Float32Array([
+    right[0], up[0], back[0], 0,
+    right[1], up[1], back[1], 0,
+    right[2], up[2], back[2], 0,
+    -dot(right, eye), -dot(up, eye), -dot(back, eye), 1,
+  ]);
+}
+
+/** Clip coordinates [x, y, z, w] of world point p under matrix m. */
+function transform(m, p) {
+  const out = [0, 0, 0, 0];
+  for (let row = 0; row < 4; row++) {
+    out[row] = m[row] * p[0] + m[4 + row] * p[1] + m[8 + row] * p[2] + m[12 + row];
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------
+// The orbit camera. It looks at `target` from the direction
+//   back = (cos e · sin a, sin e, cos e · cos a)
+// (azimuth a from +z toward +x, elevation e), from `distance` away; world y
+// is up. Until the user moves it, it frames everything the scene has
+// occupied so far (like the renderer, which frames all frames).
+
+const camera = {
+  azimuth: LOOK.azimuthDegrees * Math.PI / 180,
+  elevation: LOOK.elevationDegrees * Math.PI / 180,
+  fovY: LOOK.fieldOfViewDegrees * Math.PI / 180,
+  target: [0, 0, 0],
+  distance: 1,
+  autoFrame: true,
+  box: { min: [Infinity, Infinity, Infinity], max: [-Infinity, -Infinity, -Infinity] },
+};
+
+/** The camera's axes and eye for the current angles. */
+function cameraFrame() {
+  const cosE = Math.cos(camera.elevation);
+  const back = [cosE * Math.sin(camera.azimuth), Math.sin(camera.elevation),
+    cosE * Math.cos(camera.azimuth)];
+  const right = normalize(cross([0, 1, 0], back));
+  const up = cross(back, right);
+  const eye = add(camera.target, scale(back, camera.distance));
+  return { eye, right, up, back };
+}
+
+/** Grows the framed box by the current positions and, while the camera is
+ *  automatic, aims at it: target = the box's centre, distance = the least at
+ *  which all eight corners fit with the margin (as src/app/render/camera.rs). */
+function frameScene(positions, aspect) {
+  if (!camera.autoFrame) return;
+  const { min, max } = camera.box;
+  for (let i = 0; i < positions.length; i += 3) {
+    for (let k = 0; k < 3; k++) {
+      min[k] = Math.min(min[k], positions[i + k]);
+      max[k] = Math.max(max[k], positions[i + k]);
+    }
+  }
+  camera.target = scale(add(min, max), 0.5);
+  const { right, up, back } = cameraFrame();
+  const tanY = Math.tan(camera.fovY / 2);
+  const tanX = tanY * aspect;
+  let distance = 1e-6;
+  for (let corner = 0; corner < 8; corner++) {
+    const p = [0, 1, 2].map((k) => ((corner >> k) & 1 ? max[k] : min[k]));
+    const o = sub(p, camera.target);
+    const fit = Math.max(Math.abs(dot(o, right)) / tanX, Math.abs(dot(o, up)) / tanY);
+    distance = Math.max(distance, dot(o, back) + LOOK.margin * fit);
+  }
+  camera.distance = distance;
+}
+
+/** projection · view, and the pieces picking needs. */
+function cameraMatrices(aspect) {
+  const frame = cameraFrame();
+  const near = camera.distance / 100;
+  const far = camera.distance * 100;
+  const view = viewMatrix(frame.eye, frame.right, frame.up, frame.back);
+  const viewProjection = multiply(perspective(camera.fovY, aspect, near, far), view);
+  return { ...frame, viewProjection, aspect };
+}
+
+// ---------------------------------------------------------------------------
+// Shaders (GLSL ES 1.00: they run in WebGL 1 and 2).
+
+const SHADERS = {
+  // A full-screen triangle coloured from bottom to top.
+  background: {
+    vertex: `
+      attribute vec2 a_corner;
+      varying float v_height;
+      void main() {
+        v_height = 0.5 * (a_corner.y + 1.0);
+        gl_Position = vec4(a_corner, 0.0, 1.0);
+      }`,
+    fragment: `
+      precision mediump float;
+      uniform vec3 u_top, u_bottom;
+      varying float v_height;
+      void main() { gl_FragColor = vec4(mix(u_bottom, u_top, v_height), 1.0); }`,
+  },
+  // The mesh: two-sided Lambert lighting of a texture or a flat colour.
+  mesh: {
+    vertex: `
+      attribute vec3 a_position, a_normal;
+      attribute vec2 a_uv;
+      uniform mat4 u_viewProjection;
+      varying vec3 v_normal;
+      varying vec2 v_uv;
+      void main() {
+        v_normal = a_normal;
+        v_uv = a_uv;
+        gl_Position = u_viewProjection * vec4(a_position, 1.0);
+      }`,
+    fragment: `
+      precision mediump float;
+      uniform vec3 u_towardLight, u_cloth;
+      uniform float u_ambient, u_diffuse;
+      uniform bool u_textured;
+      uniform sampler2D u_texture;
+      varying vec3 v_normal;
+      varying vec2 v_uv;
+      void main() {
+        // Cloth has no inside: light the side we see (flip the back's normal).
+        vec3 n = normalize(v_normal);
+        if (!gl_FrontFacing) n = -n;
+        float brightness = u_ambient + u_diffuse * max(dot(n, u_towardLight), 0.0);
+        vec3 colour = u_textured ? texture2D(u_texture, v_uv).rgb : u_cloth;
+        gl_FragColor = vec4(colour * brightness, 1.0);
+      }`,
+  },
+  // Springs: lines of one colour and opacity.
+  lines: {
+    vertex: `
+      attribute vec3 a_position;
+      uniform mat4 u_viewProjection;
+      void main() { gl_Position = u_viewProjection * vec4(a_position, 1.0); }`,
+    fragment: `
+      precision mediump float;
+      uniform vec4 u_colour;
+      void main() { gl_FragColor = u_colour; }`,
+  },
+  // Point masses: round discs with an optional outline.
+  points: {
+    vertex: `
+      attribute vec3 a_position;
+      uniform mat4 u_viewProjection;
+      uniform mediump float u_size; // shared with the fragment shader: same precision
+      void main() {
+        gl_Position = u_viewProjection * vec4(a_position, 1.0);
+        gl_PointSize = u_size;
+      }`,
+    fragment: `
+      precision mediump float;
+      uniform vec3 u_fill, u_outline;
+      uniform float u_radius, u_outlineWidth, u_size;
+      void main() {
+        float d = length(gl_PointCoord - 0.5) * u_size; // pixels from the centre
+        if (d > u_radius) discard;
+        gl_FragColor = vec4(d > u_radius - u_outlineWidth ? u_outline : u_fill, 1.0);
+      }`,
+  },
+};
+
+function compileProgram(gl, source) {
+  const program = gl.createProgram();
+  for (const [type, text] of [[gl.VERTEX_SHADER, source.vertex], [gl.FRAGMENT_SHADER, source.fragment]]) {
+    const shader = gl.createShader(type);
+    gl.shaderSource(shader, text);
+    gl.compileShader(shader);
+    if (!gl.getShaderParameter(shader, gl.COMPILE_STATUS)) {
+      throw new Error(gl.getShaderInfoLog(shader));
+    }
+    gl.attachShader(program, shader);
+  }
+  gl.linkProgram(program);
+  if (!gl.getProgramParameter(program, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(program));
+  // Look every attribute and uniform up once, by name.
+  const locations = {};
+  for (let i = 0; i < gl.getProgramParameter(program, gl.ACTIVE_ATTRIBUTES); i++) {
+    const name = gl.getActiveAttrib(program, i).name;
+    locations[name] = gl.getAttribLocation(program, name);
+  }
+  for (let i = 0; i < gl.getProgramParameter(program, gl.ACTIVE_UNIFORMS); i++) {
+    const name = gl.getActiveUniform(program, i).name;
+    locations[name] = gl.getUniformLocation(program, name);
+  }
+  return { program, locations };
+}
+
+// ---------------------------------------------------------------------------
+// The scene on the GPU. Two sets of vertices:
+// * simulated vertices (n, in the server's order): springs and points;
+// * display vertices, one per distinct (vertex, texture coordinate) pair
+//   (see src/app/view/display_mesh.rs): the triangles. Each frame copies
+//   each display vertex's position and normal from its simulated vertex.
+
+const canvas = document.getElementById('view');
+const overlay = document.getElementById('overlay');
+const statsText = document.getElementById('stats');
+const gl = canvas.getContext('webgl2', { antialias: true, preserveDrawingBuffer: true })
+  || canvas.getContext('webgl', { antialias: true, preserveDrawingBuffer: true });
+
+const state = {
+  scene: null, // /api/scene
+  status: null, // the latest /api/status
+  positions: null, // Float32Array(3n): the latest frame
+  serial: null, // the latest frame's serial
+  frameSteps: null, // and its step count
+  connected: true,
+  frameRequestPending: false,
+  dragged: null, // { vertex, plane point } while shift-dragging
+  dragTarget: null, // where the dragged vertex is pulled to
+};
+
+// What tests (tests/browser) read.
+window.viewer = {
+  ready: false, framesReceived: 0, framesDrawn: 0, textureLoaded: false, error: null,
+  state, camera, look: LOOK,
+  screenPositionOf: (vertex) => screenPosition(vertex, cameraMatrices(aspectRatio())),
+};
+
+let gpu = null; // programs and buffers, made once the scene is known
+
+function createGpuScene(scene) {
+  const isWebGL2 = typeof WebGL2RenderingContext !== 'undefined' && gl instanceof WebGL2RenderingContext;
+  if (!isWebGL2 && !gl.getExtension('OES_element_index_uint')) {
+    throw new Error('this browser cannot index more than 65,536 vertices');
+  }
+  const buffer = (target, data, usage) => {
+    const b = gl.createBuffer();
+    gl.bindBuffer(target, b);
+    gl.bufferData(target, data, usage);
+    return b;
+  };
+  const displayCount = scene.display_vertices.length;
+  const pinned = new Uint8Array(scene.n);
+  for (const i of scene.pinned) pinned[i] = 1;
+  const freeVertices = [];
+  for (let i = 0; i < scene.n; i++) if (!pinned[i]) freeVertices.push(i);
+  return {
+    isWebGL2,
+    programs: Object.fromEntries(Object.entries(SHADERS).map(([name, source]) => [name, compileProgram(gl, source)])),
+    backgroundCorners: buffer(gl.ARRAY_BUFFER, new Float32Array([-1, -1, 3, -1, -1, 3]), gl.STATIC_DRAW),
+    // Simulated vertices.
+    positions: buffer(gl.ARRAY_BUFFER, new Float32Array(3 * scene.n), gl.DYNAMIC_DRAW),
+    springs: buffer(gl.ELEMENT_ARRAY_BUFFER, new Uint32Array(scene.springs), gl.STATIC_DRAW),
+    springIndexCount: scene.springs.length,
+    freeVertices: buffer(gl.ELEMENT_ARRAY_BUFFER, new Uint32Array(freeVertices), gl.STATIC_DRAW),
+    freeVertexCount: freeVertices.length,
+    pins: buffer(gl.ELEMENT_ARRAY_BUFFER, new Uint32Array(scene.pinned), gl.STATIC_DRAW),
+    pinCount: scene.pinned.length,
+    pinned,
+    // Display vertices.
+    displayPositions: new Float32Array(3 * displayCount),
+    displayNormals: new Float32Array(3 * displayCount),
+    vertexNormals: new Float32Array(3 * scene.n),
+    meshPositions: buffer(gl.ARRAY_BUFFER, new Float32Array(3 * displayCount), gl.DYNAMIC_DRAW),
+    meshNormals: buffer(gl.ARRAY_BUFFER, new Float32Array(3 * displayCount), gl.DYNAMIC_DRAW),
+    meshUvs: buffer(gl.ARRAY_BUFFER, new Float32Array(scene.texture_coords.length
+      ? scene.texture_coords : 2 * displayCount), gl.STATIC_DRAW),
+    triangles: buffer(gl.ELEMENT_ARRAY_BUFFER, new Uint32Array(scene.triangles), gl.STATIC_DRAW),
+    triangleIndexCount: scene.triangles.length,
+    // One position of the drag marker: the dragged vertex and its target.
+    dragLine: buffer(gl.ARRAY_BUFFER, new Float32Array(6), gl.DYNAMIC_DRAW),
+    texture: null,
+  };
+}
+
+/** Loads the scene's PNG; the mesh stays flat-coloured until it arrives. */
+function loadTexture(url) {
+  const image = new Image();
+  image.onload = () => {
+    const texture = gl.createTexture();
+    gl.bindTexture(gl.TEXTURE_2D, texture);
+    // OBJ texture coordinates have v = 0 at the bottom; images start at the top.
+    gl.pixelStorei(gl.UNPACK_FLIP_Y_WEBGL, true);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGB, gl.RGB, gl.UNSIGNED_BYTE, image);
+    const powerOfTwo = (x) => (x & (x - 1)) === 0;
+    // WebGL 1 can repeat only power-of-two textures; WebGL 2 any.
+    const wrap = gpu.isWebGL2 || (powerOfTwo(image.width) && powerOfTwo(image.height))
+      ? gl.REPEAT : gl.CLAMP_TO_EDGE;
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, wrap);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, wrap);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.LINEAR);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
+    gpu.texture = texture;
+    window.viewer.textureLoaded = true;
+  };
+  image.src = url;
+}
+
+/** Takes a new frame: positions, smooth normals, and the display copies. */
+function applyFrame(positions) {
+  const { scene } = state;
+  state.positions = positions;
+  // Vertex normals: the sum of the unnormalised normals (b − a) × (c − a) of
+  // the triangles around each vertex (larger triangles weigh more).
+  const normals = gpu.vertexNormals;
+  normals.fill(0);
+  const tri = scene.triangles;
+  const vertexOf = scene.display_vertices;
+  for (let t = 0; t < tri.length; t += 3) {
+    const a = 3 * vertexOf[tri[t]], b = 3 * vertexOf[tri[t + 1]], c = 3 * vertexOf[tri[t + 2]];
+    const ab = [positions[b] - positions[a], positions[b + 1] - positions[a + 1], positions[b + 2] - positions[a + 2]];
+    const ac = [positions[c] - positions[a], positions[c + 1] - positions[a + 1], positions[c + 2] - positions[a + 2]];
+    const n = cross(ab, ac);
+    for (const v of [a, b, c]) {
+      normals[v] += n[0]; normals[v + 1] += n[1]; normals[v + 2] += n[2];
+    }
+  }
+  // Display vertex d shows simulated vertex vertexOf[d].
+  for (let d = 0; d < vertexOf.length; d++) {
+    const v = 3 * vertexOf[d];
+    const n = normalize([normals[v], normals[v + 1], normals[v + 2]]);
+    for (let k = 0; k < 3; k++) {
+      gpu.displayPositions[3 * d + k] = positions[v + k];
+      gpu.displayNormals[3 * d + k] = n[k];
+    }
+  }
+  gl.bindBuffer(gl.ARRAY_BUFFER, gpu.positions);
+  gl.bufferSubData(gl.ARRAY_BUFFER, 0, positions);
+  gl.bindBuffer(gl.ARRAY_BUFFER, gpu.meshPositions);
+  gl.bufferSubData(gl.ARRAY_BUFFER, 0, gpu.displayPositions);
+  gl.bindBuffer(gl.ARRAY_BUFFER, gpu.meshNormals);
+  gl.bufferSubData(gl.ARRAY_BUFFER, 0, gpu.displayNormals);
+}
+
+// ---------------------------------------------------------------------------
+// Drawing.
+
+function aspectRatio() {
+  return canvas.clientWidth / Math.max(1, canvas.clientHeight);
+}
+
+/** Matches the drawing buffer to the canvas's size on screen. */
+function resizeCanvas() {
+  const ratio = window.devicePixelRatio || 1;
+  const width = Math.round(canvas.clientWidth * ratio);
+  const height = Math.round(canvas.clientHeight * ratio);
+  if (canvas.width !== width || canvas.height !== height) {
+    canvas.width = width;
+    canvas.height = height;
+  }
+  gl.viewport(0, 0, width, height);
+  return ratio;
+}
+
+function bindAttribute(location, buffer, size) {
+  gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
+  gl.enableVertexAttribArray(location);
+  gl.vertexAttribPointer(location, size, gl.FLOAT, false, 0, 0);
+}
+
+function draw() {
+  const pixelRatio = resizeCanvas();
+  const aspect = aspectRatio();
+  if (state.positions) frameScene(state.positions, aspect);
+  const matrices = cameraMatrices(aspect);
+  drawBackground();
+  if (!state.positions) return;
+  gl.enable(gl.DEPTH_TEST);
+  gl.depthFunc(gl.LEQUAL);
+  drawMesh(matrices);
+  // Key L shows or hides the springs and the free point masses; the pins
+  // are always drawn, in silver.
+  if (state.status && state.status.show_springs) {
+    drawSprings(matrices);
+    drawPoints(matrices, gpu.freeVertices, gpu.freeVertexCount, LOOK.mass, LOOK.mass, LOOK.massRadius, 0, pixelRatio);
+  }
+  drawPoints(matrices, gpu.pins, gpu.pinCount, LOOK.pin, LOOK.pinOutline, LOOK.pinRadius, LOOK.pinOutlineWidth, pixelRatio);
+  if (state.dragged && state.dragTarget) drawDragMarker(matrices, pixelRatio);
+  window.viewer.framesDrawn++;
+}
+
+function drawBackground() {
+  const { program, locations } = gpu.programs.background;
+  gl.disable(gl.DEPTH_TEST);
+  gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+  gl.useProgram(program);
+  gl.uniform3fv(locations.u_top, LOOK.backgroundTop);
+  gl.uniform3fv(locations.u_bottom, LOOK.backgroundBottom);
+  bindAttribute(locations.a_corner, gpu.backgroundCorners, 2);
+  gl.drawArrays(gl.TRIANGLES, 0, 3);
+  gl.disableVertexAttribArray(locations.a_corner);
+}
+
+function drawMesh(matrices) {
+  if (gpu.triangleIndexCount === 0) return; // a scene of springs only
+  const { program, locations } = gpu.programs.mesh;
+  gl.useProgram(program);
+  gl.uniformMatrix4fv(locations.u_viewProjection, false, matrices.viewProjection);
+  gl.uniform3fv(locations.u_towardLight, LOOK.towardLight);
+  gl.uniform3fv(locations.u_cloth, LOOK.cloth);
+  gl.uniform1f(locations.u_ambient, LOOK.ambient);
+  gl.uniform1f(locations.u_diffuse, LOOK.diffuse);
+  gl.uniform1i(locations.u_textured, gpu.texture ? 1 : 0);
+  if (gpu.texture) {
+    gl.activeTexture(gl.TEXTURE0);
+    gl.bindTexture(gl.TEXTURE_2D, gpu.texture);
+    gl.uniform1i(locations.u_texture, 0);
+  }
+  bindAttribute(locations.a_position, gpu.meshPositions, 3);
+  bindAttribute(locations.a_normal, gpu.meshNormals, 3);
+  bindAttribute(locations.a_uv, gpu.meshUvs, 2);
+  // Push the surface slightly back so springs and points on it win the
+  // depth test.
+  gl.enable(gl.POLYGON_OFFSET_FILL);
+  gl.polygonOffset(1, 1);
+  gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, gpu.triangles);
+  gl.drawElements(gl.TRIANGLES, gpu.triangleIndexCount, gl.UNSIGNED_INT, 0);
+  gl.disable(gl.POLYGON_OFFSET_FILL);
+  for (const name of ['a_position', 'a_normal', 'a_uv']) gl.disableVertexAttribArray(locations[name]);
+}
+
+function drawSprings(matrices) {
+  const { program, locations } = gpu.programs.lines;
+  gl.useProgram(program);
+  gl.uniformMatrix4fv(locations.u_viewProjection, false, matrices.viewProjection);
+  gl.uniform4fv(locations.u_colour, [...LOOK.spring, LOOK.springOpacity]);
+  bindAttribute(locations.a_position, gpu.positions, 3);
+  gl.enable(gl.BLEND);
+  gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA);
+  gl.depthMask(false); // translucent lines must not hide each other
+  gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, gpu.springs);
+  gl.drawElements(gl.LINES, gpu.springIndexCount, gl.UNSIGNED_INT, 0);
+  gl.depthMask(true);
+  gl.disable(gl.BLEND);
+  gl.disableVertexAttribArray(locations.a_position);
+}
+
+/** Discs at the simulated vertices listed in `indexBuffer`. */
+function drawPoints(matrices, indexBuffer, count, fill, outline, radius, outlineWidth, pixelRatio) {
+  if (count === 0) return;
+  const { program, locations } = gpu.programs.points;
+  const size = 2 * radius * pixelRatio + 1;
+  gl.useProgram(program);
+  gl.uniformMatrix4fv(locations.u_viewProjection, false, matrices.viewProjection);
+  gl.uniform1f(locations.u_size, size);
+  gl.uniform1f(locations.u_radius, radius * pixelRatio);
+  gl.uniform1f(locations.u_outlineWidth, outlineWidth * pixelRatio);
+  gl.uniform3fv(locations.u_fill, fill);
+  gl.uniform3fv(locations.u_outline, outline);
+  bindAttribute(locations.a_position, gpu.positions, 3);
+  gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, indexBuffer);
+  gl.drawElements(gl.POINTS, count, gl.UNSIGNED_INT, 0);
+  gl.disableVertexAttribArray(locations.a_position);
+}
+
+/** A line from the dragged vertex to where the mouse pulls it, and a disc
+ *  at the target, drawn over everything. */
+function drawDragMarker(matrices, pixelRatio) {
+  const v = 3 * state.dragged.vertex;
+  const from = state.positions.subarray(v, v + 3);
+  gl.bindBuffer(gl.ARRAY_BUFFER, gpu.dragLine);
+  gl.bufferSubData(gl.ARRAY_BUFFER, 0, new Float32Array([...from, ...state.dragTarget]));
+  gl.disable(gl.DEPTH_TEST);
+  let { program, locations } = gpu.programs.lines;
+  gl.useProgram(program);
+  gl.uniformMatrix4fv(locations.u_viewProjection, false, matrices.viewProjection);
+  gl.uniform4fv(locations.u_colour, [...LOOK.mass, 1]);
+  bindAttribute(locations.a_position, gpu.dragLine, 3);
+  gl.drawArrays(gl.LINES, 0, 2);
+  ({ program, locations } = gpu.programs.points);
+  const radius = LOOK.pinRadius * pixelRatio;
+  gl.useProgram(program);
+  gl.uniformMatrix4fv(locations.u_viewProjection, false, matrices.viewProjection);
+  gl.uniform1f(locations.u_size, 2 * radius + 1);
+  gl.uniform1f(locations.u_radius, radius);
+  gl.uniform1f(locations.u_outlineWidth, LOOK.pinOutlineWidth * pixelRatio);
+  gl.uniform3fv(locations.u_fill, LOOK.mass);
+  gl.uniform3fv(locations.u_outline, LOOK.spring);
+  bindAttribute(locations.a_position, gpu.dragLine, 3);
+  gl.drawArrays(gl.POINTS, 1, 1);
+  gl.disableVertexAttribArray(locations.a_position);
+}
+
+// ---------------------------------------------------------------------------
+// Talking to the server.
+
+async function sendCommand(body) {
+  const response = await fetch('/api/command', {
+    method: 'POST',
+    headers: { 'Content-Type': 'application/json' },
+    body: JSON.stringify(body),
+  });
+  const answer = await response.json();
+  if (response.ok) state.status = answer;
+  else console.warn('command refused:', body.command, answer.error);
+  updateOverlay();
+  return answer;
+}
+
+/** Asks for the frame after the one we have; 204 means nothing moved. */
+async function pollFrame() {
+  if (state.frameRequestPending) return;
+  state.frameRequestPending = true;
+  try {
+    const query = state.serial === null ? '' : `?since=${state.serial}`;
+    const response = await fetch(`/api/frame${query}`, { cache: 'no-store' });
+    if (response.status === 200) {
+      const bytes = await response.arrayBuffer();
+      // Header (src/app/view/api.rs): u32 n, u32 serial, u32 steps, f32 time.
+      const header = new DataView(bytes, 0, 16);
+      const n = header.getUint32(0, true);
+      if (n === state.scene.n) {
+        state.serial = header.getUint32(4, true);
+        state.frameSteps = header.getUint32(8, true);
+        applyFrame(new Float32Array(bytes, 16, 3 * n));
+        window.viewer.framesReceived++;
+      }
+    }
+    setConnected(true);
+  } catch (error) {
+    setConnected(false);
+    await new Promise((resolve) => setTimeout(resolve, 500));
+  } finally {
+    state.frameRequestPending = false;
+  }
+}
+
+async function pollStatus() {
+  try {
+    const response = await fetch('/api/status', { cache: 'no-store' });
+    state.status = await response.json();
+    setConnected(true);
+  } catch (error) {
+    setConnected(false);
+  }
+  updateOverlay();
+}
+
+function setConnected(connected) {
+  state.connected = connected;
+  overlay.classList.toggle('disconnected', !connected);
+}
+
+function updateOverlay() {
+  const s = state.status;
+  if (!state.connected) {
+    statsText.textContent = 'disconnected: is masssprings view still running?';
+    return;
+  }
+  if (!s) return;
+  const lines = [
+    `${s.scene} · ${s.backend}`,
+    `n ${s.n} · springs ${s.springs}`,
+    `${s.ms_per_step.toFixed(2)} ms/step · ${s.steps_per_second.toFixed(1)} steps/s`,
+    `step ${s.steps} · t ${s.time.toFixed(2)} s · ${s.animating ? 'animating' : 'paused'}`
+      + ` · wind ${s.wind ? 'on' : 'off'}`,
+  ];
+  if (s.dragged !== null) lines.push(`dragging vertex ${s.dragged + 1}`);
+  if (s.error) lines.push(`stopped: ${s.error}`);
+  statsText.textContent = lines.join('\n');
+}
+
+// ---------------------------------------------------------------------------
+// Keys: as the assignment's viewer.
+
+const KEY_COMMANDS = {
+  ' ': 'step', // pause and advance one step
+  a: 'toggle_animation',
+  l: 'toggle_springs',
+  r: 'reset',
+  w: 'toggle_wind',
+};
+
+window.addEventListener('keydown', (event) => {
+  if (event.ctrlKey || event.metaKey || event.altKey) return;
+  const command = KEY_COMMANDS[event.key.toLowerCase()];
+  if (!command) return;
+  event.preventDefault();
+  if (event.repeat && command !== 'step') return; // holding space keeps stepping
+  sendCommand({ command }).catch(() => setConnected(false));
+});
+
+// ---------------------------------------------------------------------------
+// Mouse: drag to orbit, wheel to zoom, shift-drag to pull a vertex.
+//
+// Picking: every free vertex is projected to the screen with the current
+// projection · view matrix; the nearest one within PICK_RADIUS pixels of the
+// cursor is taken. While the button is held, the cursor's ray from the eye
+// is cut with the plane through that vertex facing the camera, and the
+// vertex is pulled toward that point (Simulation::drag_to on the server).
+
+/** Where simulated vertex i appears, in CSS pixels from the top left, and
+ *  its depth (clip w); null when it is behind the camera. */
+function screenPosition(i, matrices) {
+  const p = state.positions.subarray(3 * i, 3 * i + 3);
+  const [x, y, , w] = transform(matrices.viewProjection, p);
+  if (w <= 0) return null;
+  return {
+    x: (x / w + 1) / 2 * canvas.clientWidth,
+    y: (1 - y / w) / 2 * canvas.clientHeight,
+    depth: w,
+  };
+}
+
+/** The free vertex nearest to the cursor (x, y) on screen, or null. */
+function pickVertex(x, y, matrices) {
+  let best = null;
+  let bestDistance = PICK_RADIUS;
+  for (let i = 0; i < state.scene.n; i++) {
+    if (gpu.pinned[i]) continue;
+    const s = screenPosition(i, matrices);
+    if (!s) continue;
+    const distance = Math.hypot(s.x - x, s.y - y);
+    if (distance < bestDistance) {
+      bestDistance = distance;
+      best = i;
+    }
+  }
+  return best;
+}
+
+/** Where the ray from the eye through cursor (x, y) meets the plane
+ *  through `point` facing the camera. */
+function pointUnderCursor(x, y, point, matrices) {
+  const ndcX = 2 * x / canvas.clientWidth - 1;
+  const ndcY = 1 - 2 * y / canvas.clientHeight;
+  const tanY = Math.tan(camera.fovY / 2);
+  // The ray's direction: forward (−back), plus the cursor's offset on the
+  // image plane at distance 1.
+  const direction = add(scale(matrices.back, -1),
+    add(scale(matrices.right, ndcX * tanY * matrices.aspect), scale(matrices.up, ndcY * tanY)));
+  const t = dot(sub(point, matrices.eye), matrices.back) / dot(direction, matrices.back);
+  return add(matrices.eye, scale(direction, t));
+}
+
+// Drag commands go out in order, and at most one drag_to waits at a time
+// (always with the latest target), so a slow server never falls behind.
+let dragQueue = Promise.resolve();
+let dragToWaiting = false;
+
+function queueDragCommand(body) {
+  dragQueue = dragQueue.then(() => sendCommand(body)).catch(() => setConnected(false));
+}
+
+function queueDragTo() {
+  if (dragToWaiting) return;
+  dragToWaiting = true;
+  dragQueue = dragQueue.then(() => {
+    dragToWaiting = false;
+    return sendCommand({ command: 'drag_to', target: state.dragTarget });
+  }).catch(() => setConnected(false));
+}
+
+let orbiting = null; // the last mouse position while orbiting
+
+canvas.addEventListener('mousedown', (event) => {
+  if (!state.positions) return;
+  camera.autoFrame = false;
+  const matrices = cameraMatrices(aspectRatio());
+  if (event.shiftKey && event.button === 0) {
+    const vertex = pickVertex(event.offsetX, event.offsetY, matrices);
+    if (vertex === null) return;
+    const point = Array.from(state.positions.subarray(3 * vertex, 3 * vertex + 3));
+    state.dragged = { vertex, point };
+    state.dragTarget = point;
+    canvas.classList.add('dragging-vertex');
+    queueDragCommand({ command: 'drag_start', vertex, target: point });
+  } else {
+    orbiting = { x: event.clientX, y: event.clientY };
+  }
+  event.preventDefault();
+});
+
+window.addEventListener('mousemove', (event) => {
+  if (state.dragged) {
+    const rect = canvas.getBoundingClientRect();
+    const matrices = cameraMatrices(aspectRatio());
+    state.dragTarget = pointUnderCursor(event.clientX - rect.left, event.clientY - rect.top,
+      state.dragged.point, matrices);
+    queueDragTo();
+  } else if (orbiting) {
+    const dx = event.clientX - orbiting.x;
+    const dy = event.clientY - orbiting.y;
+    orbiting = { x: event.clientX, y: event.clientY };
+    camera.azimuth -= dx * 0.01;
+    const limit = Math.PI / 2 - 0.01;
+    camera.elevation = Math.max(-limit, Math.min(limit, camera.elevation + dy * 0.01));
+  }
+});
+
+window.addEventListener('mouseup', () => {
+  if (state.dragged) {
+    state.dragged = null;
+    state.dragTarget = null;
+    canvas.classList.remove('dragging-vertex');
+    queueDragCommand({ command: 'drag_end' });
+  }
+  orbiting = null;
+});
+
+canvas.addEventListener('wheel', (event) => {
+  camera.autoFrame = false;
+  camera.distance *= Math.exp(event.deltaY * 0.001);
+  event.preventDefault();
+}, { passive: false });
+
+// ---------------------------------------------------------------------------
+// Start: fetch the scene, then draw on every animation frame of the browser.
+
+function everyAnimationFrame() {
+  pollFrame();
+  draw();
+  requestAnimationFrame(everyAnimationFrame);
+}
+
+async function start() {
+  if (!gl) throw new Error('this browser has no WebGL');
+  const response = await fetch('/api/scene');
+  state.scene = await response.json();
+  gpu = createGpuScene(state.scene);
+  if (state.scene.texture) loadTexture(state.scene.texture);
+  await pollStatus();
+  setInterval(pollStatus, STATUS_PERIOD);
+  window.viewer.ready = true;
+  requestAnimationFrame(everyAnimationFrame);
+}
+
+start().catch((error) => {
+  window.viewer.error = String(error);
+  statsText.textContent = `cannot start: ${error.message}`;
+});

@@ -1,0 +1,147 @@
+//! Which request gets which answer. The table is fixed: a path is compared
+//! literally with the few the viewer serves, and no part of a request is ever
+//! turned into a file name. The page, its script and style are compiled into
+//! the binary; the texture was read at start from the path the scene names.
+//! Everything else is `404`.
+
+use super::api::{Command, Status};
+use super::http::{Method, Request, Response};
+use super::simulation_thread::{Message, Reply, Shared};
+use std::sync::mpsc::{self, Sender};
+use std::sync::Arc;
+use std::time::Duration;
+
+const PAGE: &str = include_str!("assets/viewer.html");
+const SCRIPT: &str = include_str!("assets/viewer.js");
+const STYLE: &str = include_str!("assets/viewer.css");
+
+/// The page may load only what this server serves: no network beyond it.
+const CONTENT_SECURITY_POLICY: &str = "default-src 'none'; script-src 'self'; \
+     style-src 'self'; img-src 'self' data:; connect-src 'self'; base-uri 'none'; \
+     form-action 'none'; frame-ancestors 'none'";
+
+/// How long a command may wait for the simulation thread (a refactorization
+/// of a large `Q` takes a moment).
+const COMMAND_TIMEOUT: Duration = Duration::from_secs(10);
+
+/// Everything a request can be answered from.
+pub struct Routes {
+    pub shared: Arc<Shared>,
+    /// The simulation thread's inbox.
+    pub commands: Sender<Message>,
+    /// `/api/scene`, serialised once at start.
+    pub scene_json: String,
+    /// The scene's PNG texture, if it has one and it could be read.
+    pub texture: Option<Vec<u8>>,
+    /// The `Host` values accepted (`127.0.0.1:8080`, `localhost:8080`, …),
+    /// or `None` to accept any (when serving beyond loopback). Refusing other
+    /// names stops a web page elsewhere from reaching the viewer by DNS
+    /// rebinding.
+    pub allowed_hosts: Option<Vec<String>>,
+}
+
+impl Routes {
+    /// The answer to `request`.
+    pub fn respond(&self, request: &Request) -> Response {
+        if !self.host_allowed(request.header("host")) {
+            return Response::error(403, "unexpected Host");
+        }
+        let read_only = matches!(request.method, Method::Get | Method::Head);
+        match request.path.as_str() {
+            "/" | "/index.html" if read_only => {
+                Response::new(200, "text/html; charset=utf-8", PAGE)
+                    .with_header("Content-Security-Policy", CONTENT_SECURITY_POLICY)
+            }
+            "/viewer.js" if read_only => {
+                Response::new(200, "text/javascript; charset=utf-8", SCRIPT)
+            }
+            "/viewer.css" if read_only => Response::new(200, "text/css; charset=utf-8", STYLE),
+            "/texture.png" if read_only => match &self.texture {
+                Some(png) => Response::new(200, "image/png", png.clone()),
+                None => Response::error(404, "this scene has no texture"),
+            },
+            "/api/scene" if read_only => {
+                Response::new(200, "application/json", self.scene_json.clone())
+            }
+            "/api/status" if read_only => json_status(&self.status()),
+            "/api/frame" if read_only => self.frame(request.query.as_deref()),
+            "/api/command" if request.method == Method::Post => self.command(request),
+            "/" | "/index.html" | "/viewer.js" | "/viewer.css" | "/texture.png" | "/api/scene"
+            | "/api/status" | "/api/frame" => {
+                Response::error(405, "use GET").with_header("Allow", "GET, HEAD")
+            }
+            "/api/command" => Response::error(405, "use POST").with_header("Allow", "POST"),
+            _ => Response::error(404, "no such page"),
+        }
+    }
+
+    fn host_allowed(&self, host: Option<&str>) -> bool {
+        match (&self.allowed_hosts, host) {
+            (None, _) | (_, None) => true,
+            (Some(allowed), Some(host)) => allowed.iter().any(|name| name == host),
+        }
+    }
+
+    fn status(&self) -> Status {
+        self.shared
+            .status
+            .lock()
+            .expect("no thread panics holding it")
+            .clone()
+    }
+
+    /// The latest frame, or `204` when it is still serial `since`.
+    fn frame(&self, query: Option<&str>) -> Response {
+        let since = query
+            .and_then(|q| q.split('&').find_map(|pair| pair.strip_prefix("since=")))
+            .and_then(|value| value.parse::<u32>().ok());
+        let frame = self
+            .shared
+            .frame
+            .lock()
+            .expect("no thread panics holding it");
+        if since == Some(frame.serial()) {
+            return Response::new(204, "application/octet-stream", Vec::new());
+        }
+        Response::new(200, "application/octet-stream", frame.bytes().to_vec())
+    }
+
+    /// Parses a command, hands it to the simulation thread, waits for it.
+    fn command(&self, request: &Request) -> Response {
+        let media_type = request.header("content-type").unwrap_or("");
+        let media_type = media_type.split(';').next().unwrap_or("").trim();
+        // Requiring JSON also means a page of another origin cannot post a
+        // command without the browser asking this server first (CORS), which
+        // it never allows.
+        if !media_type.eq_ignore_ascii_case("application/json") {
+            return Response::error(415, "send application/json");
+        }
+        let command = match Command::from_json(&request.body) {
+            Ok(command) => command,
+            Err(why) => return json_error(400, &why),
+        };
+        let (reply_to, reply) = mpsc::channel::<Reply>();
+        if self
+            .commands
+            .send(Message::Command(command, reply_to))
+            .is_err()
+        {
+            return json_error(503, "the simulation has stopped");
+        }
+        match reply.recv_timeout(COMMAND_TIMEOUT) {
+            Ok(Ok(())) => json_status(&self.status()),
+            Ok(Err(why)) => json_error(409, &why),
+            Err(_) => json_error(503, "the simulation did not answer in time"),
+        }
+    }
+}
+
+fn json_status(status: &Status) -> Response {
+    let body = serde_json::to_vec(status).expect("plain data serialises");
+    Response::new(200, "application/json", body)
+}
+
+fn json_error(status: u16, message: &str) -> Response {
+    let body = serde_json::json!({ "error": message }).to_string();
+    Response::new(status, "application/json", body)
+}

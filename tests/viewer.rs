@@ -1,0 +1,693 @@
+//! `masssprings view` as a client sees it: the program is started as a child
+//! process on a free port, and every request is written by hand over raw TCP,
+//! so that malformed and hostile requests can be sent too.
+//!
+//! Checked: the page, script, style and texture with their content types;
+//! the status; the keys' commands (space advances exactly one step, R resets,
+//! W, A and L toggle); dragging; path traversal and unknown paths leak
+//! nothing; garbage, oversized and unfinished requests get a 4xx and the
+//! server goes on; two clients at once; Ctrl-C (SIGINT) exits with status 0.
+
+use serde_json::{json, Value};
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::{SocketAddr, TcpStream};
+use std::path::Path;
+use std::process::{Child, ChildStdout, Command, ExitStatus, Stdio};
+use std::sync::mpsc;
+use std::thread;
+use std::time::{Duration, Instant};
+
+/// A running `masssprings view`, killed when dropped (whatever the test did).
+struct Viewer {
+    child: Child,
+    address: SocketAddr,
+    /// Kept open so the program can still write to its stdout.
+    _stdout: BufReader<ChildStdout>,
+}
+
+impl Viewer {
+    /// Starts `masssprings view data/SCENE --port 0` and reads the URL it
+    /// prints.
+    fn start(scene: &str) -> Viewer {
+        let child = Command::new(env!("CARGO_BIN_EXE_masssprings"))
+            .args(["view", &data(scene), "--port", "0"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("the binary runs");
+        let mut viewer = ViewerStarting { child: Some(child) };
+        let stdout = viewer.child().stdout.take().expect("piped");
+        let (sender, receiver) = mpsc::channel();
+        thread::spawn(move || {
+            let mut reader = BufReader::new(stdout);
+            let mut line = String::new();
+            let _ = reader.read_line(&mut line);
+            let _ = sender.send((line, reader));
+        });
+        let (line, stdout) = receiver
+            .recv_timeout(Duration::from_secs(30))
+            .expect("the URL within 30 s");
+        let url = line.trim();
+        let authority = url
+            .strip_prefix("http://")
+            .and_then(|rest| rest.strip_suffix('/'))
+            .unwrap_or_else(|| panic!("not a URL: {line:?}"));
+        assert!(authority.starts_with("127.0.0.1:"), "{url}");
+        Viewer {
+            child: viewer.child.take().expect("still there"),
+            address: authority.parse().expect("ip:port"),
+            _stdout: stdout,
+        }
+    }
+
+    /// Sends `raw` on a fresh connection and reads the answer until the
+    /// server closes it (`None` when it answered nothing).
+    fn exchange(&self, raw: &[u8]) -> Option<HttpResponse> {
+        let mut stream = self.connect();
+        // The server may close before reading all of an oversized request.
+        let _ = stream.write_all(raw);
+        let mut bytes = Vec::new();
+        let _ = stream.read_to_end(&mut bytes);
+        HttpResponse::parse(&bytes)
+    }
+
+    fn connect(&self) -> TcpStream {
+        let stream = TcpStream::connect_timeout(&self.address, Duration::from_secs(5))
+            .expect("the server accepts connections");
+        stream
+            .set_read_timeout(Some(Duration::from_secs(15)))
+            .unwrap();
+        stream
+    }
+
+    /// `GET path` with `Connection: close`.
+    fn get(&self, path: &str) -> HttpResponse {
+        let request = format!(
+            "GET {path} HTTP/1.1\r\nHost: {}\r\nConnection: close\r\n\r\n",
+            self.address
+        );
+        self.exchange(request.as_bytes()).expect("an answer")
+    }
+
+    /// `POST /api/command` with a JSON body.
+    fn post_command(&self, body: &Value) -> HttpResponse {
+        let body = body.to_string();
+        let request = format!(
+            "POST /api/command HTTP/1.1\r\nHost: {}\r\nContent-Type: application/json\r\n\
+             Content-Length: {}\r\nConnection: close\r\n\r\n{body}",
+            self.address,
+            body.len()
+        );
+        self.exchange(request.as_bytes()).expect("an answer")
+    }
+
+    /// A command that must succeed; returns the new status.
+    fn command(&self, name: &str) -> Value {
+        let response = self.post_command(&json!({ "command": name }));
+        assert_eq!(response.status, 200, "{name}: {}", response.text());
+        response.json()
+    }
+
+    fn status(&self) -> Value {
+        let response = self.get("/api/status");
+        assert_eq!(response.status, 200);
+        assert_eq!(response.header("content-type"), Some("application/json"));
+        response.json()
+    }
+
+    /// The positions of the latest frame.
+    fn positions(&self) -> Vec<[f32; 3]> {
+        let frame = self.get("/api/frame");
+        assert_eq!(frame.status, 200);
+        frame.body[16..]
+            .chunks_exact(12)
+            .map(|xyz| [0, 4, 8].map(|at| f32::from_le_bytes(xyz[at..at + 4].try_into().unwrap())))
+            .collect()
+    }
+
+    /// Pauses the animation (it starts animating).
+    fn pause(&self) -> Value {
+        let status = self.status();
+        if status["animating"] == true {
+            let paused = self.command("toggle_animation");
+            assert_eq!(paused["animating"], false);
+            return paused;
+        }
+        status
+    }
+
+    /// Waits up to `limit` for the program to exit.
+    fn wait_for_exit(&mut self, limit: Duration) -> Option<ExitStatus> {
+        let deadline = Instant::now() + limit;
+        while Instant::now() < deadline {
+            if let Some(status) = self.child.try_wait().expect("try_wait") {
+                return Some(status);
+            }
+            thread::sleep(Duration::from_millis(20));
+        }
+        None
+    }
+}
+
+impl Drop for Viewer {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Kills the child if `Viewer::start` panics before it returns.
+struct ViewerStarting {
+    child: Option<Child>,
+}
+
+impl ViewerStarting {
+    fn child(&mut self) -> &mut Child {
+        self.child.as_mut().expect("still there")
+    }
+}
+
+impl Drop for ViewerStarting {
+    fn drop(&mut self) {
+        if let Some(child) = &mut self.child {
+            let _ = child.kill();
+            let _ = child.wait();
+        }
+    }
+}
+
+/// One HTTP response as read off the wire.
+#[derive(Debug)]
+struct HttpResponse {
+    status: u16,
+    headers: Vec<(String, String)>,
+    body: Vec<u8>,
+}
+
+impl HttpResponse {
+    /// The first response in `bytes` (head, then `Content-Length` bytes).
+    fn parse(bytes: &[u8]) -> Option<HttpResponse> {
+        Self::parse_with_body(bytes, true)
+    }
+
+    /// The first response, with its body unless `with_body` is false (the
+    /// answer to `HEAD`).
+    fn parse_with_body(bytes: &[u8], with_body: bool) -> Option<HttpResponse> {
+        let head_end = bytes.windows(4).position(|w| w == b"\r\n\r\n")? + 4;
+        let head = std::str::from_utf8(&bytes[..head_end]).expect("an ASCII head");
+        let mut lines = head.split("\r\n");
+        let status_line = lines.next()?;
+        assert!(status_line.starts_with("HTTP/1.1 "), "{status_line}");
+        let status = status_line[9..12].parse().expect("a status code");
+        let headers: Vec<(String, String)> = lines
+            .filter_map(|line| line.split_once(": "))
+            .map(|(name, value)| (name.to_ascii_lowercase(), value.to_string()))
+            .collect();
+        let length: usize = headers
+            .iter()
+            .find(|(name, _)| name == "content-length")
+            .map(|(_, value)| value.parse().expect("a length"))
+            .unwrap_or(0);
+        let body_length = if with_body { length } else { 0 };
+        let body = bytes.get(head_end..head_end + body_length)?.to_vec();
+        Some(HttpResponse {
+            status,
+            headers,
+            body,
+        })
+    }
+
+    fn header(&self, name: &str) -> Option<&str> {
+        self.headers
+            .iter()
+            .find(|(key, _)| key == name)
+            .map(|(_, value)| value.as_str())
+    }
+
+    fn text(&self) -> String {
+        String::from_utf8_lossy(&self.body).into_owned()
+    }
+
+    fn json(&self) -> Value {
+        serde_json::from_slice(&self.body).expect("a JSON body")
+    }
+}
+
+fn data(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("data")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+/// Reads one whole response from a kept-alive connection.
+fn read_one_response(stream: &mut TcpStream) -> HttpResponse {
+    let mut bytes = Vec::new();
+    let mut chunk = [0u8; 8192];
+    loop {
+        if let Some(response) = HttpResponse::parse(&bytes) {
+            return response;
+        }
+        let count = stream.read(&mut chunk).expect("the rest of the response");
+        assert!(count > 0, "the server closed mid-response");
+        bytes.extend_from_slice(&chunk[..count]);
+    }
+}
+
+#[test]
+fn the_page_script_style_and_scene_are_served_with_their_content_types() {
+    let viewer = Viewer::start("net.json");
+    let page = viewer.get("/");
+    assert_eq!(page.status, 200);
+    assert_eq!(
+        page.header("content-type"),
+        Some("text/html; charset=utf-8")
+    );
+    assert!(page.text().contains("<canvas"));
+    let policy = page.header("content-security-policy").expect("a CSP");
+    assert!(policy.contains("default-src 'none'") && policy.contains("connect-src 'self'"));
+    assert_eq!(viewer.get("/index.html").body, page.body);
+
+    let script = viewer.get("/viewer.js");
+    assert_eq!(script.status, 200);
+    assert_eq!(
+        script.header("content-type"),
+        Some("text/javascript; charset=utf-8")
+    );
+    assert!(script.text().contains("getContext('webgl2'"));
+    let style = viewer.get("/viewer.css");
+    assert_eq!(
+        (style.status, style.header("content-type")),
+        (200, Some("text/css; charset=utf-8"))
+    );
+
+    let scene = viewer.get("/api/scene");
+    assert_eq!(scene.header("content-type"), Some("application/json"));
+    let scene = scene.json();
+    assert_eq!(scene["n"], 81);
+    assert_eq!(scene["springs"].as_array().unwrap().len(), 2 * 144);
+    assert_eq!(scene["pinned"], json!([0, 4, 8, 36, 44, 72, 76, 80]));
+    assert_eq!(scene["texture"], Value::Null);
+    assert_eq!(scene["triangles"], json!([]), "the net is made of springs");
+
+    let status = viewer.status();
+    assert_eq!(
+        (status["n"].clone(), status["springs"].clone()),
+        (json!(81), json!(144))
+    );
+    assert_eq!(status["scene"], "net");
+    assert_eq!(status["backend"], "sparse");
+    for key in ["steps", "time", "ms_per_step", "steps_per_second"] {
+        assert!(status[key].is_number(), "{key}");
+    }
+    for key in ["animating", "wind", "show_springs"] {
+        assert!(status[key].is_boolean(), "{key}");
+    }
+    assert_eq!(status["dragged"], Value::Null);
+
+    let frame = viewer.get("/api/frame");
+    assert_eq!(
+        frame.header("content-type"),
+        Some("application/octet-stream")
+    );
+    assert_eq!(frame.body.len(), 16 + 12 * 81);
+    assert_eq!(&frame.body[..4], &81u32.to_le_bytes());
+    assert_eq!(
+        viewer.get("/texture.png").status,
+        404,
+        "the net has no texture"
+    );
+}
+
+#[test]
+fn the_scenes_texture_is_served_as_the_png_the_scene_names() {
+    let viewer = Viewer::start("flag.json");
+    let texture = viewer.get("/texture.png");
+    assert_eq!(texture.status, 200);
+    assert_eq!(texture.header("content-type"), Some("image/png"));
+    assert_eq!(texture.body, std::fs::read(data("flag.png")).unwrap());
+    let scene = viewer.get("/api/scene").json();
+    assert_eq!(scene["texture"], "/texture.png");
+    assert_eq!(scene["triangles"].as_array().unwrap().len(), 3 * 2 * 3081);
+    let mut stream = viewer.connect();
+    let request = format!(
+        "HEAD /texture.png HTTP/1.1\r\nHost: {}\r\nConnection: close\r\n\r\n",
+        viewer.address
+    );
+    stream.write_all(request.as_bytes()).unwrap();
+    let mut bytes = Vec::new();
+    stream.read_to_end(&mut bytes).unwrap();
+    let head = HttpResponse::parse_with_body(&bytes, false).expect("an answer to HEAD");
+    assert_eq!(head.status, 200);
+    assert!(bytes.ends_with(b"\r\n\r\n"), "no body after the head");
+    assert_eq!(
+        head.header("content-length"),
+        Some(texture.body.len().to_string().as_str())
+    );
+}
+
+#[test]
+fn space_steps_once_r_resets_and_a_w_l_toggle() {
+    let viewer = Viewer::start("net.json");
+    assert_eq!(viewer.status()["animating"], true, "it starts animating");
+    let paused = viewer.pause();
+    let steps = paused["steps"].as_u64().unwrap();
+
+    let stepped = viewer.command("step");
+    assert_eq!(
+        stepped["steps"],
+        steps + 1,
+        "space advances exactly one step"
+    );
+    assert_eq!(stepped["animating"], false, "space pauses");
+    assert_eq!(viewer.command("step")["steps"], steps + 2);
+    thread::sleep(Duration::from_millis(200));
+    assert_eq!(viewer.status()["steps"], steps + 2, "no steps while paused");
+
+    let reset = viewer.command("reset");
+    assert_eq!(
+        (reset["steps"].clone(), reset["time"].clone()),
+        (json!(0), json!(0.0))
+    );
+    let rest: Vec<[f32; 3]> = viewer.positions();
+    assert_eq!(rest[1], [0.15, 0.0, 0.0], "back at the rest positions");
+
+    let wind = viewer.status()["wind"].clone();
+    assert_eq!(
+        viewer.command("toggle_wind")["wind"],
+        json!(!wind.as_bool().unwrap())
+    );
+    assert_eq!(viewer.command("toggle_wind")["wind"], wind);
+
+    let springs = viewer.status()["show_springs"].as_bool().unwrap();
+    assert!(springs, "a scene of springs shows them");
+    assert_eq!(viewer.command("toggle_springs")["show_springs"], false);
+    assert_eq!(viewer.command("toggle_springs")["show_springs"], true);
+
+    assert_eq!(viewer.command("toggle_animation")["animating"], true);
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while viewer.status()["steps"].as_u64().unwrap() < 3 {
+        assert!(Instant::now() < deadline, "the animation steps on its own");
+        thread::sleep(Duration::from_millis(20));
+    }
+    assert_eq!(viewer.command("toggle_animation")["animating"], false);
+}
+
+#[test]
+fn a_frame_is_sent_again_only_when_it_changed() {
+    let viewer = Viewer::start("net.json");
+    viewer.pause();
+    let frame = viewer.get("/api/frame");
+    let serial = u32::from_le_bytes(frame.body[4..8].try_into().unwrap());
+    let same = viewer.get(&format!("/api/frame?since={serial}"));
+    assert_eq!((same.status, same.body.len()), (204, 0));
+    viewer.command("step");
+    let next = viewer.get(&format!("/api/frame?since={serial}"));
+    assert_eq!(next.status, 200);
+    assert_ne!(next.body[4..8], frame.body[4..8]);
+}
+
+#[test]
+fn dragging_pulls_a_free_vertex_to_its_target_through_the_solver() {
+    let viewer = Viewer::start("net.json");
+    viewer.pause();
+    viewer.command("reset");
+    let centre = 40; // the middle of the 9 × 9 net, not pinned
+    let rest = viewer.positions()[centre];
+    let target = [f64::from(rest[0]), 0.5, f64::from(rest[2])];
+    let start =
+        viewer.post_command(&json!({"command": "drag_start", "vertex": centre, "target": target}));
+    assert_eq!(start.status, 200, "{}", start.text());
+    assert_eq!(start.json()["dragged"], centre);
+    viewer.command("step");
+    let pulled = viewer.positions()[centre];
+    assert!((f64::from(pulled[1]) - 0.5).abs() < 1e-4, "{pulled:?}");
+
+    let moved = [target[0], -0.5, target[2]];
+    let to = viewer.post_command(&json!({"command": "drag_to", "target": moved}));
+    assert_eq!(to.status, 200, "{}", to.text());
+    viewer.command("step");
+    assert!((f64::from(viewer.positions()[centre][1]) + 0.5).abs() < 1e-4);
+
+    assert_eq!(viewer.command("drag_end")["dragged"], Value::Null);
+    let after = viewer.post_command(&json!({"command": "drag_to", "target": moved}));
+    assert_eq!(after.status, 409, "nothing is dragged any more");
+    let pinned =
+        viewer.post_command(&json!({"command": "drag_start", "vertex": 0, "target": target}));
+    assert_eq!(pinned.status, 409, "a pinned vertex stays put");
+    assert!(pinned.json()["error"].as_str().unwrap().contains("pinned"));
+    let beyond =
+        viewer.post_command(&json!({"command": "drag_start", "vertex": 81, "target": target}));
+    assert_eq!(beyond.status, 409);
+    let far = viewer
+        .post_command(&json!({"command": "drag_start", "vertex": centre, "target": [1e300, 0, 0]}));
+    assert_eq!(far.status, 409, "a target far from the scene is refused");
+    assert_eq!(viewer.status()["dragged"], Value::Null);
+}
+
+#[test]
+fn malformed_commands_are_refused_and_change_nothing() {
+    let viewer = Viewer::start("net.json");
+    let before = viewer.pause();
+    for body in [
+        json!({"command": "explode"}),
+        json!({"command": "drag_to", "target": [1, 2]}),
+        json!({"command": "step", "extra": 1}),
+        json!(["step"]),
+    ] {
+        let response = viewer.post_command(&body);
+        assert_eq!(response.status, 400, "{body}: {}", response.text());
+        assert!(response.json()["error"].is_string());
+    }
+    let not_json = format!(
+        "POST /api/command HTTP/1.1\r\nHost: {}\r\nContent-Type: text/plain\r\nContent-Length: 18\r\n\
+         Connection: close\r\n\r\n{{\"command\":\"step\"}}",
+        viewer.address
+    );
+    assert_eq!(viewer.exchange(not_json.as_bytes()).unwrap().status, 415);
+    assert_eq!(viewer.get("/api/command").status, 405);
+    let post_page = format!(
+        "POST / HTTP/1.1\r\nHost: {}\r\nContent-Length: 0\r\nConnection: close\r\n\r\n",
+        viewer.address
+    );
+    assert_eq!(viewer.exchange(post_page.as_bytes()).unwrap().status, 405);
+    assert_eq!(viewer.status()["steps"], before["steps"]);
+}
+
+#[test]
+fn path_traversal_and_unknown_paths_get_4xx_and_leak_no_file() {
+    let viewer = Viewer::start("flag.json");
+    let long = format!("/{}", "a/".repeat(3000));
+    let targets = [
+        "/../Cargo.toml",
+        "/%2e%2e/Cargo.toml",
+        "/%2E%2E%2FCargo.toml",
+        "/..%2fCargo.toml",
+        "//etc/passwd",
+        "/../../../../etc/passwd",
+        "/Cargo.toml",
+        "/src/main.rs",
+        "/data/flag.json",
+        "/flag.png",
+        "/texture.png/../../Cargo.toml",
+        "/viewer.js/",
+        "/api/",
+        "/api/status/../../Cargo.toml",
+        "http://127.0.0.1/Cargo.toml",
+        "*",
+        "C:\\Windows\\win.ini",
+        long.as_str(),
+    ];
+    for target in targets {
+        let request = format!(
+            "GET {target} HTTP/1.1\r\nHost: {}\r\nConnection: close\r\n\r\n",
+            viewer.address
+        );
+        let response = viewer.exchange(request.as_bytes()).expect("an answer");
+        assert!(
+            (400..500).contains(&response.status),
+            "{target}: {}",
+            response.status
+        );
+        let text = response.text();
+        assert!(
+            !text.contains("[package]") && !text.contains("root:") && !text.contains("fn main"),
+            "{target} leaked a file"
+        );
+        assert!(response.body.len() < 200, "{target}: only a short error");
+    }
+    assert_eq!(viewer.get("/../Cargo.toml").status, 404);
+    assert_eq!(viewer.get(&long).status, 414);
+    assert_eq!(viewer.get("/api/status").status, 200, "still serving");
+}
+
+#[test]
+fn requests_for_another_host_name_are_refused() {
+    let viewer = Viewer::start("net.json");
+    let port = viewer.address.port();
+    for host in [format!("evil.example:{port}"), "127.0.0.1:1".to_string()] {
+        let request =
+            format!("GET /api/status HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n");
+        assert_eq!(
+            viewer.exchange(request.as_bytes()).unwrap().status,
+            403,
+            "{host}"
+        );
+    }
+    let localhost =
+        format!("GET / HTTP/1.1\r\nHost: localhost:{port}\r\nConnection: close\r\n\r\n");
+    assert_eq!(viewer.exchange(localhost.as_bytes()).unwrap().status, 200);
+}
+
+#[test]
+fn malformed_requests_get_4xx_and_the_server_goes_on() {
+    let viewer = Viewer::start("net.json");
+    let huge_header = format!(
+        "GET / HTTP/1.1\r\nHost: {}\r\nX-Filler: {}\r\n\r\n",
+        viewer.address,
+        "x".repeat(20_000)
+    );
+    let huge_body = format!(
+        "POST /api/command HTTP/1.1\r\nHost: {}\r\nContent-Type: application/json\r\n\
+         Content-Length: 10000000\r\n\r\n{}",
+        viewer.address,
+        "{".repeat(10_000)
+    );
+    let cases: Vec<(Vec<u8>, u16)> = vec![
+        ((0..=255u8).cycle().take(3000).collect(), 400),
+        (b"\r\n\r\n".to_vec(), 400),
+        (b"GET\r\n\r\n".to_vec(), 400),
+        (b"BREW / HTTP/1.1\r\nHost: x\r\n\r\n".to_vec(), 405),
+        (b"GET / HTTP/9.9\r\nHost: x\r\n\r\n".to_vec(), 505),
+        (b"GET / HTTP/1.1\r\n\r\n".to_vec(), 400),
+        (
+            b"GET / HTTP/1.1\r\nHost: x\r\nBad Header\r\n\r\n".to_vec(),
+            400,
+        ),
+        (
+            b"POST /api/command HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\n\r\n".to_vec(),
+            501,
+        ),
+        (huge_header.into_bytes(), 431),
+        (huge_body.into_bytes(), 413),
+    ];
+    for (request, expected) in cases {
+        let preview = String::from_utf8_lossy(&request[..request.len().min(40)]).into_owned();
+        if let Some(response) = viewer.exchange(&request) {
+            assert_eq!(response.status, expected, "{preview:?}");
+        } // else the server closed the connection, which is also fine
+        assert_eq!(viewer.get("/api/status").status, 200, "after {preview:?}");
+    }
+}
+
+#[test]
+fn an_unfinished_request_times_out_without_blocking_others() {
+    let viewer = Viewer::start("net.json");
+    let mut slow = viewer.connect();
+    slow.write_all(b"GET /api/status HTTP/1.1\r\nHost: 127.0.0.1\r\n")
+        .unwrap();
+    let mut idle = viewer.connect(); // connects and says nothing
+    let started = Instant::now();
+    for _ in 0..5 {
+        assert_eq!(
+            viewer.get("/api/status").status,
+            200,
+            "others are served meanwhile"
+        );
+    }
+    // A slow-loris client keeps trickling bytes; it is cut off all the same.
+    for _ in 0..3 {
+        thread::sleep(Duration::from_millis(500));
+        let _ = slow.write_all(b"X-Trickle: 1\r\n");
+    }
+    let mut answer = Vec::new();
+    let _ = slow.read_to_end(&mut answer);
+    let waited = started.elapsed();
+    let response = HttpResponse::parse(&answer).expect("an answer before the close");
+    assert_eq!(response.status, 408);
+    assert!(waited < Duration::from_secs(10), "cut off after {waited:?}");
+    let _ = idle.write_all(b"GET / HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
+    assert_eq!(viewer.get("/api/status").status, 200);
+}
+
+#[test]
+fn two_clients_on_kept_alive_connections_both_get_frames() {
+    let viewer = Viewer::start("net.json");
+    let address = viewer.address;
+    let clients: Vec<_> = (0..2)
+        .map(|_| {
+            thread::spawn(move || {
+                let mut stream = TcpStream::connect(address).unwrap();
+                stream
+                    .set_read_timeout(Some(Duration::from_secs(15)))
+                    .unwrap();
+                let mut serials = Vec::new();
+                for _ in 0..30 {
+                    let request = format!("GET /api/frame HTTP/1.1\r\nHost: {address}\r\n\r\n");
+                    stream.write_all(request.as_bytes()).unwrap();
+                    let response = read_one_response(&mut stream);
+                    assert_eq!(response.status, 200);
+                    assert_eq!(response.header("connection"), Some("keep-alive"));
+                    assert_eq!(response.body.len(), 16 + 12 * 81);
+                    serials.push(u32::from_le_bytes(response.body[4..8].try_into().unwrap()));
+                    thread::sleep(Duration::from_millis(10));
+                }
+                serials
+            })
+        })
+        .collect();
+    for client in clients {
+        let serials = client.join().expect("the client succeeded");
+        assert!(
+            serials.windows(2).all(|w| w[0] <= w[1]),
+            "frames move forward"
+        );
+        assert!(
+            serials.last() > serials.first(),
+            "the animation ran meanwhile"
+        );
+    }
+}
+
+#[test]
+fn sigint_stops_the_server_with_status_0() {
+    let mut viewer = Viewer::start("net.json");
+    assert_eq!(viewer.get("/api/status").status, 200);
+    let mut open = viewer.connect(); // a connection left open does not hold it up
+    let _ = open.write_all(b"GET / HT");
+    let killed = Command::new("kill")
+        .args(["-INT", &viewer.child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(killed.success());
+    let status = viewer
+        .wait_for_exit(Duration::from_secs(3))
+        .expect("exits within 3 s of SIGINT");
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    assert!(
+        TcpStream::connect_timeout(&viewer.address, Duration::from_secs(1)).is_err(),
+        "no longer listening"
+    );
+}
+
+#[test]
+fn wrong_command_lines_exit_with_2_and_bad_scenes_with_1() {
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_masssprings"))
+            .args(args)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status()
+            .unwrap()
+            .code()
+    };
+    assert_eq!(run(&["view"]), Some(2));
+    assert_eq!(run(&["view", &data("net.json"), "--port", "http"]), Some(2));
+    assert_eq!(
+        run(&["view", &data("net.json"), "--address", "nowhere"]),
+        Some(2)
+    );
+    assert_eq!(run(&["view", &data("net.json"), "--bogus"]), Some(2));
+    assert_eq!(run(&["view", &data("no-such-scene.json")]), Some(1));
+}
