@@ -294,50 +294,24 @@ fn a_q_that_is_not_positive_definite_is_reported() {
 #[test]
 fn inconsistent_inputs_are_rejected() {
     let v = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
-    let invalid = |r: Result<masssprings::sim::MassSpringSystem<Sparse>, SimulationError>| {
-        matches!(r, Err(SimulationError::InvalidInput(_)))
-    };
-    assert!(invalid(fast_mass_springs_precomputation(
-        &v,
-        &[[0, 2]],
-        1.0,
-        &[1.0; 2],
-        &[],
-        DELTA_T
-    )));
-    assert!(invalid(fast_mass_springs_precomputation(
-        &v,
-        &[[0, 1]],
-        1.0,
-        &[1.0; 3],
-        &[],
-        DELTA_T
-    )));
-    assert!(invalid(fast_mass_springs_precomputation(
-        &v,
-        &[[0, 1]],
-        1.0,
-        &[1.0, 0.0],
-        &[],
-        DELTA_T
-    )));
-    assert!(invalid(fast_mass_springs_precomputation(
-        &v,
-        &[[0, 1]],
-        1.0,
-        &[1.0; 2],
-        &[5],
-        DELTA_T
-    )));
     let nan = vec![[0.0, f64::NAN, 0.0], [1.0, 0.0, 0.0]];
-    assert!(invalid(fast_mass_springs_precomputation(
-        &nan,
-        &[[0, 1]],
-        1.0,
-        &[1.0; 2],
-        &[],
-        DELTA_T
-    )));
+    // (positions, springs, masses, pins): each with one thing wrong
+    let cases: [(&[[f64; 3]], &[[usize; 2]], &[f64], &[usize]); 5] = [
+        (&v, &[[0, 2]], &[1.0; 2], &[]), // a spring to a vertex that is not there
+        (&v, &[[0, 1]], &[1.0; 3], &[]), // one mass too many
+        (&v, &[[0, 1]], &[1.0, 0.0], &[]), // a zero mass
+        (&v, &[[0, 1]], &[1.0; 2], &[5]), // a pin beyond the vertices
+        (&nan, &[[0, 1]], &[1.0; 2], &[]), // a NaN coordinate
+    ];
+    for (positions, springs, masses, pins) in cases {
+        let result = fast_mass_springs_precomputation::<Sparse>(
+            positions, springs, 1.0, masses, pins, DELTA_T,
+        );
+        assert!(
+            matches!(result, Err(SimulationError::InvalidInput(_))),
+            "{springs:?} {masses:?} {pins:?}"
+        );
+    }
 }
 
 #[test]
