@@ -296,7 +296,8 @@ fn inconsistent_inputs_are_rejected() {
     let v = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
     let nan = vec![[0.0, f64::NAN, 0.0], [1.0, 0.0, 0.0]];
     // (positions, springs, masses, pins): each with one thing wrong
-    let cases: [(&[[f64; 3]], &[[usize; 2]], &[f64], &[usize]); 5] = [
+    type Inputs<'a> = (&'a [[f64; 3]], &'a [[usize; 2]], &'a [f64], &'a [usize]);
+    let cases: [Inputs; 5] = [
         (&v, &[[0, 2]], &[1.0; 2], &[]), // a spring to a vertex that is not there
         (&v, &[[0, 1]], &[1.0; 3], &[]), // one mass too many
         (&v, &[[0, 1]], &[1.0, 0.0], &[]), // a zero mass
