@@ -20,7 +20,8 @@
 //!
 //! Source: Davis 2006, ch. 4 and §8.1 (`cs_cholsol`).
 
-use super::csc::CscMatrix;
+use super::csc::{CscMatrix, Triangle};
+use super::permute::PermutedTriangle;
 use super::supernodal::{factor_supernodal, SupernodalWorkspace};
 use super::supernodal_solve;
 use super::symbolic::SymbolicCholesky;
@@ -50,6 +51,10 @@ enum Workspace {
 #[derive(Debug, Clone)]
 pub struct SparseCholesky {
     symbolic: SymbolicCholesky,
+    /// `C = P A Pᵀ`, the triangle the method reads (upper for the
+    /// up-looking method, lower for the supernodal one), refilled with the
+    /// values of each matrix factored.
+    permuted: PermutedTriangle,
     /// Values of `L`, laid out as `symbolic.col_ptr()` / `row_idx()`.
     values: Vec<f64>,
     workspace: Workspace,
@@ -73,11 +78,19 @@ impl SparseCholesky {
         method: Method,
     ) -> Result<Self, LinalgError> {
         let n = symbolic.n();
-        let workspace = match method {
-            Method::Simplicial => Workspace::Simplicial(UpLookingWorkspace::new(n)),
-            Method::Supernodal => Workspace::Supernodal(SupernodalWorkspace::new(&symbolic)),
+        let (workspace, triangle) = match method {
+            Method::Simplicial => (
+                Workspace::Simplicial(UpLookingWorkspace::new(n)),
+                Triangle::Upper,
+            ),
+            Method::Supernodal => (
+                Workspace::Supernodal(SupernodalWorkspace::new(&symbolic)),
+                Triangle::Lower,
+            ),
         };
+        let permuted = PermutedTriangle::new(a, symbolic.permutation(), triangle)?;
         let mut cholesky = SparseCholesky {
+            permuted,
             values: vec![0.0; symbolic.nnz_l()],
             symbolic,
             workspace,
@@ -96,13 +109,14 @@ impl SparseCholesky {
     /// cannot be used to solve until a refactorization succeeds.
     pub fn refactor(&mut self, a: &CscMatrix) -> Result<(), LinalgError> {
         self.factored = false;
-        self.symbolic.refill(a)?;
+        self.permuted.refill(a)?;
+        let c = self.permuted.matrix();
         let outcome = match &mut self.workspace {
             Workspace::Simplicial(work) => {
-                factor_up_looking(&self.symbolic, &mut self.values, work)
+                factor_up_looking(&self.symbolic, c, &mut self.values, work)
             }
             Workspace::Supernodal(work) => {
-                factor_supernodal(&self.symbolic, &mut self.values, work)
+                factor_supernodal(&self.symbolic, c, &mut self.values, work)
             }
         };
         outcome.map_err(|failed| self.not_positive_definite(failed))?;

@@ -27,9 +27,9 @@ pub struct PermutedTriangle {
     matrix: CscMatrix,
     /// `matrix.values()[p] == a.values()[source_entry[p]]`.
     source_entry: Vec<usize>,
-    /// The pattern of the `A` this was built from, to check refills against.
-    source_col_ptr: Vec<usize>,
-    source_row_idx: Vec<usize>,
+    /// A fingerprint of the pattern of the `A` this was built from, to check
+    /// refills against without keeping a copy of that pattern.
+    source_pattern: u64,
 }
 
 impl PermutedTriangle {
@@ -62,8 +62,7 @@ impl PermutedTriangle {
         Ok(PermutedTriangle {
             matrix: CscMatrix::from_parts_unchecked(n, n, col_ptr, row_idx, values),
             source_entry,
-            source_col_ptr: a.col_ptr().to_vec(),
-            source_row_idx: a.row_idx().to_vec(),
+            source_pattern: pattern_fingerprint(a),
         })
     }
 
@@ -78,7 +77,7 @@ impl PermutedTriangle {
     /// # Errors
     /// [`LinalgError::PatternMismatch`] when the pattern of `a` differs.
     pub fn refill(&mut self, a: &CscMatrix) -> Result<(), LinalgError> {
-        if a.col_ptr() != self.source_col_ptr || a.row_idx() != self.source_row_idx {
+        if pattern_fingerprint(a) != self.source_pattern {
             return Err(LinalgError::PatternMismatch);
         }
         let source_values = a.values();
@@ -87,6 +86,21 @@ impl PermutedTriangle {
         }
         Ok(())
     }
+}
+
+/// A 64-bit hash of the shape, column pointers and row indices (FNV-1a
+/// taken a word at a time): two different patterns give the same
+/// fingerprint with probability about 2⁻⁶⁴. Cost `O(nnz)`, like comparing
+/// the patterns, but no copy of the pattern is kept.
+fn pattern_fingerprint(a: &CscMatrix) -> u64 {
+    const PRIME: u64 = 0x0000_0100_0000_01b3;
+    let words = [a.nrows(), a.ncols()].into_iter();
+    let words = words
+        .chain(a.col_ptr().iter().copied())
+        .chain(a.row_idx().iter().copied());
+    words.fold(0xcbf2_9ce4_8422_2325, |hash, word| {
+        (hash ^ word as u64).wrapping_mul(PRIME)
+    })
 }
 
 /// The entries of `A`'s lower triangle, renumbered by `inverse` and put in

@@ -35,6 +35,7 @@
 //! Hager, Rajamanickam, "CHOLMOD", ACM TOMS 35(3), 2008 (`super_numeric`);
 //! Davis, Rajamanickam, Sid-Lakhdar, Acta Numerica 2016, §9.
 
+use super::csc::CscMatrix;
 use super::symbolic::SymbolicCholesky;
 use super::up_looking::FailedPivot;
 use crate::linalg::dense::gram_block::{gram_block, BLOCK_COLUMNS};
@@ -84,12 +85,14 @@ impl SupernodalWorkspace {
     }
 }
 
-/// Fills `values` with `L` for the values of `C` loaded in `symbolic`.
+/// Fills `values` with `L` for `C = P A Pᵀ`, given by its lower triangle
+/// `lower`.
 ///
 /// # Errors
 /// The first column whose pivot is not positive and finite.
 pub fn factor_supernodal(
     symbolic: &SymbolicCholesky,
+    lower: &CscMatrix,
     values: &mut [f64],
     work: &mut SupernodalWorkspace,
 ) -> Result<(), FailedPivot> {
@@ -99,7 +102,7 @@ pub fn factor_supernodal(
         for (position, &row) in rows.iter().enumerate() {
             work.position_in_block[row as usize] = position;
         }
-        load_block(symbolic, s, values, &work.position_in_block);
+        load_block(symbolic, lower, s, values, &work.position_in_block);
         apply_waiting_updates(symbolic, s, values, work);
         factor_block(symbolic, s, values, work)?;
         let width = symbolic.supernodes().columns(s).len();
@@ -122,8 +125,13 @@ fn column_base(symbolic: &SymbolicCholesky, s: usize, k: usize) -> usize {
 }
 
 /// Step 1: the block's columns get `C(:, j)` at the positions of its rows.
-fn load_block(symbolic: &SymbolicCholesky, s: usize, values: &mut [f64], position: &[usize]) {
-    let lower = symbolic.lower().matrix();
+fn load_block(
+    symbolic: &SymbolicCholesky,
+    lower: &CscMatrix,
+    s: usize,
+    values: &mut [f64],
+    position: &[usize],
+) {
     let col_ptr = symbolic.col_ptr();
     for (k, j) in symbolic.supernodes().columns(s).enumerate() {
         values[col_ptr[j]..col_ptr[j + 1]].fill(0.0);

@@ -13,6 +13,8 @@
 //!
 //! The numeric factorization then only fills in values, into arrays whose
 //! size is known here, and can be repeated when the values of `A` change.
+//! Nothing here depends on the values of `A`: the analysis holds patterns
+//! only.
 //!
 //! Flop count: eliminating column `j` costs about `count[j]²` multiply-adds,
 //! so `flops = Σ_j count[j]²` (the convention of Davis 2006 and CHOLMOD).
@@ -48,9 +50,6 @@ pub struct SymbolicCholesky {
     /// a quarter less traffic.
     row_idx: Vec<u32>,
     supernodes: Supernodes,
-    /// Upper and lower triangles of `P A Pᵀ`, as the numeric phases read them.
-    upper: PermutedTriangle,
-    lower: PermutedTriangle,
 }
 
 impl SymbolicCholesky {
@@ -93,8 +92,6 @@ impl SymbolicCholesky {
             col_ptr,
             row_idx,
             supernodes,
-            upper,
-            lower,
         })
     }
 
@@ -144,22 +141,6 @@ impl SymbolicCholesky {
     /// The fundamental supernodes of `L`.
     pub fn supernodes(&self) -> &Supernodes {
         &self.supernodes
-    }
-
-    /// The upper triangle of `P A Pᵀ` (pattern and the values last loaded).
-    pub(crate) fn upper(&self) -> &PermutedTriangle {
-        &self.upper
-    }
-
-    /// The lower triangle of `P A Pᵀ` (pattern and the values last loaded).
-    pub(crate) fn lower(&self) -> &PermutedTriangle {
-        &self.lower
-    }
-
-    /// Loads new values of `A` (same pattern) into both permuted triangles.
-    pub(crate) fn refill(&mut self, a: &CscMatrix) -> Result<(), LinalgError> {
-        self.upper.refill(a)?;
-        self.lower.refill(a)
     }
 }
 

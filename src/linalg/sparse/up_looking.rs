@@ -22,6 +22,7 @@
 //! (the up-looking form), see also Davis, Rajamanickam, Sid-Lakhdar, "A
 //! survey of direct methods for sparse linear systems", Acta Numerica 2016.
 
+use super::csc::CscMatrix;
 use super::row_pattern::RowPattern;
 use super::symbolic::SymbolicCholesky;
 
@@ -50,17 +51,17 @@ impl UpLookingWorkspace {
 pub type FailedPivot = (usize, f64);
 
 /// Fills `values` (laid out as `symbolic.col_ptr()` / `row_idx()`) with `L`
-/// for the values of `C` currently loaded in `symbolic`.
+/// for `C = P A Pᵀ`, given by its upper triangle `upper`.
 ///
 /// # Errors
 /// The first column of `C` whose pivot is not positive and finite.
 pub fn factor_up_looking(
     symbolic: &SymbolicCholesky,
+    upper: &CscMatrix,
     values: &mut [f64],
     work: &mut UpLookingWorkspace,
 ) -> Result<(), FailedPivot> {
     let n = symbolic.n();
-    let upper = symbolic.upper().matrix();
     let parent = symbolic.elimination_tree();
     let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx());
     let x = &mut work.row_values;
