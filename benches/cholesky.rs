@@ -70,16 +70,23 @@ fn solve(c: &mut Criterion) {
     let mut group = c.benchmark_group("solve_3_columns");
     for (name, side, q) in matrices() {
         let symbolic = SymbolicCholesky::analyze(&q, Ordering::Amd).unwrap();
-        let mut cholesky = SparseCholesky::factor(symbolic, &q, Method::Supernodal).unwrap();
         let rhs = right_hand_side(q.ncols());
         let mut x = rhs.clone();
         configure(&mut group, side);
-        group.bench_function(BenchmarkId::from_parameter(&name), |b| {
-            b.iter(|| {
-                x.copy_from_slice(&rhs);
-                cholesky.solve_points_in_place(black_box(&mut x));
-            })
-        });
+        // the supernodal solve sweeps panels of columns, the simplicial one
+        // column by column (docs/performance.md compares them)
+        for (method_name, method) in [
+            ("supernodal", Method::Supernodal),
+            ("simplicial", Method::Simplicial),
+        ] {
+            let mut cholesky = SparseCholesky::factor(symbolic.clone(), &q, method).unwrap();
+            group.bench_function(BenchmarkId::new(method_name, &name), |b| {
+                b.iter(|| {
+                    x.copy_from_slice(&rhs);
+                    cholesky.solve_points_in_place(black_box(&mut x));
+                })
+            });
+        }
     }
     group.finish();
 }
