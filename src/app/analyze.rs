@@ -25,7 +25,8 @@ struct Analysis {
     residual: f64,
     ordering: &'static str,
     method: &'static str,
-    repeats: usize,
+    /// Runs behind each median: ordering, symbolic, numeric, solve.
+    runs: [usize; 4],
 }
 
 pub fn run(args: &[String]) -> Result<(), AppError> {
@@ -117,20 +118,20 @@ fn analyze(
     repeats: Repeats,
 ) -> Result<Analysis, masssprings::linalg::LinalgError> {
     let perm = ordering.permutation(lower)?;
-    let (ordering_s, runs) = median_seconds(repeats, || {
+    let (ordering_s, ordering_runs) = median_seconds(repeats, || {
         ordering.permutation(lower).expect("ordered once already");
     });
     let symbolic = SymbolicCholesky::with_permutation(lower, &perm)?;
-    let (symbolic_s, _) = median_seconds(repeats, || {
+    let (symbolic_s, symbolic_runs) = median_seconds(repeats, || {
         SymbolicCholesky::with_permutation(lower, &perm).expect("analysed once already");
     });
     let (nnz_l, flops) = (symbolic.nnz_l(), symbolic.flops());
     let mut cholesky = SparseCholesky::factor(symbolic, lower, method)?;
-    let (numeric_s, _) = median_seconds(repeats, || {
+    let (numeric_s, numeric_runs) = median_seconds(repeats, || {
         cholesky.refactor(lower).expect("factored once already");
     });
     let mut x = rhs.to_vec();
-    let (solve_s, _) = median_seconds(repeats, || {
+    let (solve_s, solve_runs) = median_seconds(repeats, || {
         x.copy_from_slice(rhs);
         cholesky.solve_points_in_place(&mut x);
     });
@@ -149,7 +150,7 @@ fn analyze(
             Method::Supernodal => "supernodal",
             Method::Simplicial => "simplicial",
         },
-        repeats: runs,
+        runs: [ordering_runs, symbolic_runs, numeric_runs, solve_runs],
     })
 }
 
@@ -173,19 +174,31 @@ fn relative_residual(lower: &CscMatrix, x: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
 }
 
 fn print_table(path: &Path, a: &Analysis) {
-    println!("matrix             {}", path.display());
-    println!("n                  {}", a.n);
-    println!("nnz(A lower)       {}", a.nnz_a);
-    println!(
-        "nnz(L)             {}  (fill ratio {:.2})",
-        a.nnz_l,
-        a.nnz_l as f64 / a.nnz_a as f64
-    );
-    println!("flops              {:.4e}", a.flops);
-    println!("ordering ({:<7})  {:.6} s", a.ordering, a.ordering_s);
-    println!("symbolic           {:.6} s", a.symbolic_s);
-    println!("numeric ({:<10}) {:.6} s", a.method, a.numeric_s);
-    println!("solve (3 columns)  {:.6} s", a.solve_s);
-    println!("relative residual  {:.3e}", a.residual);
-    println!("(medians of {} runs each)", a.repeats);
+    let rows = [
+        ("matrix", path.display().to_string()),
+        ("n", a.n.to_string()),
+        ("nnz(A lower)", a.nnz_a.to_string()),
+        (
+            "nnz(L)",
+            format!(
+                "{}  (fill ratio {:.2})",
+                a.nnz_l,
+                a.nnz_l as f64 / a.nnz_a as f64
+            ),
+        ),
+        ("flops", format!("{:.4e}", a.flops)),
+        (
+            "ordering",
+            format!("{:.6} s  ({})", a.ordering_s, a.ordering),
+        ),
+        ("symbolic", format!("{:.6} s", a.symbolic_s)),
+        ("numeric", format!("{:.6} s  ({})", a.numeric_s, a.method)),
+        ("solve (3 columns)", format!("{:.6} s", a.solve_s)),
+        ("relative residual", format!("{:.3e}", a.residual)),
+    ];
+    for (label, value) in rows {
+        println!("{label:<19}{value}");
+    }
+    let [ordering, symbolic, numeric, solve] = a.runs;
+    println!("(medians of {ordering}, {symbolic}, {numeric} and {solve} runs)");
 }
