@@ -46,11 +46,10 @@ fn shared() -> Option<PathBuf> {
 /// multiply-add is 3e-14 away at step 1 and 3.7e-4 at step 10). Ours
 /// orders the unknowns differently (SuiteSparse-quality AMD, 5% less fill
 /// than Eigen's), which puts it 3e-13 away at step 1 (the README allows
-/// 1e-8) and 7e-3 in centroid at step 10; refining every solve to
-/// (nearly) exact makes the gap no smaller, so it is the reference's own
-/// rounding, not an error of ours. After the transient, at steps 100 and
-/// 300, we meet the README's 1e-3 with room (2e-4). `docs/fidelity.md`
-/// has the figures and the commands.
+/// 1e-8); correct variants of it that round differently landed between
+/// 7e-4 and 2.5e-2 in centroid at step 10. After the transient, at steps
+/// 100 and 300, we meet the README's 1e-3 with room. `docs/fidelity.md`
+/// has the figures.
 const SKIRT_STEP_10: (f64, f64) = (1e-2, 3e-2);
 
 /// `x y z` per line.
