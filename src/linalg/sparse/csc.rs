@@ -209,11 +209,6 @@ impl CscMatrix {
         Self::from_parts_unchecked(self.nrows, self.ncols, col_ptr, row_idx, values)
     }
 
-    /// Takes the matrix apart into `(col_ptr, row_idx, values)`.
-    pub fn into_parts(self) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
-        (self.col_ptr, self.row_idx, self.values)
-    }
-
     /// Does `other` store exactly the same positions?
     pub fn same_pattern(&self, other: &CscMatrix) -> bool {
         self.nrows == other.nrows

@@ -75,26 +75,4 @@ impl Permutation {
         let perm = then.perm.iter().map(|&k| self.perm[k]).collect();
         Permutation::from_perm(perm).expect("a composition of permutations is a permutation")
     }
-
-    /// `reordered[new] = original[perm[new]]`, i.e. `reordered = P original`.
-    ///
-    /// # Panics
-    /// When the slice lengths differ from the permutation's.
-    pub fn gather<T: Copy>(&self, original: &[T], reordered: &mut [T]) {
-        assert!(original.len() == self.len() && reordered.len() == self.len());
-        for (slot, &old) in reordered.iter_mut().zip(&self.perm) {
-            *slot = original[old];
-        }
-    }
-
-    /// `original[perm[new]] = reordered[new]`, i.e. `original = Pᵀ reordered`.
-    ///
-    /// # Panics
-    /// When the slice lengths differ from the permutation's.
-    pub fn scatter<T: Copy>(&self, reordered: &[T], original: &mut [T]) {
-        assert!(original.len() == self.len() && reordered.len() == self.len());
-        for (&value, &old) in reordered.iter().zip(&self.perm) {
-            original[old] = value;
-        }
-    }
 }
