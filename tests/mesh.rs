@@ -4,10 +4,11 @@
 
 mod common;
 
+use masssprings::mesh::fan::fan_triangles;
 use masssprings::mesh::procedural::text::format_17_significant;
 use masssprings::mesh::procedural::{self, GeneratedScene};
 use masssprings::mesh::springs::springs_from_faces;
-use masssprings::mesh::voronoi_mass::{fan_triangles, triangle_mass_shares, voronoi_masses};
+use masssprings::mesh::voronoi_mass::{triangle_mass_shares, voronoi_masses};
 use masssprings::mesh::{load_scene, Scene, SceneError};
 use proptest::prelude::*;
 use std::fs;

@@ -32,6 +32,8 @@ use std::path::{Path, PathBuf};
 
 pub use crate::files::FileError;
 
+pub mod bounding_box;
+pub mod fan;
 pub mod obj;
 pub mod procedural;
 mod scene_file;

@@ -37,6 +37,7 @@
 //! §3.3 and Fig. 4 ("mixed area"); Kahan, "Miscalculating Area and Angles of
 //! a Needle-like Triangle", 2014; `../shared/design/scene-format.md`.
 
+use super::fan::fan_triangles;
 use std::fmt;
 
 /// A vertex whose mass cannot be used: zero (it is in no triangle of nonzero
@@ -99,15 +100,6 @@ pub fn voronoi_masses(
         }),
         None => Ok(masses),
     }
-}
-
-/// The triangles of the fan triangulation of each face, in face order:
-/// `(p₀ p₁ p₂), (p₀ p₂ p₃), …, (p₀ p_{c−2} p_{c−1})`. Faces of fewer than 3
-/// corners give none.
-pub fn fan_triangles(faces: &[Vec<usize>]) -> impl Iterator<Item = [usize; 3]> + '_ {
-    faces.iter().flat_map(|face| {
-        (1..face.len().saturating_sub(1)).map(move |q| [face[0], face[q], face[q + 1]])
-    })
 }
 
 /// The share of the triangle `corners` that goes to each of its corners

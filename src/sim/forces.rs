@@ -16,6 +16,8 @@
 //!
 //! Source: the assignment's `main.cpp`; `shared/design/scene-format.md`.
 
+use crate::mesh::bounding_box::BoundingBox;
+
 /// Gravity, per vertex.
 pub const GRAVITY: [f64; 3] = [0.0, -9.8, 0.0];
 
@@ -36,18 +38,7 @@ pub fn external_forces(u: &[[f64; 3]], time: f64, wind: bool, scale: f64, f_ext:
 /// The length of the diagonal of the axis-aligned box around `points`
 /// (1 for fewer than two distinct points, so it can divide safely).
 pub fn bounding_box_diagonal(points: &[[f64; 3]]) -> f64 {
-    let mut low = [f64::INFINITY; 3];
-    let mut high = [f64::NEG_INFINITY; 3];
-    for p in points {
-        for c in 0..3 {
-            low[c] = low[c].min(p[c]);
-            high[c] = high[c].max(p[c]);
-        }
-    }
-    let diagonal = (0..3)
-        .map(|c| (high[c] - low[c]).powi(2))
-        .sum::<f64>()
-        .sqrt();
+    let diagonal = BoundingBox::of(points).diagonal();
     if diagonal > 0.0 && diagonal.is_finite() {
         diagonal
     } else {

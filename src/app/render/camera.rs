@@ -34,57 +34,10 @@
 //! Source: Marschner & Shirley, *Fundamentals of Computer Graphics*, 4th ed.
 //! (2016), ch. 7 (viewing: camera frame, perspective projection).
 
+pub use masssprings::mesh::bounding_box::BoundingBox;
+
 use super::look::{AZIMUTH_DEGREES, ELEVATION_DEGREES, FIELD_OF_VIEW_DEGREES, MARGIN};
 use super::vector::{cross, dot, normalize, sub};
-
-/// An axis-aligned box that grows to contain points.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BoundingBox {
-    pub min: [f64; 3],
-    pub max: [f64; 3],
-}
-
-impl BoundingBox {
-    /// The box that contains nothing yet.
-    pub fn empty() -> BoundingBox {
-        BoundingBox {
-            min: [f64::INFINITY; 3],
-            max: [f64::NEG_INFINITY; 3],
-        }
-    }
-
-    /// Grows the box to contain every point of `points`.
-    pub fn include(&mut self, points: &[[f64; 3]]) {
-        for p in points {
-            for k in 0..3 {
-                self.min[k] = self.min[k].min(p[k]);
-                self.max[k] = self.max[k].max(p[k]);
-            }
-        }
-    }
-
-    pub fn centre(&self) -> [f64; 3] {
-        std::array::from_fn(|k| 0.5 * (self.min[k] + self.max[k]))
-    }
-
-    /// The eight corners.
-    pub fn corners(&self) -> [[f64; 3]; 8] {
-        std::array::from_fn(|i| {
-            std::array::from_fn(|k| {
-                if i >> k & 1 == 0 {
-                    self.min[k]
-                } else {
-                    self.max[k]
-                }
-            })
-        })
-    }
-
-    /// Half the diagonal (0 for a single point, NaN for an empty box).
-    pub fn radius(&self) -> f64 {
-        0.5 * dot(sub(self.max, self.min), sub(self.max, self.min)).sqrt()
-    }
-}
 
 /// A point on the screen: pixel coordinates (x right, y down, pixel `(i, j)`
 /// covers `[i, i+1) × [j, j+1)`) and `1/z`, the inverse of its depth.

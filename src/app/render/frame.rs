@@ -25,7 +25,7 @@
 use super::camera::{Camera, ScreenPoint};
 use super::canvas::Canvas;
 use super::discs::{draw_disc, DiscStyle};
-use super::lighting::{fan, lambert, toward_light, toward_viewer, vertex_normals};
+use super::lighting::{lambert, toward_light, toward_viewer, vertex_normals};
 use super::lines::draw_line;
 use super::look::{
     Rgb, AMBIENT, BACKGROUND_BOTTOM, BACKGROUND_TOP, CLOTH, MASS, MASS_RADIUS, PIN, PIN_OUTLINE,
@@ -34,6 +34,7 @@ use super::look::{
 use super::texture::Texture;
 use super::triangle::{fill_triangle, Fragment};
 use super::vector::{combine, normalize_f32};
+use masssprings::mesh::fan::fan_corners;
 use masssprings::mesh::procedural::RgbImage;
 use masssprings::mesh::Scene;
 
@@ -104,7 +105,7 @@ impl<'a> FrameRenderer<'a> {
         vertex_normals(positions, &self.scene.faces, &mut self.normals);
         let light = toward_light();
         for (f, face) in self.scene.faces.iter().enumerate() {
-            for corners in fan(face) {
+            for corners in fan_corners(face.len()) {
                 let vertices = corners.map(|corner| face[corner]);
                 let normals = vertices.map(|v| self.normals[v]);
                 let uvs = self.texture.as_ref().map(|_| {

@@ -30,6 +30,7 @@
 
 use super::look::{AMBIENT, DIFFUSE, TOWARD_LIGHT};
 use super::vector::{cross, dot_f32, normalize, sub};
+use masssprings::mesh::fan::fan_corners;
 
 /// The unit direction toward the light, in world space.
 pub fn toward_light() -> [f32; 3] {
@@ -52,18 +53,12 @@ pub fn toward_viewer(normal: [f32; 3], front_facing: bool) -> [f32; 3] {
     }
 }
 
-/// The triangles of a polygon `v0 v1 … vk` as a fan from its first corner:
-/// `(v0, v1, v2), (v0, v2, v3), …`; none for a 2-corner face (a spring).
-pub fn fan(face: &[usize]) -> impl Iterator<Item = [usize; 3]> + '_ {
-    (1..face.len().saturating_sub(1)).map(move |i| [0, i, i + 1])
-}
-
 /// Area-weighted vertex normals of the fan-triangulated `faces` at
 /// `positions`, into `normals` (zero for a vertex in no triangle).
 pub fn vertex_normals(positions: &[[f64; 3]], faces: &[Vec<usize>], normals: &mut Vec<[f32; 3]>) {
     let mut sums = vec![[0.0f64; 3]; positions.len()];
     for face in faces {
-        for corners in fan(face) {
+        for corners in fan_corners(face.len()) {
             let [a, b, c] = corners.map(|corner| face[corner]);
             let n = cross(
                 sub(positions[b], positions[a]),
@@ -120,7 +115,7 @@ mod tests {
         let mut normals = Vec::new();
         vertex_normals(&positions, &[vec![0, 1, 2, 3]], &mut normals);
         assert!(normals.iter().all(|&n| n == [0.0, 0.0, 1.0]));
-        assert_eq!(fan(&[0, 1, 2, 3]).count(), 2);
-        assert_eq!(fan(&[4, 5]).count(), 0);
+        assert_eq!(fan_corners(4).count(), 2);
+        assert_eq!(fan_corners(2).count(), 0);
     }
 }

@@ -9,6 +9,8 @@
 //! mass computation does); two-corner faces are springs and draw nothing
 //! here (the springs are drawn as lines).
 
+use masssprings::mesh::bounding_box::BoundingBox;
+use masssprings::mesh::fan::fan_corners;
 use masssprings::mesh::Scene;
 use std::collections::HashMap;
 
@@ -68,13 +70,14 @@ pub fn display_mesh(scene: &Scene, textured: bool, backend: &'static str) -> Dis
     };
     let mut triangles = Vec::new();
     for (face, corners) in scene.faces.iter().enumerate() {
-        for second in 1..corners.len().saturating_sub(1) {
-            for corner in [0, second, second + 1] {
+        for triangle in fan_corners(corners.len()) {
+            for corner in triangle {
                 triangles.push(display_index(face, corner));
             }
         }
     }
-    let (center, diagonal) = super::simulation_thread::bounds(&scene.vertices);
+    let bounds = BoundingBox::of(&scene.vertices);
+    let (center, diagonal) = (bounds.centre(), bounds.diagonal());
     DisplayMesh {
         name: scene.name.clone(),
         backend,

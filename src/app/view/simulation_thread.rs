@@ -13,6 +13,7 @@
 //! buffer in place.
 
 use super::api::{Command, Frame, Status};
+use masssprings::mesh::bounding_box::BoundingBox;
 use masssprings::sim::{LinearAlgebra, Simulation, DELTA_T};
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::sync::{Arc, Mutex};
@@ -101,7 +102,8 @@ impl<B: LinearAlgebra> SimulationThread<B> {
     /// Wraps `simulation` (animating from the start, springs shown or not)
     /// and publishes its first frame.
     pub fn new(simulation: Simulation<B>, shared: Arc<Shared>, show_springs: bool) -> Self {
-        let (center, diagonal) = bounds(simulation.rest_positions());
+        let bounds = BoundingBox::of(simulation.rest_positions());
+        let (center, diagonal) = (bounds.centre(), bounds.diagonal());
         let thread = SimulationThread {
             simulation,
             shared,
@@ -282,25 +284,4 @@ impl<B: LinearAlgebra> SimulationThread<B> {
             status.error.clone_from(&self.error);
         }
     }
-}
-
-/// The center and diagonal of the bounding box of `points`.
-pub fn bounds(points: &[[f64; 3]]) -> ([f64; 3], f64) {
-    let mut low = [f64::INFINITY; 3];
-    let mut high = [f64::NEG_INFINITY; 3];
-    for point in points {
-        for axis in 0..3 {
-            low[axis] = low[axis].min(point[axis]);
-            high[axis] = high[axis].max(point[axis]);
-        }
-    }
-    if points.is_empty() {
-        return ([0.0; 3], 0.0);
-    }
-    let center = [0, 1, 2].map(|axis| 0.5 * (low[axis] + high[axis]));
-    let diagonal = (0..3)
-        .map(|axis| (high[axis] - low[axis]).powi(2))
-        .sum::<f64>()
-        .sqrt();
-    (center, diagonal)
 }
