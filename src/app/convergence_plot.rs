@@ -36,7 +36,10 @@ pub fn draw(
         curves
             .iter()
             .map(|(name, points)| {
-                Series::new(name.clone(), points.iter().map(|p| (x(p), gap(p.1))).collect())
+                Series::new(
+                    name.clone(),
+                    points.iter().map(|p| (x(p), gap(p.1))).collect(),
+                )
             })
             .collect()
     };
@@ -55,8 +58,18 @@ pub fn draw(
             "gap = (E(p) - E_best) / (E(start) - E_best), E_best = {best:.6e} relative to the start"
         ),
         panels: vec![
-            panel("against iterations", "iteration", Scale::Linear, series(|p| p.0)),
-            panel("against wall time", "milliseconds (log)", Scale::Log10, series(|p| p.2)),
+            panel(
+                "against iterations",
+                "iteration",
+                Scale::Linear,
+                series(|p| p.0),
+            ),
+            panel(
+                "against wall time",
+                "milliseconds (log)",
+                Scale::Log10,
+                series(|p| p.2),
+            ),
         ],
         width: 1200,
         height: 520,

@@ -84,8 +84,9 @@ pub fn fast_mass_springs_step<B: LinearAlgebra>(
 ///
 /// # Errors
 /// [`SimulationError::NotFinite`] when the new positions hold NaN or
-/// infinity (reported, not propagated: `u_next` is then not a state to
-/// continue from); an error of Newton's first factorization.
+/// infinity, [`SimulationError::EnergyNotFinite`] when the energy or
+/// gradient there does (reported, not propagated: `u_next` is then not a
+/// state to continue from); an error of Newton's first factorization.
 ///
 /// # Panics
 /// When a slice does not have one row per vertex.
@@ -183,11 +184,15 @@ pub fn solve_step<B: LinearAlgebra>(
     }
     let relative_gradient =
         monitor.final_relative_gradient(&context.energy, context.pinned, u_next);
+    let energy_decrease = -context.energy.change(u_next).total();
+    if !(energy_decrease.is_finite() && relative_gradient.is_finite()) {
+        return Err(SimulationError::EnergyNotFinite);
+    }
     Ok(StepReport {
         method: control.method,
         iterations: outcome.iterations,
         stop: outcome.stop,
-        energy_decrease: -context.energy.change(u_next).total(),
+        energy_decrease,
         relative_gradient,
     })
 }
