@@ -5,7 +5,7 @@ mod common;
 
 use common::*;
 use masssprings::mesh::load_scene;
-use masssprings::sim::energy::StepEnergy;
+use masssprings::sim::energy::{start_lengths, StepEnergy};
 use masssprings::sim::hessian::Hessian;
 use masssprings::sim::methods::Iterate;
 use masssprings::sim::simulation::SimulationOptions;
@@ -26,6 +26,7 @@ struct StepData {
     f_ext: Vec<[f64; 3]>,
     start: Vec<[f64; 3]>,
     w: f64,
+    start_lengths: Vec<f64>,
 }
 
 impl StepData {
@@ -42,6 +43,7 @@ impl StepData {
             inertial_target: &self.inertial_target,
             f_ext: &self.f_ext,
             start: &self.start,
+            start_lengths: &self.start_lengths,
         }
     }
 }
@@ -69,9 +71,13 @@ fn step_data() -> impl Strategy<Value = (StepData, Vec<[f64; 3]>)> {
                     .collect()
             };
             let p = shifted(&p_offset);
+            let start = shifted(&start_offset);
+            let mut lengths = vec![0.0; net.springs.len()];
+            start_lengths(&net.springs, &start, &mut lengths);
             let data = StepData {
+                start_lengths: lengths,
                 pin_targets: net.pinned.iter().map(|&i| net.v[i]).collect(),
-                start: shifted(&start_offset),
+                start,
                 inertial_target: shifted(&target_offset),
                 f_ext: forces.iter().map(|f| f.map(|x| 10.0 * x)).collect(),
                 r,

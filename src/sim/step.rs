@@ -27,7 +27,7 @@
 //! (`fast_mass_springs_step_dense.cpp` / `_sparse.cpp`, "Step 1–3").
 
 use super::backend::{Dense, LinearAlgebra, Sparse};
-use super::energy::{free_norm, StepEnergy};
+use super::energy::{free_norm, start_lengths, StepEnergy};
 use super::methods::{
     anderson, chebyshev, lbfgs, newton, plain, GlobalStep, Monitor, Observer, Outcome, StepContext,
     StepControl, StepMethod, Stop,
@@ -121,6 +121,7 @@ pub fn solve_step<B: LinearAlgebra>(
         buffers,
         ..
     } = system;
+    start_lengths(springs, u_cur, &mut buffers.start_lengths);
     let energy = StepEnergy {
         springs,
         r,
@@ -133,6 +134,7 @@ pub fn solve_step<B: LinearAlgebra>(
         inertial_target: &buffers.inertia,
         f_ext,
         start: u_cur,
+        start_lengths: &buffers.start_lengths,
     };
     energy.gradient(u_cur, &mut buffers.gradient);
     let initial_gradient = free_norm(&buffers.gradient, is_pinned);
