@@ -31,6 +31,30 @@ pub struct SimulationOptions {
     pub rho: Option<f64>,
     /// Anderson's and L-BFGS's history window.
     pub window: usize,
+    /// Pins by the assignment's penalty, or as exact constraints.
+    pub pins: Pins,
+}
+
+/// How pinned vertices are held.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Pins {
+    /// The assignment's penalty `½ w ‖p_c − t_c‖²`, `w = 1e10`.
+    #[default]
+    Penalty,
+    /// Removed from the unknowns ([`exact_pins`](super::exact_pins)).
+    Exact,
+}
+
+impl std::str::FromStr for Pins {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, String> {
+        match text {
+            "penalty" => Ok(Pins::Penalty),
+            "exact" => Ok(Pins::Exact),
+            _ => Err(format!("unknown pins '{text}' (expected penalty or exact)")),
+        }
+    }
 }
 
 impl SimulationOptions {
@@ -56,6 +80,7 @@ impl Default for SimulationOptions {
             tolerance: None,
             rho: None,
             window: DEFAULT_WINDOW,
+            pins: Pins::Penalty,
         }
     }
 }
@@ -91,7 +116,7 @@ impl<B: LinearAlgebra> Simulation<B> {
         pinned: &[usize],
         options: SimulationOptions,
     ) -> Result<Self, SimulationError> {
-        let system = fast_mass_springs_precomputation::<B>(
+        let mut system = fast_mass_springs_precomputation::<B>(
             vertices,
             springs,
             k,
@@ -99,6 +124,9 @@ impl<B: LinearAlgebra> Simulation<B> {
             pinned,
             options.delta_t,
         )?;
+        if options.pins == Pins::Exact {
+            system.use_exact_pins()?;
+        }
         let n = vertices.len();
         Ok(Simulation {
             system,
