@@ -215,12 +215,12 @@ fn simulation_after(scene: &str, steps: usize) -> Simulation<Sparse> {
     simulation
 }
 
-/// (iteration, E(p) − E(p⁰), relative gradient) of every iterate of the
+/// (iteration, E(p) − E(p⁰), relative gradient).
+type Row = (usize, f64, f64);
+
+/// The rows of every iterate of the
 /// next step of `simulation` (a copy moves), and the positions reached.
-fn trace(
-    simulation: &Simulation<Sparse>,
-    control: StepControl,
-) -> (Vec<(usize, f64, f64)>, Vec<[f64; 3]>) {
+fn trace(simulation: &Simulation<Sparse>, control: StepControl) -> (Vec<Row>, Vec<[f64; 3]>) {
     let mut copy = simulation.clone();
     let mut rows = Vec::new();
     let mut g = vec![[0.0; 3]; copy.positions().len()];
