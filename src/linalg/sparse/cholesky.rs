@@ -66,9 +66,15 @@ pub struct SparseCholesky {
 
 impl SparseCholesky {
     /// Factors `a` (the matrix analysed by `symbolic`, or one with the same
-    /// pattern and new values) with `method`.
+    /// pattern and new values) with `method`. The supernodal method uses
+    /// the supernodes of `symbolic` as they are: fundamental, or relaxed by
+    /// [`SymbolicCholesky::relaxed`] (not the default: on cloth matrices
+    /// the stored zeros slow the solve more than the wider blocks speed
+    /// the factorization, `docs/performance.md`).
     ///
     /// # Errors
+    /// [`LinalgError::InvalidStructure`] for the simplicial method with a
+    /// relaxed analysis that stores zeros;
     /// [`LinalgError::PatternMismatch`] when `a`'s pattern is not the one
     /// analysed; [`LinalgError::NotPositiveDefinite`] naming the column of
     /// `a` where a pivot was not positive.
@@ -77,6 +83,11 @@ impl SparseCholesky {
         a: &CscMatrix,
         method: Method,
     ) -> Result<Self, LinalgError> {
+        if method == Method::Simplicial && symbolic.explicit_zeros() > 0 {
+            return Err(LinalgError::InvalidStructure(
+                "the simplicial method needs the exact pattern of L, not a relaxed one".into(),
+            ));
+        }
         let n = symbolic.n();
         let (workspace, triangle) = match method {
             Method::Simplicial => (
@@ -127,6 +138,21 @@ impl SparseCholesky {
     /// The symbolic analysis this factorization uses.
     pub fn symbolic(&self) -> &SymbolicCholesky {
         &self.symbolic
+    }
+
+    /// Bytes held (array lengths, not capacities): the analysis, the
+    /// values of `L`, the permuted `C`, the work arrays and the solve's
+    /// buffer. The memory figures of `docs/performance.md`.
+    pub fn bytes(&self) -> usize {
+        let workspace = match &self.workspace {
+            Workspace::Simplicial(work) => work.bytes(),
+            Workspace::Supernodal(work) => work.bytes(),
+        };
+        self.symbolic.bytes()
+            + std::mem::size_of_val(&self.values[..])
+            + self.permuted.bytes()
+            + workspace
+            + std::mem::size_of_val(&self.solve_buffer[..])
     }
 
     /// The method in use.

@@ -17,6 +17,7 @@
 //! | column counts | [`column_counts`] |
 //! | pattern of a row of `L` | [`row_pattern`] |
 //! | supernodes | [`supernodes`] |
+//! | relaxed supernodes (amalgamation) | [`amalgamation`] |
 //! | symbolic analysis | [`symbolic`] |
 //! | numeric factorization, row by row | [`up_looking`] |
 //! | numeric factorization, supernodal | [`supernodal`] |
@@ -25,6 +26,7 @@
 //! | all of it together | [`cholesky`] |
 
 pub mod add;
+pub mod amalgamation;
 pub mod amd;
 pub mod cholesky;
 pub mod column_counts;
@@ -46,6 +48,7 @@ pub mod triangular_solve;
 pub mod triplets;
 pub mod up_looking;
 
+pub use amalgamation::Relaxation;
 pub use cholesky::{Method, SparseCholesky};
 pub use csc::{CscMatrix, Triangle};
 pub use ordering::Ordering;

@@ -66,6 +66,14 @@ impl PermutedTriangle {
         })
     }
 
+    /// Bytes held (array lengths): `C` and the source of each entry.
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of;
+        let c = &self.matrix;
+        (c.col_ptr().len() + c.row_idx().len() + self.source_entry.len()) * size_of::<usize>()
+            + std::mem::size_of_val(c.values())
+    }
+
     /// The permuted triangle `C`.
     pub fn matrix(&self) -> &CscMatrix {
         &self.matrix

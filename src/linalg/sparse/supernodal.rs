@@ -85,6 +85,21 @@ impl SupernodalWorkspace {
     }
 }
 
+impl SupernodalWorkspace {
+    /// Bytes held (array lengths).
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of;
+        (self.position_in_block.len()
+            + self.next_row.len()
+            + self.column_base.len()
+            + self.relative.len())
+            * size_of::<usize>()
+            + (self.waiting.len() + self.next_waiting.len()) * size_of::<Option<usize>>()
+            + std::mem::size_of_val(&self.block[..])
+            + std::mem::size_of_val(&self.rows_of_y[..])
+    }
+}
+
 /// Fills `values` with `L` for `C = P A Pᵀ`, given by its lower triangle
 /// `lower`.
 ///
