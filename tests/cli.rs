@@ -303,6 +303,7 @@ fn log_log_slope(points: &[(f64, f64)]) -> f64 {
 fn bench_reports_every_key_and_slopes_fitted_to_its_own_figures() {
     let folder = temp_folder("bench");
     let csv = folder.join("bench.csv");
+    let plot = folder.join("bench.png");
     let report = json(&masssprings(&[
         "bench",
         "--sizes",
@@ -312,7 +313,11 @@ fn bench_reports_every_key_and_slopes_fitted_to_its_own_figures() {
         "--json",
         "--csv",
         csv.to_str().unwrap(),
+        "--plot",
+        plot.to_str().unwrap(),
     ]));
+    let png = std::fs::read(&plot).unwrap();
+    assert!(png.starts_with(b"\x89PNG"), "not a PNG");
     assert!(report["triad_gbps"].as_f64().unwrap() > 0.0, "{report}");
     let sizes = report["sizes"].as_array().expect("sizes");
     assert_eq!(sizes.len(), 3);

@@ -21,11 +21,14 @@
 //! its time.
 //!
 //! Output: a table, or with `--json` one object `{triad_gbps, steps,
-//! sizes: [...], slopes: {...}}`; `--csv OUT` writes the sizes as CSV.
-//! Progress goes to stderr.
+//! sizes: [...], slopes: {...}}`; `--csv OUT` writes the sizes as CSV;
+//! `--plot OUT.png` draws the times of the phases and the peak memory
+//! against `n` on log-log axes ([`plot`](super::render::plot)), each
+//! series labelled with its fitted exponent. Progress goes to stderr.
 
 use super::analyze::{analyze, varied_rhs};
 use super::args::Args;
+use super::render::plot::{Figure, Panel, Scale, Series};
 use super::timing::{median_seconds, Repeats};
 use super::AppError;
 use masssprings::files::write_file;
@@ -103,7 +106,7 @@ struct BenchReport {
 }
 
 pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(args, &["sizes", "steps", "csv", "one"], &["json"])?;
+    let args = Args::parse(args, &["sizes", "steps", "csv", "plot", "one"], &["json"])?;
     if let Some(extra) = args.positional().first() {
         return Err(AppError::Usage(format!(
             "bench: unexpected argument '{extra}'"
@@ -124,9 +127,11 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         "" => DEFAULT_SIDES.to_vec(),
         text => parse_sides(text)?,
     };
-    let csv = args
-        .value_or("csv", String::new())
-        .map(|s| (!s.is_empty()).then(|| PathBuf::from(s)))?;
+    let path_of = |name: &str| {
+        args.value_or(name, String::new())
+            .map(|s| (!s.is_empty()).then(|| PathBuf::from(s)))
+    };
+    let (csv, plot) = (path_of("csv")?, path_of("plot")?);
     eprintln!("bench: memory bandwidth (triad)");
     let triad_gbps = triad_gbps();
     let mut sizes = Vec::with_capacity(sides.len());
@@ -142,6 +147,9 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     if let Some(path) = &csv {
         write_file(path, |out| write_csv(out, &report.sizes))?;
     }
+    if let Some(path) = &plot {
+        draw_plot(path, &report)?;
+    }
     if args.switch("json") {
         println!(
             "{}",
@@ -151,6 +159,61 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         print_table(&report);
     }
     Ok(())
+}
+
+/// Times of the phases (left) and peak memory (right) against `n`, log-log.
+fn draw_plot(path: &std::path::Path, report: &BenchReport) -> Result<(), AppError> {
+    let slopes = &report.slopes;
+    let label = |name: &str, slope: Option<f64>| match slope {
+        Some(p) => format!("{name} (n^{p:.2})"),
+        None => name.to_string(),
+    };
+    let series = |name: &str, slope: Option<f64>, value: fn(&SizeReport) -> f64| {
+        let points = report
+            .sizes
+            .iter()
+            .map(|s| (s.n as f64, value(s)))
+            .collect();
+        Series::new(label(name, slope), points).with_markers()
+    };
+    let times = vec![
+        series("ordering", slopes.ordering_s, |s| s.ordering_s),
+        series("symbolic", slopes.symbolic_s, |s| s.symbolic_s),
+        series("numeric", slopes.numeric_s, |s| s.numeric_s),
+        series("solve, 3 columns", slopes.solve_s, |s| s.solve_s),
+        series("step, 50 iterations", slopes.step_s, |s| s.step_s),
+    ];
+    let memory = vec![
+        series("peak resident", slopes.peak_bytes, |s| {
+            s.peak_bytes as f64 / 1e6
+        }),
+        series("values and rows of L", None, |s| {
+            s.nnz_l_stored as f64 * 12.0 / 1e6
+        }),
+    ];
+    let panel = |title: &str, y_label: &str, series: Vec<Series>| Panel {
+        title: title.into(),
+        x_label: "n (vertices)".into(),
+        y_label: y_label.into(),
+        x_scale: Scale::Log10,
+        y_scale: Scale::Log10,
+        series,
+        ..Panel::default()
+    };
+    let figure = Figure {
+        title: "masssprings bench: cost against size, grid-N cloths".into(),
+        caption: format!(
+            "medians; fitted exponents in the legends; triad bandwidth {:.1} GB/s",
+            report.triad_gbps
+        ),
+        panels: vec![
+            panel("time of each phase", "seconds", times),
+            panel("memory", "MB", memory),
+        ],
+        width: 1200,
+        height: 560,
+    };
+    figure.write_png(path)
 }
 
 fn steps(args: &Args) -> Result<usize, AppError> {

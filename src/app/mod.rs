@@ -4,6 +4,9 @@
 mod analyze;
 mod args;
 mod bench;
+mod converge;
+mod convergence_flags;
+mod convergence_plot;
 mod generate;
 mod render;
 mod simulate;
@@ -38,12 +41,14 @@ commands:
       --relax cholmod merges supernodes by CHOLMOD's rule (relaxed
       supernodes, storing some zeros) before the supernodal factorization;
       the default, none, keeps the fundamental supernodes.
-  bench [--sizes 32,100,316] [--steps S] [--csv OUT.csv] [--json]
+  bench [--sizes 32,100,316] [--steps S] [--csv OUT.csv] [--plot OUT.png]
+        [--json]
       Scaling benchmark on the grid-N cloths (built in memory), each size in
       a fresh process: n, nnz(Q), nnz(L), flops, median times of ordering,
       symbolic analysis, numeric factorization, a 3-column solve and a full
       step (S steps, default 3), peak memory (VmHWM), the solve's bandwidth
-      beside a measured triad bandwidth, and the log-log slope of each cost.
+      beside a measured triad bandwidth, and the log-log slope of each cost;
+      --plot draws them (time and memory against n, log-log).
       Default sizes 32,100,316 (about a minute); 1000, 2000, 3162 on request.
   generate grid N [--out DIR]
       Writes DIR/grid-N.json and .obj (DIR defaults to .): the N×N cloth of
@@ -84,6 +89,7 @@ pub fn run(args: &[String]) -> i32 {
         Some("generate") => generate::run(&args[1..]),
         Some("view") => view::run(&args[1..]),
         Some("render") => render::run(&args[1..]),
+        Some("converge") => converge::run(&args[1..]),
         Some("help" | "--help" | "-h") => {
             print!("{USAGE}");
             Ok(())
