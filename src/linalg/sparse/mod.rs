@@ -20,6 +20,7 @@
 //! | relaxed supernodes (amalgamation) | [`amalgamation`] |
 //! | symbolic analysis | [`symbolic`] |
 //! | numeric factorization, row by row | [`up_looking`] |
+//! | where `A`'s entries go in `L` | [`factor_loading`] |
 //! | numeric factorization, supernodal | [`supernodal`] |
 //! | forward and back substitution | [`triangular_solve`] |
 //! | the same, by supernodes | [`supernodal_solve`] |
@@ -32,6 +33,7 @@ pub mod cholesky;
 pub mod column_counts;
 pub mod csc;
 pub mod etree;
+pub mod factor_loading;
 pub mod multiply;
 pub mod ordering;
 pub mod permutation;

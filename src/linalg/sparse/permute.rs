@@ -100,7 +100,7 @@ impl PermutedTriangle {
 /// taken a word at a time): two different patterns give the same
 /// fingerprint with probability about 2⁻⁶⁴. Cost `O(nnz)`, like comparing
 /// the patterns, but no copy of the pattern is kept.
-fn pattern_fingerprint(a: &CscMatrix) -> u64 {
+pub(crate) fn pattern_fingerprint(a: &CscMatrix) -> u64 {
     const PRIME: u64 = 0x0000_0100_0000_01b3;
     let words = [a.nrows(), a.ncols()].into_iter();
     let words = words
