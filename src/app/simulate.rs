@@ -2,6 +2,7 @@
 //! OBJ frames, report timings.
 
 use super::args::Args;
+use super::factorization_flags;
 use super::timing::median;
 use super::AppError;
 use masssprings::files::write_file;
@@ -32,7 +33,8 @@ struct Run {
 }
 
 pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(args, &["steps", "every", "out"], &["dense", "wind", "json"])?;
+    let options = [&["steps", "every", "out"][..], &factorization_flags::NAMES].concat();
+    let args = Args::parse(args, &options, &["dense", "wind", "json"])?;
     let scene_path = PathBuf::from(args.single_positional("SCENE.json")?);
     let run = Run {
         steps: args.value_or("steps", 100usize)?,
@@ -48,7 +50,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let scene = load_scene(&scene_path)?;
     let options = SimulationOptions {
         wind: args.switch("wind"),
-        ..SimulationOptions::default()
+        ..factorization_flags::apply(&args, SimulationOptions::default())?
     };
     let summary = if args.switch("dense") {
         simulate::<Dense>(&scene, options, &run)?

@@ -28,6 +28,7 @@ mod lighting;
 mod lines;
 mod look;
 mod palette;
+pub(super) mod sparsity;
 mod texture;
 mod triangle;
 mod vector;

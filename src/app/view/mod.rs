@@ -22,6 +22,7 @@ mod routes;
 mod simulation_thread;
 
 use super::args::Args;
+use super::factorization_flags;
 use super::AppError;
 use api::{Frame, Status};
 use http::{Connection, Method, ReadError};
@@ -47,7 +48,9 @@ const MAX_CONNECTIONS: usize = 64;
 const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
 
 pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(args, &["port", "address"], &["dense"])?;
+    let options = [&["port", "address"][..], &factorization_flags::NAMES].concat();
+    let args = Args::parse(args, &options, &["dense"])?;
+    let options = factorization_flags::apply(&args, SimulationOptions::default())?;
     let scene_path = PathBuf::from(args.single_positional("SCENE.json")?);
     let port: u16 = args.value_or("port", DEFAULT_PORT)?;
     let ip: IpAddr = args.value_or("address", IpAddr::V4(Ipv4Addr::LOCALHOST))?;
@@ -55,9 +58,9 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let texture = read_texture(&scene);
     let address = SocketAddr::new(ip, port);
     if args.switch("dense") {
-        serve::<Dense>(&scene, texture, address)
+        serve::<Dense>(&scene, texture, address, options)
     } else {
-        serve::<Sparse>(&scene, texture, address)
+        serve::<Sparse>(&scene, texture, address, options)
     }
 }
 
@@ -85,12 +88,17 @@ fn read_texture(scene: &Scene) -> Option<Vec<u8>> {
 }
 
 /// Starts the threads, prints the URL, and serves until Ctrl-C.
-fn serve<B>(scene: &Scene, texture: Option<Vec<u8>>, address: SocketAddr) -> Result<(), AppError>
+fn serve<B>(
+    scene: &Scene,
+    texture: Option<Vec<u8>>,
+    address: SocketAddr,
+    options: SimulationOptions,
+) -> Result<(), AppError>
 where
     B: LinearAlgebra + 'static,
     Simulation<B>: Send,
 {
-    let simulation = Simulation::<B>::from_scene(scene, SimulationOptions::default())?;
+    let simulation = Simulation::<B>::from_scene(scene, options)?;
     let listener = TcpListener::bind(address)
         .map_err(|e| AppError::Failed(format!("cannot listen on {address}: {e}")))?;
     let local = listener.local_addr()?;
