@@ -35,17 +35,23 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let parent = symbolic.elimination_tree();
     let supernodes = symbolic.supernodes();
     let supernode_of: Vec<usize> = (0..symbolic.n()).map(|j| supernodes.of_column(j)).collect();
-    let image = elimination_tree(parent, &supernode_of, width, height);
-    write_file(&out, |file| write_png(file, &image))?;
     let height_of_tree = depths(parent).iter().max().map_or(0, |d| d + 1);
-    println!(
-        "elimination tree of {}, {} order: n = {}, height {height_of_tree}, {} supernodes, nnz(L) = {}",
-        file_name(&path),
-        ordering.name(),
-        symbolic.n(),
-        supernodes.len(),
-        symbolic.nnz_l()
-    );
+    let caption = [
+        format!(
+            "elimination tree of {}, {} order",
+            file_name(&path),
+            ordering.name()
+        ),
+        format!(
+            "n = {}, height {height_of_tree}, {} supernodes, nnz(L) = {}",
+            symbolic.n(),
+            supernodes.len(),
+            symbolic.nnz_l()
+        ),
+    ];
+    let image = elimination_tree(parent, &supernode_of, (width, height), &caption);
+    write_file(&out, |file| write_png(file, &image))?;
+    println!("{}", caption.join("; "));
     Ok(())
 }
 

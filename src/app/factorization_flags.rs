@@ -9,20 +9,17 @@
 
 use super::args::Args;
 use super::AppError;
-use masssprings::linalg::sparse::{Method, Ordering};
 use masssprings::sim::simulation::SimulationOptions;
 
-/// The option names, for [`Args::parse`].
-pub const NAMES: [&str; 2] = ["ordering", "factorization"];
+/// The option names (each takes a value).
+pub const OPTIONS: &[&str] = &["ordering", "factorization"];
 
-/// `options` with the ordering and factorization the flags ask for.
+/// Sets `options` from the flags that were given.
 ///
 /// # Errors
-/// [`AppError::Usage`] for an unknown ordering or factorization.
-pub fn apply(args: &Args, options: SimulationOptions) -> Result<SimulationOptions, AppError> {
-    Ok(SimulationOptions {
-        ordering: args.value_or("ordering", Ordering::Amd)?,
-        factorization: args.value_or("factorization", Method::Supernodal)?,
-        ..options
-    })
+/// A usage error for an unknown ordering or factorization.
+pub fn apply(args: &Args, options: &mut SimulationOptions) -> Result<(), AppError> {
+    options.ordering = args.value_or("ordering", options.ordering)?;
+    options.factorization = args.value_or("factorization", options.factorization)?;
+    Ok(())
 }

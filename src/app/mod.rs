@@ -3,6 +3,9 @@
 
 mod analyze;
 mod args;
+mod converge;
+mod convergence_flags;
+mod convergence_plot;
 mod etree;
 mod export_q;
 mod factorization_flags;
@@ -100,6 +103,7 @@ pub fn run(args: &[String]) -> i32 {
         Some("generate") => generate::run(&args[1..]),
         Some("view") => view::run(&args[1..]),
         Some("render") => render::run(&args[1..]),
+        Some("converge") => converge::run(&args[1..]),
         Some("help" | "--help" | "-h") => {
             print!("{USAGE}");
             Ok(())

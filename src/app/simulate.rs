@@ -2,6 +2,7 @@
 //! OBJ frames, report timings.
 
 use super::args::Args;
+use super::convergence_flags;
 use super::factorization_flags;
 use super::timing::median;
 use super::AppError;
@@ -22,6 +23,11 @@ struct Summary {
     precompute_s: f64,
     step_median_s: f64,
     backend: &'static str,
+    /// How each step was solved, and how well.
+    method: &'static str,
+    tolerance: Option<f64>,
+    iterations_median: f64,
+    relative_gradient_median: f64,
 }
 
 /// What to do besides stepping.
@@ -33,7 +39,9 @@ struct Run {
 }
 
 pub fn run(args: &[String]) -> Result<(), AppError> {
-    let options = [&["steps", "every", "out"][..], &factorization_flags::NAMES].concat();
+    let mut options = vec!["steps", "every", "out"];
+    options.extend(convergence_flags::OPTIONS);
+    options.extend(factorization_flags::OPTIONS);
     let args = Args::parse(args, &options, &["dense", "wind", "json"])?;
     let scene_path = PathBuf::from(args.single_positional("SCENE.json")?);
     let run = Run {
@@ -48,10 +56,12 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         return Err(AppError::Usage("--every must be at least 1".into()));
     }
     let scene = load_scene(&scene_path)?;
-    let options = SimulationOptions {
+    let mut options = SimulationOptions {
         wind: args.switch("wind"),
-        ..factorization_flags::apply(&args, SimulationOptions::default())?
+        ..SimulationOptions::default()
     };
+    convergence_flags::apply(&args, &mut options)?;
+    factorization_flags::apply(&args, &mut options)?;
     let summary = if args.switch("dense") {
         simulate::<Dense>(&scene, options, &run)?
     } else {
@@ -82,14 +92,17 @@ fn simulate<B: LinearAlgebra>(
             .map_err(|e| AppError::Failed(format!("{}: {e}", folder.display())))?;
         write_frame(folder, 0, scene, simulation.positions())?;
     }
-    let mut step_times = Vec::with_capacity(run.steps);
+    let mut step_times = Vec::new();
+    let (mut iterations, mut gradients) = (Vec::new(), Vec::new());
     let mut last_report = Instant::now();
     for step in 1..=run.steps {
         let t = Instant::now();
-        simulation
+        let report = simulation
             .step()
             .map_err(|e| AppError::Failed(format!("step {step}: {e}")))?;
         step_times.push(t.elapsed().as_secs_f64());
+        iterations.push(report.iterations as f64);
+        gradients.push(report.relative_gradient);
         if let Some(folder) = &run.out {
             if step.is_multiple_of(run.every) {
                 write_frame(folder, step, scene, simulation.positions())?;
@@ -111,6 +124,10 @@ fn simulate<B: LinearAlgebra>(
         precompute_s,
         step_median_s: median(&mut step_times),
         backend: B::NAME,
+        method: options.method.name(),
+        tolerance: options.tolerance,
+        iterations_median: median(&mut iterations),
+        relative_gradient_median: median(&mut gradients),
     })
 }
 
@@ -166,4 +183,11 @@ fn print_summary(scene_path: &Path, s: &Summary) {
     println!("precomputation   {:.6} s", s.precompute_s);
     println!("steps            {}", s.steps);
     println!("step (median)    {:.6} s", s.step_median_s);
+    let tolerance = s.tolerance.map_or("none".into(), |t| format!("{t:e}"));
+    println!("method           {} (tolerance {tolerance})", s.method);
+    println!("iterations       {} per step (median)", s.iterations_median);
+    println!(
+        "rel. gradient    {:.3e} at the end of a step (median)",
+        s.relative_gradient_median
+    );
 }

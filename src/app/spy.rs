@@ -52,35 +52,45 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let permuted = PermutedTriangle::new(&lower, symbolic.permutation(), Triangle::Lower)
         .map_err(|e| AppError::Failed(format!("{}: {e}", path.display())))?;
     let c = permuted.matrix();
+    let caption = caption(&picture, &symbolic, c);
     let image = if picture.factor {
-        spy(c.ncols(), factor_entries(&symbolic, c), size, MARGIN)
+        spy(
+            c.ncols(),
+            factor_entries(&symbolic, c),
+            size,
+            MARGIN,
+            &caption,
+        )
     } else {
-        spy(c.ncols(), symmetric_entries(c), size, MARGIN)
+        spy(c.ncols(), symmetric_entries(c), size, MARGIN, &caption)
     };
     write_file(&out, |file| write_png(file, &image))?;
-    println!("{}", caption(&picture, &symbolic, c));
+    println!("{}", caption.join("; "));
     Ok(())
 }
 
-/// One line: what the picture shows, with its counts.
-fn caption(picture: &Picture, symbolic: &SymbolicCholesky, c: &CscMatrix) -> String {
+/// Two lines: what the picture shows, and its counts.
+fn caption(picture: &Picture, symbolic: &SymbolicCholesky, c: &CscMatrix) -> Vec<String> {
     let n = c.ncols();
     let nnz_lower = c.nnz();
     let fill = symbolic.nnz_l() as f64 / nnz_lower as f64;
     let order = picture.ordering.name();
     if picture.factor {
-        format!(
-            "L of {}, {order} order: n = {n}, nnz(L) = {}, fill nnz(L)/nnz(tril Q) = {fill:.2}",
-            picture.label,
-            symbolic.nnz_l()
-        )
+        vec![
+            format!("L of {}, {order} order", picture.label),
+            format!(
+                "n = {n}, nnz(L) = {}, fill nnz(L)/nnz(tril Q) = {fill:.2}",
+                symbolic.nnz_l()
+            ),
+        ]
     } else {
-        format!(
-            "Q of {}, {order} order: n = {n}, nnz(Q) = {}, nnz(tril Q) = {nnz_lower}; its L: nnz(L) = {}, fill {fill:.2}",
-            picture.label,
-            2 * nnz_lower - n,
-            symbolic.nnz_l()
-        )
+        vec![
+            format!("Q of {}, {order} order", picture.label),
+            format!(
+                "n = {n}, nnz(Q) = {}, nnz(tril Q) = {nnz_lower}",
+                2 * nnz_lower - n
+            ),
+        ]
     }
 }
 

@@ -27,6 +27,7 @@ use super::canvas::Canvas;
 use super::discs::{draw_disc, DiscStyle};
 use super::lines::draw_line;
 use super::look::{hex, Rgb};
+use super::text::{draw_text, text_height, text_width, Align};
 use masssprings::mesh::procedural::RgbImage;
 
 /// An entry of the matrix itself.
@@ -35,6 +36,8 @@ pub const ENTRY: Rgb = hex(0x1f3a5f);
 pub const FILL: Rgb = hex(0xe0613a);
 /// The paper.
 const PAPER: Rgb = hex(0xffffff);
+/// Captions.
+const INK: Rgb = hex(0x1b2631);
 /// The frame around a matrix.
 const FRAME: Rgb = hex(0x9aa5b1);
 /// Tree edges.
@@ -58,14 +61,47 @@ pub enum Mark {
 }
 
 /// A square spy plot, `side` pixels, of the `n × n` pattern given column by
-/// column: `mark(i, j)` for each stored `(i, j)`, with a one-pixel frame and
-/// `margin` white pixels around it.
+/// column: `mark(i, j)` for each stored `(i, j)`, with a one-pixel frame,
+/// `margin` white pixels around it and the `caption` lines below.
 pub fn spy(
     n: usize,
     entries: impl Iterator<Item = (usize, usize, Mark)>,
     side: usize,
     margin: usize,
+    caption: &[String],
 ) -> RgbImage {
+    let marks = rasterise(n, entries, side);
+    let full = side + 2 * margin + 2;
+    let scale = caption_scale(caption, full);
+    let caption_height = caption.len() * (text_height(scale) + LINE_GAP * scale);
+    let mut canvas = Canvas::new(full, full + caption_height);
+    canvas.clear(PAPER, PAPER);
+    for y in 0..side + 2 {
+        for x in 0..side + 2 {
+            let on_frame = x == 0 || y == 0 || x == side + 1 || y == side + 1;
+            let colour = if on_frame {
+                FRAME
+            } else {
+                match marks[(y - 1) * side + (x - 1)] {
+                    Mark::Empty => continue,
+                    Mark::Fill => FILL,
+                    Mark::Entry => ENTRY,
+                }
+            };
+            let i = canvas.index(margin + x, margin + y);
+            canvas.colour[i] = colour;
+        }
+    }
+    draw_caption(&mut canvas, caption, full, scale);
+    canvas.downsample(1)
+}
+
+/// Which mark each of the `side × side` pixels shows.
+fn rasterise(
+    n: usize,
+    entries: impl Iterator<Item = (usize, usize, Mark)>,
+    side: usize,
+) -> Vec<Mark> {
     let mut marks = vec![Mark::Empty; side * side];
     let cell = |index: usize| index * side / n.max(1);
     let cell_end = |index: usize| ((index + 1) * side).div_ceil(n.max(1)).max(cell(index) + 1);
@@ -77,41 +113,54 @@ pub fn spy(
             }
         }
     }
-    let full = side + 2 * margin + 2;
-    let to_u8 = |c: Rgb| c.map(|v| (v * 255.0).round() as u8);
-    RgbImage::from_fn(full as u32, full as u32, |x, y| {
-        let (x, y) = (x as usize, y as usize);
-        let inside = |v: usize| v > margin && v <= margin + side;
-        let on_frame = |v: usize| v == margin || v == margin + side + 1;
-        let within = |v: usize| (margin..=margin + side + 1).contains(&v);
-        if inside(x) && inside(y) {
-            to_u8(match marks[(y - margin - 1) * side + (x - margin - 1)] {
-                Mark::Empty => PAPER,
-                Mark::Fill => FILL,
-                Mark::Entry => ENTRY,
-            })
-        } else if (on_frame(x) && within(y)) || (on_frame(y) && within(x)) {
-            to_u8(FRAME)
-        } else {
-            to_u8(PAPER)
-        }
-    })
+    marks
+}
+
+/// Blank dots between caption lines.
+const LINE_GAP: usize = 3;
+
+/// Two samples per dot when every line fits the width, else one.
+fn caption_scale(caption: &[String], width: usize) -> usize {
+    if caption.iter().all(|line| text_width(line, 2) + 8 <= width) {
+        2
+    } else {
+        1
+    }
+}
+
+/// The caption lines, centred, from `top` down.
+fn draw_caption(canvas: &mut Canvas, caption: &[String], top: usize, scale: usize) {
+    let centre = (canvas.width / 2) as isize;
+    for (k, line) in caption.iter().enumerate() {
+        let y = top + k * (text_height(scale) + LINE_GAP * scale);
+        draw_text(
+            canvas,
+            line,
+            (centre, y as isize),
+            scale,
+            Align::Centre,
+            INK,
+        );
+    }
 }
 
 /// Supersampling of the tree picture (samples per pixel along each axis).
 const TREE_SUPERSAMPLING: usize = 3;
 
 /// The elimination tree `parent` (postordered: `parent[j] > j`) with its
-/// supernodes (`supernode_of[j]`), `width × height` pixels.
+/// supernodes (`supernode_of[j]`), `width × height` pixels, the `caption`
+/// lines below it.
 pub fn elimination_tree(
     parent: &[Option<usize>],
     supernode_of: &[usize],
-    width: usize,
-    height: usize,
+    (width, height): (usize, usize),
+    caption: &[String],
 ) -> RgbImage {
     let n = parent.len();
     let s = TREE_SUPERSAMPLING;
-    let mut canvas = Canvas::new(width * s, height * s);
+    let scale = caption_scale(caption, width);
+    let caption_height = caption.len() * (text_height(scale) + LINE_GAP * scale);
+    let mut canvas = Canvas::new(width * s, (height + caption_height) * s);
     canvas.clear(PAPER, PAPER);
     let depth = depths(parent);
     let deepest = depth.iter().copied().max().unwrap_or(0);
@@ -153,6 +202,7 @@ pub fn elimination_tree(
         };
         draw_disc(&mut canvas, position(j), &style);
     }
+    draw_caption(&mut canvas, caption, height * s, scale * s);
     canvas.downsample(s)
 }
 
@@ -181,7 +231,7 @@ mod tests {
 
     #[test]
     fn a_diagonal_matrix_marks_the_diagonal_cells_only() {
-        let image = spy(4, (0..4).map(|i| (i, i, Mark::Entry)), 8, 0);
+        let image = spy(4, (0..4).map(|i| (i, i, Mark::Entry)), 8, 0, &[]);
         assert_eq!((image.width, image.height), (10, 10));
         let entry = ENTRY.map(|v| (v * 255.0).round() as u8);
         let paper = [255, 255, 255];
@@ -195,8 +245,19 @@ mod tests {
     #[test]
     fn an_entry_wins_over_fill_in_a_shared_pixel() {
         let entries = [(0, 0, Mark::Fill), (1, 0, Mark::Entry)].into_iter();
-        let image = spy(4, entries, 1, 0);
+        let image = spy(4, entries, 1, 0, &[]);
         assert_eq!(image.pixel(1, 1), ENTRY.map(|v| (v * 255.0).round() as u8));
+    }
+
+    #[test]
+    fn a_caption_adds_its_lines_below_the_matrix() {
+        let caption = ["n = 4".to_string(), "nnz = 4".to_string()];
+        let image = spy(4, (0..4).map(|i| (i, i, Mark::Entry)), 100, 0, &caption);
+        assert_eq!(image.width, 102);
+        assert_eq!(image.height, 102 + 2 * (16 + 6));
+        let ink = INK.map(|v| (v * 255.0).round() as u8);
+        let inked = (102..image.height).any(|y| (0..image.width).any(|x| image.pixel(x, y) == ink));
+        assert!(inked, "the caption is drawn");
     }
 
     #[test]

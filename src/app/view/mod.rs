@@ -22,6 +22,7 @@ mod routes;
 mod simulation_thread;
 
 use super::args::Args;
+use super::convergence_flags;
 use super::factorization_flags;
 use super::AppError;
 use api::{Frame, Status};
@@ -48,9 +49,13 @@ const MAX_CONNECTIONS: usize = 64;
 const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
 
 pub fn run(args: &[String]) -> Result<(), AppError> {
-    let options = [&["port", "address"][..], &factorization_flags::NAMES].concat();
+    let mut options = vec!["port", "address"];
+    options.extend(convergence_flags::OPTIONS);
+    options.extend(factorization_flags::OPTIONS);
     let args = Args::parse(args, &options, &["dense"])?;
-    let options = factorization_flags::apply(&args, SimulationOptions::default())?;
+    let mut simulation_options = SimulationOptions::default();
+    convergence_flags::apply(&args, &mut simulation_options)?;
+    factorization_flags::apply(&args, &mut simulation_options)?;
     let scene_path = PathBuf::from(args.single_positional("SCENE.json")?);
     let port: u16 = args.value_or("port", DEFAULT_PORT)?;
     let ip: IpAddr = args.value_or("address", IpAddr::V4(Ipv4Addr::LOCALHOST))?;
@@ -58,9 +63,9 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let texture = read_texture(&scene);
     let address = SocketAddr::new(ip, port);
     if args.switch("dense") {
-        serve::<Dense>(&scene, texture, address, options)
+        serve::<Dense>(&scene, texture, address, simulation_options)
     } else {
-        serve::<Sparse>(&scene, texture, address, options)
+        serve::<Sparse>(&scene, texture, address, simulation_options)
     }
 }
 
