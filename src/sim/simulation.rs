@@ -2,7 +2,7 @@
 //! forces, and pins that can change (dragging a vertex).
 //!
 //! Starts at rest (`U_prev = U_cur = V`, zero velocity) and advances one
-//! [`fast_mass_springs_step`] at a time. The state vectors are swapped, not
+//! [`fast_mass_springs_step`](super::step::fast_mass_springs_step) at a time. The state vectors are swapped, not
 //! copied, and no step allocates.
 
 use super::backend::{LinearAlgebra, SparseFactorization};

@@ -15,8 +15,7 @@
 //! (row by row, [`up_looking`](super::up_looking)) and
 //! [`Method::Supernodal`] (dense blocks, [`supernodal`](super::supernodal)).
 //! The solves follow the method: column by column
-//! ([`triangular_solve`](super::triangular_solve)) or supernode by
-//! supernode ([`supernodal_solve`](super::supernodal_solve)).
+//! ([`triangular_solve`]) or supernode by supernode ([`supernodal_solve`]).
 //!
 //! Source: Davis 2006, ch. 4 and §8.1 (`cs_cholsol`).
 

@@ -19,8 +19,8 @@
 //! first time it runs and reused after, so no step after a method's first
 //! allocates.
 //!
-//! The pieces every method uses are here: [`GlobalStep`] (the plain
-//! iteration and solves with `Q`) and [`Monitor`] (the stopping rule and the
+//! The pieces every method uses are here: `GlobalStep` (the plain
+//! iteration and solves with `Q`) and `Monitor` (the stopping rule and the
 //! per-iteration observer that `masssprings converge` listens to).
 
 pub mod anderson;
