@@ -55,14 +55,18 @@ fn allocations_during(work: impl FnOnce()) -> usize {
 }
 
 fn step_allocations<B: LinearAlgebra>(scene: &str) -> usize {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("data")
-        .join(scene);
-    let scene = load_scene(&path).unwrap();
     let options = SimulationOptions {
         wind: true,
         ..SimulationOptions::default()
     };
+    step_allocations_with::<B>(scene, options)
+}
+
+fn step_allocations_with<B: LinearAlgebra>(scene: &str, options: SimulationOptions) -> usize {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("data")
+        .join(scene);
+    let scene = load_scene(&path).unwrap();
     let mut simulation = Simulation::<B>::from_scene(&scene, options).unwrap();
     simulation.step().unwrap(); // the first step may touch pages, not allocate
     allocations_during(|| {
@@ -75,6 +79,16 @@ fn step_allocations<B: LinearAlgebra>(scene: &str) -> usize {
 #[test]
 fn a_sparse_step_allocates_nothing() {
     assert_eq!(step_allocations::<Sparse>("flag.json"), 0);
+}
+
+#[test]
+fn a_step_on_the_textbook_path_allocates_nothing() {
+    let options = SimulationOptions {
+        ordering: Ordering::Natural,
+        factorization: Method::Simplicial,
+        ..SimulationOptions::default()
+    };
+    assert_eq!(step_allocations_with::<Sparse>("net.json", options), 0);
 }
 
 #[test]

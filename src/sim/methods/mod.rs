@@ -19,8 +19,8 @@
 //! first time it runs and reused after, so no step after a method's first
 //! allocates.
 //!
-//! The pieces every method uses are here: [`GlobalStep`] (the plain
-//! iteration and solves with `Q`) and [`Monitor`] (the stopping rule and the
+//! The pieces every method uses are here: `GlobalStep` (the plain
+//! iteration and solves with `Q`) and `Monitor` (the stopping rule and the
 //! per-iteration observer that `masssprings converge` listens to).
 
 pub mod anderson;
@@ -348,15 +348,14 @@ impl<'a, 'o> Monitor<'a, 'o> {
     }
 }
 
-/// `norm / initial`, 0 when both are 0 (a step that starts at rest at a
-/// minimiser has nothing to do).
+/// `norm / initial`; when the step starts exactly at a minimiser
+/// (`initial = 0`, e.g. at rest with no force) there is nothing to divide
+/// by, and the absolute `norm` is reported.
 fn relative_gradient(norm: f64, initial: f64) -> f64 {
     if initial > 0.0 {
         norm / initial
-    } else if norm == 0.0 {
-        0.0
     } else {
-        f64::INFINITY
+        norm
     }
 }
 
