@@ -21,11 +21,11 @@ mod http;
 mod routes;
 mod simulation_thread;
 
-use super::args::Args;
-use super::AppError;
+use super::args::{Args, CommandSpec, Flag};
+use super::{load_scene, AppError};
 use api::{Frame, Status};
 use http::{Connection, Method, ReadError};
-use masssprings::mesh::{load_scene, Scene};
+use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Dense, LinearAlgebra, Simulation, Sparse};
 use routes::Routes;
@@ -46,11 +46,42 @@ const MAX_CONNECTIONS: usize = 64;
 /// The first bytes of every PNG file.
 const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
 
+/// `view`'s operands and flags.
+pub static COMMAND: CommandSpec = CommandSpec {
+    name: "view",
+    operands: "SCENE.json",
+    summary: "Serve an interactive viewer of the scene to a web browser.",
+    details: "\
+Serves an interactive viewer on http://127.0.0.1:P/ and prints its URL. The
+simulation runs here; the page draws it with WebGL. Keys: space step,
+A animate, L springs, R reset, W wind; drag to orbit, wheel to zoom,
+shift-drag to pull a vertex. Ctrl-C stops it.",
+    flags: &[
+        Flag::value(
+            "port",
+            "P",
+            "Port to serve on (default 8080; 0 picks a free one).",
+        ),
+        Flag::value(
+            "address",
+            "ADDR",
+            "Address to serve on (default 127.0.0.1; 0.0.0.0 serves every network).",
+        ),
+        Flag::switch("dense", "Dense matrices and Cholesky."),
+    ],
+    shorts: &[],
+    run,
+};
+
 pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(args, &["port", "address"], &["dense"])?;
+    let args = Args::parse(args, &COMMAND)?;
     let scene_path = PathBuf::from(args.single_positional("SCENE.json")?);
-    let port: u16 = args.value_or("port", DEFAULT_PORT)?;
-    let ip: IpAddr = args.value_or("address", IpAddr::V4(Ipv4Addr::LOCALHOST))?;
+    let port = args.whole_number("port", u64::from(DEFAULT_PORT), 0..=u64::from(u16::MAX))? as u16;
+    let ip: IpAddr = args.parsed(
+        "address",
+        IpAddr::V4(Ipv4Addr::LOCALHOST),
+        "an IP address such as 127.0.0.1 or ::1",
+    )?;
     let scene = load_scene(&scene_path)?;
     let texture = read_texture(&scene);
     let address = SocketAddr::new(ip, port);
@@ -91,8 +122,7 @@ where
     Simulation<B>: Send,
 {
     let simulation = Simulation::<B>::from_scene(scene, SimulationOptions::default())?;
-    let listener = TcpListener::bind(address)
-        .map_err(|e| AppError::Failed(format!("cannot listen on {address}: {e}")))?;
+    let listener = TcpListener::bind(address).map_err(|e| bind_error(address, &e))?;
     let local = listener.local_addr()?;
     let stop_requested = stop_signal()?;
 
@@ -143,6 +173,24 @@ where
     }
     let _ = simulation_handle.join();
     Ok(())
+}
+
+/// Why the server cannot listen, in plain words.
+fn bind_error(address: SocketAddr, error: &std::io::Error) -> AppError {
+    let port = address.port();
+    match error.kind() {
+        std::io::ErrorKind::AddrInUse => AppError::Failed(format!(
+            "port {port} is in use (another viewer?); try --port 0, which picks a free one"
+        )),
+        std::io::ErrorKind::PermissionDenied if port < 1024 => AppError::Failed(format!(
+            "port {port} needs special rights; try a port from 1024, or --port 0"
+        )),
+        std::io::ErrorKind::AddrNotAvailable => AppError::Failed(format!(
+            "{} is not an address of this machine; try 127.0.0.1",
+            address.ip()
+        )),
+        _ => AppError::Failed(format!("cannot listen on {address}: {error}")),
+    }
 }
 
 /// A channel that receives once when the user presses Ctrl-C (SIGINT) or
