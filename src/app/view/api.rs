@@ -2,12 +2,16 @@
 //!
 //! | endpoint | answer |
 //! |---|---|
-//! | `GET /api/scene` | JSON [`DisplayMesh`](super::display_mesh::DisplayMesh): triangles, springs, pins, texture coordinates (once) |
+//! | `GET /api/scene` | JSON [`DisplayMesh`](super::display_mesh::DisplayMesh): triangles, springs, pins, texture coordinates (once per scene: again when `scene_serial` changes) |
 //! | `GET /api/frame[?since=S]` | binary [`Frame`]: the positions; `204` when serial `S` is still the latest |
-//! | `GET /api/status` | JSON [`Status`]: steps, time, toggles, timings |
+//! | `GET /api/status` | JSON [`Status`]: steps, time, toggles, parameters, timings, the last steps' convergence |
 //! | `POST /api/command` | JSON [`Command`] in; the new [`Status`] out (`409` with `{"error"}` when refused) |
 
 use serde::{Deserialize, Serialize};
+use std::collections::VecDeque;
+
+/// Steps kept in [`Status::history`] for the page's convergence plot.
+pub const HISTORY_LENGTH: usize = 150;
 
 /// A command of the page, as JSON: `{"command": "step"}`,
 /// `{"command": "drag_start", "vertex": 12, "target": [x, y, z]}`.
@@ -34,6 +38,17 @@ pub enum Command {
     DragTo { target: [f64; 3] },
     /// Let go.
     DragEnd {},
+    /// New parameters: stiffness, time step, the factor on the scene's
+    /// masses (these three change `Q`, which is refactored) and the
+    /// local/global iterations per step.
+    SetParameters {
+        k: f64,
+        delta_t: f64,
+        mass_scale: f64,
+        iterations: usize,
+    },
+    /// Switch to scene `scene` of [`Status::scenes`] (paused, at rest).
+    LoadScene { scene: usize },
 }
 
 impl Command {
@@ -78,6 +93,42 @@ pub struct Status {
     pub dragged: Option<usize>,
     /// Why the animation stopped, if a step failed.
     pub error: Option<String>,
+    /// Is a page showing the simulation (it asked for a frame within the
+    /// last second)? The simulation runs only while `animating && watched`.
+    pub watched: bool,
+    /// Pages that asked for a frame within the last second.
+    pub pages: usize,
+    /// Spring stiffness `k`.
+    pub k: f64,
+    /// Time step `Δt`, seconds.
+    pub delta_t: f64,
+    /// The factor on the scene's masses.
+    pub mass_scale: f64,
+    /// Local/global iterations per step.
+    pub iterations: usize,
+    /// How long the last rebuild and refactorization of `Q` took
+    /// (milliseconds), after a parameter change or a drag; `None` before any.
+    pub refactor_ms: Option<f64>,
+    /// The scenes the page can switch to (names), and the one shown.
+    pub scenes: Vec<String>,
+    pub scene_index: usize,
+    /// Changes whenever another scene is loaded: fetch `/api/scene` again.
+    pub scene_serial: u32,
+    /// The last steps, oldest first, for the convergence plot.
+    pub history: VecDeque<StepRecord>,
+}
+
+/// What one step did, for the convergence plot.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct StepRecord {
+    /// The step's number (since the start or the last reset).
+    pub step: usize,
+    /// Local/global iterations run.
+    pub iterations: usize,
+    /// `‖p_last − p_before‖ / ‖p_last‖` over the last iteration.
+    // CONVERGENCE (issue 11): add the energy decrease and the relative
+    // gradient once `StepReport` has them.
+    pub relative_change: f64,
 }
 
 /// The latest positions, encoded once per step for every client:
@@ -165,6 +216,23 @@ mod tests {
         assert!(parse(r#"{"command":"drag_to","target":[1,2]}"#).is_err());
         assert!(parse(r#"{"command":"drag_to","target":[1,2,3],"x":1}"#).is_err());
         assert!(parse(r#"{"command":"drag_start","vertex":-1,"target":[1,2,3]}"#).is_err());
+        assert_eq!(
+            parse(
+                r#"{"command":"set_parameters","k":1,"delta_t":0.1,"mass_scale":2,"iterations":5}"#
+            )
+            .unwrap(),
+            Command::SetParameters {
+                k: 1.0,
+                delta_t: 0.1,
+                mass_scale: 2.0,
+                iterations: 5
+            }
+        );
+        assert!(parse(r#"{"command":"set_parameters","k":1}"#).is_err());
+        assert_eq!(
+            parse(r#"{"command":"load_scene","scene":2}"#).unwrap(),
+            Command::LoadScene { scene: 2 }
+        );
     }
 
     #[test]

@@ -20,6 +20,7 @@ mod display_mesh;
 mod http;
 mod routes;
 mod simulation_thread;
+mod watchers;
 
 use super::args::{Args, CommandSpec, Flag};
 use super::{load_scene, AppError};
@@ -29,20 +30,23 @@ use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Dense, LinearAlgebra, Simulation, Sparse};
 use routes::Routes;
-use simulation_thread::{Message, Shared, SimulationThread};
+use simulation_thread::{Message, SceneAssets, Shared, SimulationThread};
 use std::io::Write;
 use std::net::{IpAddr, Ipv4Addr, Ipv6Addr, SocketAddr, TcpListener, TcpStream};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Arc, Mutex};
 use std::thread;
 use std::time::Duration;
+use watchers::Watchers;
 
 /// The port when `--port` is not given.
 const DEFAULT_PORT: u16 = 8080;
 /// Connections served at once; more are closed at once (a few tabs need a
 /// handful each).
 const MAX_CONNECTIONS: usize = 64;
+/// Scenes listed in the page's picker at most.
+const MAX_SCENES: usize = 32;
 /// The first bytes of every PNG file.
 const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
 
@@ -83,13 +87,41 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         "an IP address such as 127.0.0.1 or ::1",
     )?;
     let scene = load_scene(&scene_path)?;
-    let texture = read_texture(&scene);
     let address = SocketAddr::new(ip, port);
+    let scenes = scene_list(&scene_path);
     if args.switch("dense") {
-        serve::<Dense>(&scene, texture, address)
+        serve::<Dense>(&scene, scenes, address)
     } else {
-        serve::<Sparse>(&scene, texture, address)
+        serve::<Sparse>(&scene, scenes, address)
     }
+}
+
+/// The scenes the page can switch to: the one given first, then the
+/// bundled ones in the project's `data/` folder (when it is there) and the
+/// others beside the given one, each once, by name.
+fn scene_list(given: &Path) -> Vec<PathBuf> {
+    let bundled = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
+    let beside = given.parent().unwrap_or(Path::new(".")).to_path_buf();
+    let mut scenes = vec![given.to_path_buf()];
+    let mut seen = vec![std::fs::canonicalize(given).unwrap_or_else(|_| given.to_path_buf())];
+    for folder in [bundled, beside] {
+        let Ok(entries) = std::fs::read_dir(&folder) else {
+            continue;
+        };
+        let mut found: Vec<PathBuf> = entries
+            .filter_map(|entry| entry.ok().map(|e| e.path()))
+            .filter(|path| path.extension().is_some_and(|e| e == "json"))
+            .collect();
+        found.sort();
+        for path in found {
+            let canonical = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
+            if !seen.contains(&canonical) && scenes.len() < MAX_SCENES {
+                seen.push(canonical);
+                scenes.push(path);
+            }
+        }
+    }
+    scenes
 }
 
 /// The scene's PNG texture, read from the path the scene names; `None`
@@ -116,7 +148,7 @@ fn read_texture(scene: &Scene) -> Option<Vec<u8>> {
 }
 
 /// Starts the threads, prints the URL, and serves until Ctrl-C.
-fn serve<B>(scene: &Scene, texture: Option<Vec<u8>>, address: SocketAddr) -> Result<(), AppError>
+fn serve<B>(scene: &Scene, scenes: Vec<PathBuf>, address: SocketAddr) -> Result<(), AppError>
 where
     B: LinearAlgebra + 'static,
     Simulation<B>: Send,
@@ -135,12 +167,14 @@ where
             springs: scene.springs.len(),
             ..Status::default()
         }),
+        scene: Mutex::new(SceneAssets::of(scene, B::NAME)),
+        watchers: Mutex::new(Watchers::default()),
     });
-    let mesh = display_mesh::display_mesh(scene, texture.is_some(), B::NAME);
     // A cloth shows its surface; a scene made only of springs, its springs.
-    let show_springs = mesh.triangles.is_empty();
+    let show_springs = scene.faces.first().is_none_or(|face| face.len() < 3);
     let (commands, inbox) = mpsc::channel();
-    let simulation_thread = SimulationThread::new(simulation, Arc::clone(&shared), show_springs);
+    let simulation_thread =
+        SimulationThread::new(simulation, Arc::clone(&shared), show_springs, scenes, 0);
     let simulation_handle = thread::Builder::new()
         .name("simulation".into())
         .spawn(move || simulation_thread.run(inbox))?;
@@ -148,8 +182,6 @@ where
     let routes = Arc::new(Routes {
         shared,
         commands: commands.clone(),
-        scene_json: serde_json::to_string(&mesh).expect("plain data serialises"),
-        texture,
         allowed_hosts: allowed_hosts(local),
     });
     let stopping = Arc::new(AtomicBool::new(false));
