@@ -8,7 +8,9 @@ mod cli;
 use cli::{data, masssprings, stderr, stdout, temp_folder};
 use std::net::TcpListener;
 
-const COMMANDS: [&str; 5] = ["simulate", "render", "view", "analyze", "generate"];
+const COMMANDS: [&str; 6] = [
+    "simulate", "render", "view", "converge", "analyze", "generate",
+];
 
 /// The run failed with a usage error (exit code 2) whose message contains
 /// `expected`.

@@ -825,3 +825,42 @@ fn wrong_command_lines_exit_with_2_and_bad_scenes_with_1() {
     assert_eq!(run(&["view", &data("net.json"), "--bogus"]), Some(2));
     assert_eq!(run(&["view", &data("no-such-scene.json")]), Some(1));
 }
+
+#[test]
+fn the_method_and_tolerance_apply_to_later_steps_and_show_in_the_history() {
+    let viewer = Viewer::start("net.json");
+    let before = viewer.status();
+    assert_eq!(before["method"], "plain");
+    assert_eq!(before["tolerance"], Value::Null);
+    let methods: Vec<String> = serde_json::from_value(before["methods"].clone()).unwrap();
+    assert_eq!(
+        methods,
+        ["plain", "chebyshev", "anderson", "lbfgs", "newton"]
+    );
+    let set = viewer
+        .post_command(&json!({"command": "set_method", "method": "newton", "tolerance": 1e-6}));
+    assert_eq!(set.status, 200, "{}", set.text());
+    assert_eq!(
+        (
+            set.json()["method"].clone(),
+            set.json()["tolerance"].clone()
+        ),
+        (json!("newton"), json!(1e-6))
+    );
+    let stepped = viewer.command("step");
+    let record = &stepped["history"][0];
+    assert!(
+        record["relative_gradient"].as_f64().unwrap() <= 1e-6,
+        "{record}"
+    );
+    assert!(record["iterations"].as_u64().unwrap() < 50, "{record}");
+    assert_eq!(record["converged"], true);
+    assert!(record["energy_decrease"].as_f64().unwrap() >= 0.0);
+    for bad in [
+        json!({"command": "set_method", "method": "magic", "tolerance": null}),
+        json!({"command": "set_method", "method": "plain", "tolerance": 2.0}),
+    ] {
+        assert_eq!(viewer.post_command(&bad).status, 409, "{bad}");
+    }
+    assert_eq!(viewer.status()["method"], "newton");
+}

@@ -249,6 +249,11 @@ impl Args {
         &self.positional
     }
 
+    /// Does the command's table have `--name`?
+    pub fn declares(&self, name: &str) -> bool {
+        self.command.flag(name).is_some()
+    }
+
     /// Was `--name` given?
     pub fn switch(&self, name: &str) -> bool {
         self.check_declared(name);

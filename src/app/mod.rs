@@ -3,6 +3,9 @@
 
 mod analyze;
 mod args;
+mod converge;
+mod convergence_flags;
+mod convergence_plot;
 mod generate;
 mod progress;
 mod render;
@@ -69,6 +72,7 @@ const COMMANDS: &[&CommandSpec] = &[
     &simulate::COMMAND,
     &render::COMMAND,
     &view::COMMAND,
+    &converge::COMMAND,
     &analyze::COMMAND,
     &generate::COMMAND,
 ];

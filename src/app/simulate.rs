@@ -2,6 +2,7 @@
 //! OBJ frames, report timings.
 
 use super::args::{Args, CommandSpec, Flag};
+use super::convergence_flags::{self, ITERATIONS, METHOD, TOLERANCE};
 use super::progress::{duration, Progress};
 use super::timing::median;
 use super::{load_scene, AppError};
@@ -67,6 +68,9 @@ time and the total time.",
             "json",
             "Print one JSON object instead of the table (no progress).",
         ),
+        METHOD,
+        TOLERANCE,
+        ITERATIONS,
     ],
     shorts: &[],
     run,
@@ -87,10 +91,11 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         progress: !args.switch("json"),
     };
     let scene = load_scene(&scene_path)?;
-    let options = SimulationOptions {
+    let mut options = SimulationOptions {
         wind: args.switch("wind"),
         ..SimulationOptions::default()
     };
+    convergence_flags::apply(&args, &mut options)?;
     let summary = if args.switch("dense") {
         simulate::<Dense>(&scene, options, &run)?
     } else {

@@ -5,6 +5,8 @@
 //! | `signed_incidence_matrix_dense/_sparse` | [`signed_incidence`] |
 //! | `fast_mass_springs_precomputation_dense/_sparse` (r, M, A, C, Q, factor) | [`precomputation`] |
 //! | `fast_mass_springs_step_dense/_sparse` (y, d, b, solve) | [`step`], [`local_step`] |
+//! | the energy a step minimises, its gradient and Hessian | [`energy`], [`hessian`] |
+//! | "more advanced stopping criteria": tolerances and faster methods | [`methods`] |
 //! | gravity, wind | [`forces`] |
 //! | dense or sparse matrices | [`backend`] |
 //! | a running simulation (state, time, pins) | [`simulation`] |
@@ -13,14 +15,18 @@
 //! that computes it.
 
 pub mod backend;
+pub mod energy;
 pub mod forces;
+pub mod hessian;
 pub mod local_step;
+pub mod methods;
 pub mod precomputation;
 pub mod signed_incidence;
 pub mod simulation;
 pub mod step;
 
 pub use backend::{Dense, LinearAlgebra, Sparse};
+pub use methods::{StepControl, StepMethod, Stop};
 pub use precomputation::{MassSpringSystem, DELTA_T, PIN_WEIGHT};
 pub use simulation::Simulation;
 pub use step::{StepReport, ITERATIONS};

@@ -7,8 +7,9 @@
 
 use super::backend::LinearAlgebra;
 use super::forces::{bounding_box_diagonal, external_forces};
+use super::methods::{Observer, StepControl, StepMethod, DEFAULT_WINDOW};
 use super::precomputation::{fast_mass_springs_precomputation, MassSpringSystem, DELTA_T};
-use super::step::{fast_mass_springs_step, StepReport, ITERATIONS};
+use super::step::{solve_step, StepReport, ITERATIONS};
 use super::SimulationError;
 use crate::mesh::Scene;
 
@@ -17,10 +18,32 @@ use crate::mesh::Scene;
 pub struct SimulationOptions {
     /// Time step (the assignment: 1/30 s).
     pub delta_t: f64,
-    /// Local/global iterations per step (the assignment: 50).
+    /// Local/global iterations per step (the assignment: 50), or the most
+    /// a step may take when there is a tolerance.
     pub iterations: usize,
     /// Add the assignment viewer's wind to gravity.
     pub wind: bool,
+    /// How each step is solved (the assignment: plain local/global).
+    pub method: StepMethod,
+    /// Stop a step once its relative gradient is at most this.
+    pub tolerance: Option<f64>,
+    /// Chebyshev's spectral radius (estimated when `None`).
+    pub rho: Option<f64>,
+    /// Anderson's and L-BFGS's history window.
+    pub window: usize,
+}
+
+impl SimulationOptions {
+    /// The method and stopping rule of each step.
+    pub fn step_control(&self) -> StepControl {
+        StepControl {
+            method: self.method,
+            iterations: self.iterations,
+            tolerance: self.tolerance,
+            rho: self.rho,
+            window: self.window,
+        }
+    }
 }
 
 impl Default for SimulationOptions {
@@ -29,6 +52,10 @@ impl Default for SimulationOptions {
             delta_t: DELTA_T,
             iterations: ITERATIONS,
             wind: false,
+            method: StepMethod::Plain,
+            tolerance: None,
+            rho: None,
+            window: DEFAULT_WINDOW,
         }
     }
 }
@@ -114,6 +141,20 @@ impl<B: LinearAlgebra> Simulation<B> {
     /// # Errors
     /// [`SimulationError::NotFinite`]; the state is then left as it was.
     pub fn step(&mut self) -> Result<StepReport, SimulationError> {
+        let control = self.options.step_control();
+        self.step_with(&control, None)
+    }
+
+    /// Advances one time step solved as `control` says, showing every
+    /// iterate to `observer` (as `masssprings converge` does).
+    ///
+    /// # Errors
+    /// As [`Simulation::step`].
+    pub fn step_with(
+        &mut self,
+        control: &StepControl,
+        observer: Option<Observer<'_>>,
+    ) -> Result<StepReport, SimulationError> {
         external_forces(
             &self.u_cur,
             self.time(),
@@ -121,13 +162,14 @@ impl<B: LinearAlgebra> Simulation<B> {
             self.scale,
             &mut self.f_ext,
         );
-        let report = fast_mass_springs_step(
+        let report = solve_step(
             &mut self.system,
-            self.options.iterations,
+            control,
             &self.f_ext,
             &self.u_prev,
             &self.u_cur,
             &mut self.u_next,
+            observer,
         )?;
         std::mem::swap(&mut self.u_prev, &mut self.u_cur); // U_prev ← U_cur
         std::mem::swap(&mut self.u_cur, &mut self.u_next); // U_cur ← U
@@ -200,7 +242,7 @@ impl<B: LinearAlgebra> Simulation<B> {
         self.mass_scale
     }
 
-    /// How the simulation runs.
+    /// The options the simulation runs with.
     pub fn options(&self) -> &SimulationOptions {
         &self.options
     }
@@ -208,6 +250,13 @@ impl<B: LinearAlgebra> Simulation<B> {
     /// Local/global iterations per step from the next step on.
     pub fn set_iterations(&mut self, iterations: usize) {
         self.options.iterations = iterations;
+    }
+
+    /// Solves later steps by `method`, with `tolerance` (nothing to
+    /// refactor: every method uses the same `Q`).
+    pub fn set_method(&mut self, method: StepMethod, tolerance: Option<f64>) {
+        self.options.method = method;
+        self.options.tolerance = tolerance;
     }
 
     /// Back to rest, time 0, nothing dragged.

@@ -28,6 +28,8 @@ mod lighting;
 mod lines;
 mod look;
 mod palette;
+pub(super) mod plot;
+mod text;
 mod texture;
 mod triangle;
 mod vector;

@@ -49,6 +49,13 @@ pub enum Command {
     },
     /// Switch to scene `scene` of [`Status::scenes`] (paused, at rest).
     LoadScene { scene: usize },
+    /// Solve later steps by `method` (one of [`Status::methods`]), stopping
+    /// at relative gradient `tolerance` (`null`: run every iteration).
+    /// Nothing is refactored: every method uses the same `Q`.
+    SetMethod {
+        method: String,
+        tolerance: Option<f64>,
+    },
 }
 
 impl Command {
@@ -104,8 +111,13 @@ pub struct Status {
     pub delta_t: f64,
     /// The factor on the scene's masses.
     pub mass_scale: f64,
-    /// Local/global iterations per step.
+    /// The most iterations a step may take.
     pub iterations: usize,
+    /// How each step is solved, and the methods there are.
+    pub method: &'static str,
+    pub methods: Vec<&'static str>,
+    /// The relative gradient a step stops at (`None`: every iteration).
+    pub tolerance: Option<f64>,
     /// How long the last rebuild and refactorization of `Q` took
     /// (milliseconds), after a parameter change or a drag; `None` before any.
     pub refactor_ms: Option<f64>,
@@ -125,10 +137,13 @@ pub struct StepRecord {
     pub step: usize,
     /// Local/global iterations run.
     pub iterations: usize,
-    /// `‖p_last − p_before‖ / ‖p_last‖` over the last iteration.
-    // CONVERGENCE (issue 11): add the energy decrease and the relative
-    // gradient once `StepReport` has them.
-    pub relative_change: f64,
+    /// `E(p⁰) − E(p)`: the energy the step took off.
+    pub energy_decrease: f64,
+    /// `‖∇E(p)‖ / ‖∇E(p⁰)‖` over the free vertices where the step stopped.
+    pub relative_gradient: f64,
+    /// Did the step stop on the tolerance (rather than on its iteration
+    /// budget or a stalled line search)?
+    pub converged: bool,
 }
 
 /// The latest positions, encoded once per step for every client:
@@ -229,6 +244,13 @@ mod tests {
             }
         );
         assert!(parse(r#"{"command":"set_parameters","k":1}"#).is_err());
+        assert_eq!(
+            parse(r#"{"command":"set_method","method":"lbfgs","tolerance":null}"#).unwrap(),
+            Command::SetMethod {
+                method: "lbfgs".into(),
+                tolerance: None
+            }
+        );
         assert_eq!(
             parse(r#"{"command":"load_scene","scene":2}"#).unwrap(),
             Command::LoadScene { scene: 2 }

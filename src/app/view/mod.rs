@@ -23,6 +23,7 @@ mod simulation_thread;
 mod watchers;
 
 use super::args::{Args, CommandSpec, Flag};
+use super::convergence_flags::{self, ITERATIONS, METHOD, TOLERANCE};
 use super::{load_scene, AppError};
 use api::{Frame, Status};
 use http::{Connection, Method, ReadError};
@@ -72,6 +73,9 @@ shift-drag to pull a vertex. Ctrl-C stops it.",
             "Address to serve on (default 127.0.0.1; 0.0.0.0 serves every network).",
         ),
         Flag::switch("dense", "Dense matrices and Cholesky."),
+        METHOD,
+        TOLERANCE,
+        ITERATIONS,
     ],
     shorts: &[],
     run,
@@ -89,10 +93,12 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let scene = load_scene(&scene_path)?;
     let address = SocketAddr::new(ip, port);
     let scenes = scene_list(&scene_path);
+    let mut options = SimulationOptions::default();
+    convergence_flags::apply(&args, &mut options)?;
     if args.switch("dense") {
-        serve::<Dense>(&scene, scenes, address)
+        serve::<Dense>(&scene, scenes, address, options)
     } else {
-        serve::<Sparse>(&scene, scenes, address)
+        serve::<Sparse>(&scene, scenes, address, options)
     }
 }
 
@@ -148,12 +154,17 @@ fn read_texture(scene: &Scene) -> Option<Vec<u8>> {
 }
 
 /// Starts the threads, prints the URL, and serves until Ctrl-C.
-fn serve<B>(scene: &Scene, scenes: Vec<PathBuf>, address: SocketAddr) -> Result<(), AppError>
+fn serve<B>(
+    scene: &Scene,
+    scenes: Vec<PathBuf>,
+    address: SocketAddr,
+    options: SimulationOptions,
+) -> Result<(), AppError>
 where
     B: LinearAlgebra + 'static,
     Simulation<B>: Send,
 {
-    let simulation = Simulation::<B>::from_scene(scene, SimulationOptions::default())?;
+    let simulation = Simulation::<B>::from_scene(scene, options)?;
     let listener = TcpListener::bind(address).map_err(|e| bind_error(address, &e))?;
     let local = listener.local_addr()?;
     let stop_requested = stop_signal()?;

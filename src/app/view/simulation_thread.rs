@@ -20,7 +20,7 @@ use super::watchers::Watchers;
 use masssprings::mesh::bounding_box::BoundingBox;
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::{LinearAlgebra, Simulation, StepReport};
+use masssprings::sim::{LinearAlgebra, Simulation, StepMethod, StepReport, Stop};
 use std::path::PathBuf;
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::sync::{Arc, Mutex};
@@ -292,7 +292,20 @@ impl<B: LinearAlgebra> SimulationThread<B> {
                 iterations,
             } => self.set_parameters(k, delta_t, mass_scale, iterations),
             Command::LoadScene { scene } => self.load_scene(scene),
+            Command::SetMethod { method, tolerance } => self.set_method(&method, tolerance),
         }
+    }
+
+    /// Another method or tolerance for later steps.
+    fn set_method(&mut self, method: &str, tolerance: Option<f64>) -> Reply {
+        let method: StepMethod = method.parse()?;
+        if let Some(t) = tolerance {
+            if !(t > 0.0 && t < 1.0) {
+                return Err(format!("tolerance {t}: expected between 0 and 1"));
+            }
+        }
+        self.simulation.set_method(method, tolerance);
+        Ok(())
     }
 
     /// `change`, which rebuilds and refactors `Q`, timed for the overlay.
@@ -354,9 +367,12 @@ impl<B: LinearAlgebra> SimulationThread<B> {
         let scene = crate::app::load_scene(&path).map_err(|e| match e {
             crate::app::AppError::Usage(why) | crate::app::AppError::Failed(why) => why,
         })?;
+        let current = self.simulation.options();
         let options = SimulationOptions {
-            iterations: self.simulation.options().iterations,
-            wind: self.simulation.wind(),
+            iterations: current.iterations,
+            wind: current.wind,
+            method: current.method,
+            tolerance: current.tolerance,
             ..SimulationOptions::default()
         };
         let started = Instant::now();
@@ -411,7 +427,9 @@ impl<B: LinearAlgebra> SimulationThread<B> {
         status.history.push_back(StepRecord {
             step: self.simulation.steps(),
             iterations: report.iterations,
-            relative_change: report.relative_change,
+            energy_decrease: report.energy_decrease,
+            relative_gradient: report.relative_gradient,
+            converged: report.stop == Stop::Tolerance,
         });
     }
 
@@ -432,6 +450,7 @@ impl<B: LinearAlgebra> SimulationThread<B> {
             .lock()
             .expect("no thread panics holding it");
         status.scenes = self.scenes.iter().map(|path| scene_name(path)).collect();
+        status.methods = StepMethod::ALL.map(StepMethod::name).to_vec();
         status.history.reserve(HISTORY_LENGTH);
     }
 
@@ -514,6 +533,8 @@ impl<B: LinearAlgebra> SimulationThread<B> {
         status.delta_t = self.simulation.options().delta_t;
         status.mass_scale = self.simulation.mass_scale();
         status.iterations = self.simulation.options().iterations;
+        status.method = self.simulation.options().method.name();
+        status.tolerance = self.simulation.options().tolerance;
         status.refactor_ms = self.refactor.map(|d| 1e3 * d.as_secs_f64());
         status.scene_index = self.scene_index;
     }
