@@ -26,7 +26,7 @@ pub(super) mod encode;
 mod frame;
 mod lighting;
 mod lines;
-mod look;
+pub(super) mod look;
 mod palette;
 pub(super) mod plot;
 mod text;

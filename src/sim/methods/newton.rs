@@ -176,7 +176,7 @@ pub(crate) fn solve<B: LinearAlgebra>(
             .solve_in_place(work.direction.as_flattened_mut());
         scale(&mut work.direction, -1.0);
         let slope = dot(&work.gradient, &work.direction);
-        if !(slope < 0.0) {
+        if slope.is_nan() || slope >= 0.0 {
             return Outcome::new(iteration - 1, Stop::Stalled);
         }
         let Some((t, new_energy)) = line_search(
