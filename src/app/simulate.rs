@@ -2,7 +2,7 @@
 //! OBJ frames, report timings.
 
 use super::args::{Args, CommandSpec, Flag};
-use super::convergence_flags::{self, ITERATIONS, METHOD, TOLERANCE};
+use super::convergence_flags::{self, ITERATIONS, METHOD, RHO, TOLERANCE, WINDOW};
 use super::progress::{duration, Progress};
 use super::timing::median;
 use super::{load_scene, AppError};
@@ -25,6 +25,11 @@ struct Summary {
     /// Wall-clock time of the whole run: precomputation, steps, frames.
     total_s: f64,
     backend: &'static str,
+    /// How each step was solved, and how well.
+    method: &'static str,
+    tolerance: Option<f64>,
+    iterations_median: f64,
+    relative_gradient_median: f64,
 }
 
 /// What to do besides stepping.
@@ -71,6 +76,8 @@ time and the total time.",
         METHOD,
         TOLERANCE,
         ITERATIONS,
+        RHO,
+        WINDOW,
     ],
     shorts: &[],
     run,
@@ -139,13 +146,16 @@ fn simulate<B: LinearAlgebra>(
         None => None,
     };
     let mut step_times = Vec::with_capacity(run.steps);
+    let (mut iterations, mut gradients) = (Vec::new(), Vec::new());
     let mut progress = Progress::new(run.steps, run.progress);
     for step in 1..=run.steps {
         let t = Instant::now();
-        simulation
+        let report = simulation
             .step()
             .map_err(|e| AppError::Failed(format!("step {step}: {e}")))?;
         step_times.push(t.elapsed().as_secs_f64());
+        iterations.push(report.iterations as f64);
+        gradients.push(report.relative_gradient);
         if let Some(folder) = &run.out {
             if step.is_multiple_of(run.every) {
                 let positions = simulation.positions();
@@ -163,6 +173,10 @@ fn simulate<B: LinearAlgebra>(
         step_median_s: median(&mut step_times),
         total_s: started.elapsed().as_secs_f64(),
         backend: B::NAME,
+        method: options.method.name(),
+        tolerance: options.tolerance,
+        iterations_median: median(&mut iterations),
+        relative_gradient_median: median(&mut gradients),
     })
 }
 
@@ -277,5 +291,12 @@ fn print_summary(scene_path: &Path, s: &Summary) {
     println!("precomputation   {:.6} s", s.precompute_s);
     println!("steps            {}", s.steps);
     println!("step (median)    {:.6} s", s.step_median_s);
+    let tolerance = s.tolerance.map_or("none".into(), |t| format!("{t:e}"));
+    println!("method           {} (tolerance {tolerance})", s.method);
+    println!("iterations       {} per step (median)", s.iterations_median);
+    println!(
+        "rel. gradient    {:.3e} at the end of a step (median)",
+        s.relative_gradient_median
+    );
     println!("total            {}", duration(s.total_s));
 }

@@ -43,6 +43,9 @@ pub enum SimulationError {
     Linalg(LinalgError),
     /// A step produced NaN or infinity, first at this vertex (0-based).
     NotFinite { vertex: usize },
+    /// A step's energy or gradient overflowed (positions beyond what
+    /// `f64` can square).
+    EnergyNotFinite,
 }
 
 impl fmt::Display for SimulationError {
@@ -54,6 +57,10 @@ impl fmt::Display for SimulationError {
                 f,
                 "the step produced a non-finite position (vertex {}, 1-based); the simulation stopped",
                 vertex + 1
+            ),
+            SimulationError::EnergyNotFinite => write!(
+                f,
+                "the step's energy or gradient is not finite (positions too large to square in f64); the simulation stopped"
             ),
         }
     }

@@ -83,6 +83,8 @@ pub(crate) struct StepBuffers {
     pub d: Vec<[f64; 3]>,
     /// `∇E` where the stopping rule needs it.
     pub gradient: Vec<[f64; 3]>,
+    /// Each spring's length where the step starts.
+    pub start_lengths: Vec<f64>,
     /// The accelerated methods' work arrays, made when first used.
     pub methods: MethodWorkspaces,
 }
@@ -245,6 +247,7 @@ pub fn fast_mass_springs_precomputation<B: LinearAlgebra>(
             b: vec![[0.0; 3]; n],
             d: vec![[0.0; 3]; springs.len()],
             gradient: vec![[0.0; 3]; n],
+            start_lengths: vec![0.0; springs.len()],
             methods: MethodWorkspaces::default(),
         },
     })

@@ -271,6 +271,33 @@ impl<B: LinearAlgebra> Simulation<B> {
         Ok(())
     }
 
+    /// Continues from a saved state: `U_prev`, `U_cur` and the number of
+    /// steps they are after the start (for the wind's clock).
+    ///
+    /// # Errors
+    /// [`SimulationError::InvalidInput`] when a state does not have one
+    /// finite row per vertex.
+    pub fn set_state(
+        &mut self,
+        u_prev: &[[f64; 3]],
+        u_cur: &[[f64; 3]],
+        steps: usize,
+    ) -> Result<(), SimulationError> {
+        let n = self.rest.len();
+        for state in [u_prev, u_cur] {
+            if state.len() != n || state.iter().flatten().any(|x| !x.is_finite()) {
+                return Err(SimulationError::InvalidInput(format!(
+                    "a state needs {n} finite positions, got {}",
+                    state.len()
+                )));
+            }
+        }
+        self.u_prev.copy_from_slice(u_prev);
+        self.u_cur.copy_from_slice(u_cur);
+        self.steps = steps;
+        Ok(())
+    }
+
     /// Starts dragging `vertex` (0-based) toward `target`: it becomes an
     /// extra pin, which changes `Q`'s values and refactors it.
     ///

@@ -27,7 +27,7 @@
 //! (`fast_mass_springs_step_dense.cpp` / `_sparse.cpp`, "Step 1–3").
 
 use super::backend::{Dense, LinearAlgebra, Sparse};
-use super::energy::{free_norm, StepEnergy};
+use super::energy::{free_norm, start_lengths, StepEnergy};
 use super::methods::{
     anderson, chebyshev, lbfgs, newton, plain, GlobalStep, Monitor, Observer, Outcome, StepContext,
     StepControl, StepMethod, Stop,
@@ -84,8 +84,9 @@ pub fn fast_mass_springs_step<B: LinearAlgebra>(
 ///
 /// # Errors
 /// [`SimulationError::NotFinite`] when the new positions hold NaN or
-/// infinity (reported, not propagated: `u_next` is then not a state to
-/// continue from); an error of Newton's first factorization.
+/// infinity, [`SimulationError::EnergyNotFinite`] when the energy or
+/// gradient there does (reported, not propagated: `u_next` is then not a
+/// state to continue from); an error of Newton's first factorization.
 ///
 /// # Panics
 /// When a slice does not have one row per vertex.
@@ -120,6 +121,7 @@ pub fn solve_step<B: LinearAlgebra>(
         buffers,
         ..
     } = system;
+    start_lengths(springs, u_cur, &mut buffers.start_lengths);
     let energy = StepEnergy {
         springs,
         r,
@@ -132,6 +134,7 @@ pub fn solve_step<B: LinearAlgebra>(
         inertial_target: &buffers.inertia,
         f_ext,
         start: u_cur,
+        start_lengths: &buffers.start_lengths,
     };
     energy.gradient(u_cur, &mut buffers.gradient);
     let initial_gradient = free_norm(&buffers.gradient, is_pinned);
@@ -183,11 +186,15 @@ pub fn solve_step<B: LinearAlgebra>(
     }
     let relative_gradient =
         monitor.final_relative_gradient(&context.energy, context.pinned, u_next);
+    let energy_decrease = -context.energy.change(u_next).total();
+    if !(energy_decrease.is_finite() && relative_gradient.is_finite()) {
+        return Err(SimulationError::EnergyNotFinite);
+    }
     Ok(StepReport {
         method: control.method,
         iterations: outcome.iterations,
         stop: outcome.stop,
-        energy_decrease: -context.energy.change(u_next).total(),
+        energy_decrease,
         relative_gradient,
     })
 }

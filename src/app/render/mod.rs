@@ -39,6 +39,7 @@ mod vector;
 mod tests_common;
 
 use super::args::{Args, CommandSpec, Flag};
+use super::convergence_flags::{self, ITERATIONS, METHOD, RHO, TOLERANCE, WINDOW};
 use super::timing::median;
 use super::{load_scene, AppError};
 use camera::{BoundingBox, Camera};
@@ -75,7 +76,8 @@ struct Request {
     width: usize,
     height: usize,
     dense: bool,
-    wind: bool,
+    /// How the simulation runs (wind, method, tolerance).
+    options: SimulationOptions,
     springs: bool,
 }
 
@@ -105,6 +107,11 @@ point mass (always drawn for scenes made only of springs).",
         Flag::switch("dense", "Dense matrices and Cholesky."),
         Flag::switch("wind", "Add the assignment viewer's wind to gravity."),
         Flag::switch("springs", "Draw every spring and point mass too."),
+        METHOD,
+        TOLERANCE,
+        ITERATIONS,
+        RHO,
+        WINDOW,
     ],
     shorts: &[('o', "out")],
     run,
@@ -173,6 +180,11 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
     let format = output_format(&out)?;
     let every = args.count("every", 2, 1)?;
     let (width, height) = parse_size(args.text("size").unwrap_or("480x360"))?;
+    let mut simulation_options = SimulationOptions {
+        wind: args.switch("wind"),
+        ..SimulationOptions::default()
+    };
+    convergence_flags::apply(&args, &mut simulation_options)?;
     Ok(Request {
         scene,
         out,
@@ -182,7 +194,7 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
         width,
         height,
         dense: args.switch("dense"),
-        wind: args.switch("wind"),
+        options: simulation_options,
         springs: args.switch("springs"),
     })
 }
@@ -225,11 +237,7 @@ fn simulate<B: LinearAlgebra>(
     scene: &Scene,
     request: &Request,
 ) -> Result<Vec<Vec<[f64; 3]>>, AppError> {
-    let options = SimulationOptions {
-        wind: request.wind,
-        ..SimulationOptions::default()
-    };
-    let mut simulation = Simulation::<B>::from_scene(scene, options)?;
+    let mut simulation = Simulation::<B>::from_scene(scene, request.options)?;
     let keep = |step: usize| match request.format {
         Format::Gif => step.is_multiple_of(request.every),
         Format::Png => step == request.steps,

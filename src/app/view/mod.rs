@@ -23,7 +23,7 @@ mod simulation_thread;
 mod watchers;
 
 use super::args::{Args, CommandSpec, Flag};
-use super::convergence_flags::{self, ITERATIONS, METHOD, TOLERANCE};
+use super::convergence_flags::{self, ITERATIONS, METHOD, RHO, TOLERANCE, WINDOW};
 use super::{load_scene, AppError};
 use api::{Frame, Status};
 use http::{Connection, Method, ReadError};
@@ -76,6 +76,8 @@ shift-drag to pull a vertex. Ctrl-C stops it.",
         METHOD,
         TOLERANCE,
         ITERATIONS,
+        RHO,
+        WINDOW,
     ],
     shorts: &[],
     run,

@@ -14,7 +14,10 @@
 //! *backtracking* search (Newton's, whose full step is right near the
 //! minimiser) keeps `t = 1`. If it does not hold, `t` halves until it does,
 //! and the search fails below `t = 10⁻¹⁰`: the energy cannot be lowered
-//! along `d` to rounding, and the method has stalled.
+//! along `d` to rounding, and the method has stalled. Very close to the
+//! minimiser the decrease to expect, `|s|`, falls below the rounding of the
+//! energy difference itself (`10⁻¹³ |E(p) − E(p⁰)|`); the energy can then
+//! no longer judge a step, and the full step is taken.
 //!
 //! Energies are the cancellation-free differences `E(·) − E(p⁰)` of
 //! [`energy`](crate::sim::energy), so that differences near rounding of `E`
@@ -35,6 +38,9 @@ pub const ARMIJO: f64 = 1e-4;
 pub const LONGEST_STEP: f64 = 64.0;
 /// Below this step length the search gives up.
 pub const SHORTEST_STEP: f64 = 1e-10;
+
+/// Relative size of the rounding of an energy difference `E(p) − E(p⁰)`.
+pub const ROUNDING: f64 = 1e-13;
 
 /// Whether an accepted full step may grow.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -61,6 +67,11 @@ pub fn line_search(
     };
     let mut t = 1.0;
     let mut e = energy_at(t);
+    if -slope <= ROUNDING * energy_at_p.abs() {
+        // The decrease to expect is below the rounding of the energy: the
+        // energy cannot judge the step, so take it whole.
+        return Some((t, e));
+    }
     if e <= energy_at_p + ARMIJO * slope {
         while search == Search::Expanding && t < LONGEST_STEP {
             let longer = energy_at(2.0 * t);
