@@ -350,7 +350,8 @@ fn the_scenes_texture_is_served_as_the_png_the_scene_names() {
 #[test]
 fn space_steps_once_r_resets_and_a_w_l_toggle() {
     let viewer = Viewer::start("net.json");
-    assert_eq!(viewer.status()["animating"], true, "it starts animating");
+    assert_eq!(viewer.status()["animating"], false, "it starts paused");
+    assert_eq!(viewer.status()["steps"], 0, "at rest");
     let paused = viewer.pause();
     let steps = paused["steps"].as_u64().unwrap();
 
@@ -389,9 +390,141 @@ fn space_steps_once_r_resets_and_a_w_l_toggle() {
     let deadline = Instant::now() + Duration::from_secs(10);
     while viewer.status()["steps"].as_u64().unwrap() < 3 {
         assert!(Instant::now() < deadline, "the animation steps on its own");
+        viewer.get("/api/frame?page=1"); // a page watching
         thread::sleep(Duration::from_millis(20));
     }
     assert_eq!(viewer.command("toggle_animation")["animating"], false);
+}
+
+#[test]
+fn it_animates_only_while_a_page_asks_for_frames() {
+    let viewer = Viewer::start("net.json");
+    let animating = viewer.command("toggle_animation");
+    assert_eq!(animating["animating"], true);
+    thread::sleep(Duration::from_millis(1500)); // nobody watching
+    let idle = viewer.status();
+    assert_eq!(
+        (idle["steps"].clone(), idle["watched"].clone()),
+        (json!(0), json!(false))
+    );
+    let deadline = Instant::now() + Duration::from_secs(10);
+    loop {
+        viewer.get("/api/frame?page=42");
+        let status = viewer.status();
+        if status["steps"].as_u64().unwrap() >= 3 {
+            assert_eq!(
+                (status["watched"].clone(), status["pages"].clone()),
+                (json!(true), json!(1))
+            );
+            break;
+        }
+        assert!(Instant::now() < deadline, "a watching page starts it");
+        thread::sleep(Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn new_parameters_refactor_q_and_change_the_motion() {
+    let viewer = Viewer::start("net.json");
+    let before = viewer.status();
+    assert_eq!(before["refactor_ms"], Value::Null);
+    assert_eq!(
+        (before["k"].clone(), before["iterations"].clone()),
+        (json!(1000.0), json!(50))
+    );
+    viewer.command("step");
+    let original = viewer.positions();
+    viewer.command("reset");
+    let change = json!({"command": "set_parameters", "k": 50.0, "delta_t": 0.05,
+        "mass_scale": 2.0, "iterations": 10});
+    let changed = viewer.post_command(&change);
+    assert_eq!(changed.status, 200, "{}", changed.text());
+    let status = changed.json();
+    assert!(status["refactor_ms"].as_f64().unwrap() > 0.0, "{status}");
+    assert_eq!(
+        [
+            &status["k"],
+            &status["delta_t"],
+            &status["mass_scale"],
+            &status["iterations"]
+        ],
+        [&json!(50.0), &json!(0.05), &json!(2.0), &json!(10)]
+    );
+    let stepped = viewer.command("step");
+    assert_eq!(stepped["history"][0]["iterations"], 10);
+    assert_ne!(
+        viewer.positions(),
+        original,
+        "a softer, heavier net moves otherwise"
+    );
+    for bad in [
+        json!({"command": "set_parameters", "k": -1.0, "delta_t": 0.05, "mass_scale": 1.0, "iterations": 10}),
+        json!({"command": "set_parameters", "k": 1.0, "delta_t": 5.0, "mass_scale": 1.0, "iterations": 10}),
+        json!({"command": "set_parameters", "k": 1.0, "delta_t": 0.05, "mass_scale": 0.0, "iterations": 10}),
+        json!({"command": "set_parameters", "k": 1.0, "delta_t": 0.05, "mass_scale": 1.0, "iterations": 0}),
+    ] {
+        assert_eq!(viewer.post_command(&bad).status, 409, "{bad}");
+    }
+    assert_eq!(
+        viewer.status()["k"],
+        json!(50.0),
+        "refused values change nothing"
+    );
+}
+
+#[test]
+fn the_page_can_switch_to_another_bundled_scene() {
+    let viewer = Viewer::start("net.json");
+    let status = viewer.status();
+    let scenes: Vec<String> = serde_json::from_value(status["scenes"].clone()).unwrap();
+    assert_eq!(scenes[0], "net", "the scene given comes first");
+    for bundled in [
+        "flag",
+        "skirt",
+        "horizontal-chain",
+        "single-spring-horizontal",
+    ] {
+        assert!(
+            scenes.iter().any(|s| s == bundled),
+            "{bundled} in {scenes:?}"
+        );
+    }
+    let chain = scenes.iter().position(|s| s == "horizontal-chain").unwrap();
+    viewer.command("step");
+    let loaded = viewer.post_command(&json!({"command": "load_scene", "scene": chain}));
+    assert_eq!(loaded.status, 200, "{}", loaded.text());
+    let loaded = loaded.json();
+    assert_eq!(
+        [
+            &loaded["scene"],
+            &loaded["n"],
+            &loaded["steps"],
+            &loaded["scene_index"],
+            &loaded["animating"]
+        ],
+        [
+            &json!("horizontal-chain"),
+            &json!(11),
+            &json!(0),
+            &json!(chain),
+            &json!(false)
+        ]
+    );
+    assert_ne!(loaded["scene_serial"], status["scene_serial"]);
+    let scene = viewer.get("/api/scene").json();
+    assert_eq!(
+        (scene["name"].clone(), scene["n"].clone()),
+        (json!("horizontal-chain"), json!(11))
+    );
+    assert_eq!(viewer.positions().len(), 11);
+    assert_eq!(
+        viewer.get("/texture.png").status,
+        404,
+        "the chain has no texture"
+    );
+    let missing = viewer.post_command(&json!({"command": "load_scene", "scene": 999}));
+    assert_eq!(missing.status, 409);
+    assert_eq!(viewer.status()["scene"], "horizontal-chain");
 }
 
 #[test]
@@ -614,6 +747,7 @@ fn an_unfinished_request_times_out_without_blocking_others() {
 #[test]
 fn two_clients_on_kept_alive_connections_both_get_frames() {
     let viewer = Viewer::start("net.json");
+    viewer.command("toggle_animation"); // it starts paused
     let address = viewer.address;
     let clients: Vec<_> = (0..2)
         .map(|_| {
@@ -690,4 +824,43 @@ fn wrong_command_lines_exit_with_2_and_bad_scenes_with_1() {
     );
     assert_eq!(run(&["view", &data("net.json"), "--bogus"]), Some(2));
     assert_eq!(run(&["view", &data("no-such-scene.json")]), Some(1));
+}
+
+#[test]
+fn the_method_and_tolerance_apply_to_later_steps_and_show_in_the_history() {
+    let viewer = Viewer::start("net.json");
+    let before = viewer.status();
+    assert_eq!(before["method"], "plain");
+    assert_eq!(before["tolerance"], Value::Null);
+    let methods: Vec<String> = serde_json::from_value(before["methods"].clone()).unwrap();
+    assert_eq!(
+        methods,
+        ["plain", "chebyshev", "anderson", "lbfgs", "newton"]
+    );
+    let set = viewer
+        .post_command(&json!({"command": "set_method", "method": "newton", "tolerance": 1e-6}));
+    assert_eq!(set.status, 200, "{}", set.text());
+    assert_eq!(
+        (
+            set.json()["method"].clone(),
+            set.json()["tolerance"].clone()
+        ),
+        (json!("newton"), json!(1e-6))
+    );
+    let stepped = viewer.command("step");
+    let record = &stepped["history"][0];
+    assert!(
+        record["relative_gradient"].as_f64().unwrap() <= 1e-6,
+        "{record}"
+    );
+    assert!(record["iterations"].as_u64().unwrap() < 50, "{record}");
+    assert_eq!(record["converged"], true);
+    assert!(record["energy_decrease"].as_f64().unwrap() >= 0.0);
+    for bad in [
+        json!({"command": "set_method", "method": "magic", "tolerance": null}),
+        json!({"command": "set_method", "method": "plain", "tolerance": 2.0}),
+    ] {
+        assert_eq!(viewer.post_command(&bad).status, 409, "{bad}");
+    }
+    assert_eq!(viewer.status()["method"], "newton");
 }

@@ -1,7 +1,7 @@
 //! `masssprings analyze MATRIX.mtx`: the sparse Cholesky pipeline on one
 //! matrix, timed step by step.
 
-use super::args::Args;
+use super::args::{Args, CommandSpec, Flag};
 use super::timing::{median_seconds, Repeats};
 use super::AppError;
 use masssprings::linalg::matrix_market::{self, MatrixMarket};
@@ -32,21 +32,58 @@ pub(super) struct Analysis {
     runs: [usize; 4],
 }
 
+/// `analyze`'s operands and flags.
+pub static COMMAND: CommandSpec = CommandSpec {
+    name: "analyze",
+    operands: "MATRIX.mtx",
+    summary: "Sparse Cholesky of a Matrix Market matrix, timed step by step.",
+    details: "\
+Sparse Cholesky of a symmetric positive definite Matrix Market matrix: n,
+nnz, nnz(L), flops, median times of ordering, symbolic analysis, numeric
+factorization and a 3-column solve, and the relative residual. The
+right-hand side is MATRIX.b.mtx (an n×3 array) when it exists.",
+    flags: &[
+        Flag::value(
+            "ordering",
+            "amd|natural",
+            "Fill-reducing ordering (default amd).",
+        ),
+        Flag::value(
+            "method",
+            "supernodal|simplicial",
+            "Factorization (default supernodal).",
+        ),
+        Flag::value(
+            "relax",
+            "cholmod|none",
+            "cholmod merges supernodes by CHOLMOD's rule (relaxed supernodes, storing some \
+             zeros) before the supernodal factorization; none (default) keeps the \
+             fundamental supernodes.",
+        ),
+        Flag::value(
+            "repeats",
+            "N",
+            "Runs behind each median (default: at least 5, about a second).",
+        ),
+        Flag::switch("json", "Print one JSON object instead of the table."),
+    ],
+    shorts: &[],
+    run,
+};
+
 pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(args, &["ordering", "method", "relax", "repeats"], &["json"])?;
+    let args = Args::parse(args, &COMMAND)?;
     let path = PathBuf::from(args.single_positional("MATRIX.mtx")?);
-    let ordering: Ordering = args.value_or("ordering", Ordering::Amd)?;
-    let method = parse_method(&args)?;
-    let relaxation = match args.value_or("relax", "none".to_string())?.as_str() {
-        "cholmod" => Relaxation::CHOLMOD,
-        "none" => Relaxation::NONE,
-        other => {
-            return Err(AppError::Usage(format!(
-                "--relax {other}: expected cholmod or none"
-            )))
-        }
+    let ordering = match args.choice("ordering", "amd", &["amd", "natural"])? {
+        "natural" => Ordering::Natural,
+        _ => Ordering::Amd,
     };
-    let repeats = match args.value_or("repeats", 0usize)? {
+    let method = parse_method(&args)?;
+    let relaxation = match args.choice("relax", "none", &["cholmod", "none"])? {
+        "cholmod" => Relaxation::CHOLMOD,
+        _ => Relaxation::NONE,
+    };
+    let repeats = match args.count("repeats", 0, 0)? {
         0 => Repeats::Adaptive,
         count => Repeats::Exactly(count),
     };
@@ -66,12 +103,9 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
 }
 
 fn parse_method(args: &Args) -> Result<Method, AppError> {
-    match args.value_or("method", "supernodal".to_string())?.as_str() {
-        "supernodal" => Ok(Method::Supernodal),
+    match args.choice("method", "supernodal", &["supernodal", "simplicial"])? {
         "simplicial" => Ok(Method::Simplicial),
-        other => Err(AppError::Usage(format!(
-            "--method {other}: expected supernodal or simplicial"
-        ))),
+        _ => Ok(Method::Supernodal),
     }
 }
 

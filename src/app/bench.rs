@@ -27,7 +27,7 @@
 //! series labelled with its fitted exponent. Progress goes to stderr.
 
 use super::analyze::{analyze, varied_rhs};
-use super::args::Args;
+use super::args::{Args, CommandSpec, Flag};
 use super::render::plot::{Figure, Panel, Scale, Series};
 use super::timing::{median_seconds, Repeats};
 use super::AppError;
@@ -105,16 +105,48 @@ struct BenchReport {
     slopes: Slopes,
 }
 
+/// `bench`'s flags.
+pub static COMMAND: CommandSpec = CommandSpec {
+    name: "bench",
+    operands: "",
+    summary: "Scaling benchmark on the grid-N cloths: time and memory against n.",
+    details: "\
+Scaling benchmark on the grid-N cloths (built in memory), each size in a
+fresh process: n, nnz(Q), nnz(L), flops, median times of ordering,
+symbolic analysis, numeric factorization, a 3-column solve and a full
+step, peak memory (VmHWM), the solve's bandwidth beside a measured triad
+bandwidth, and the log-log slope of each cost. Default sizes 32,100,316
+(about a minute); 1000, 2000, 3162 on request.",
+    flags: &[
+        Flag::value("sizes", "N,N,…", "Grid sides (default 32,100,316)."),
+        Flag::value("steps", "S", "Steps timed per size (default 3)."),
+        Flag::value("csv", "FILE", "Write the table as CSV."),
+        Flag::value(
+            "plot",
+            "FILE.png",
+            "Draw time and memory against n (log-log).",
+        ),
+        Flag::switch("json", "Print one JSON object instead of the table."),
+        Flag::value(
+            "one",
+            "N",
+            "Internal: measure grid-N in this process (what each child runs).",
+        ),
+    ],
+    shorts: &[],
+    run,
+};
+
 pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(args, &["sizes", "steps", "csv", "plot", "one"], &["json"])?;
-    if let Some(extra) = args.positional().first() {
+    let args = Args::parse(args, &COMMAND)?;
+    if let Some(extra) = args.positionals().first() {
         return Err(AppError::Usage(format!(
             "bench: unexpected argument '{extra}'"
         )));
     }
     let steps = steps(&args)?;
     // the hidden `--one N`: measure one size here, for the parent process
-    let side = args.value_or("one", 0usize)?;
+    let side = args.count("one", 0, 0)?;
     if side > 0 {
         let report = measure_one(side, steps)?;
         println!(
@@ -123,15 +155,12 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         );
         return Ok(());
     }
-    let sides = match args.value_or("sizes", String::new())?.as_str() {
+    let sides = match args.text("sizes").unwrap_or("") {
         "" => DEFAULT_SIDES.to_vec(),
         text => parse_sides(text)?,
     };
-    let path_of = |name: &str| {
-        args.value_or(name, String::new())
-            .map(|s| (!s.is_empty()).then(|| PathBuf::from(s)))
-    };
-    let (csv, plot) = (path_of("csv")?, path_of("plot")?);
+    let path_of = |name: &str| args.text(name).filter(|s| !s.is_empty()).map(PathBuf::from);
+    let (csv, plot) = (path_of("csv"), path_of("plot"));
     eprintln!("bench: memory bandwidth (triad)");
     let triad_gbps = triad_gbps();
     let mut sizes = Vec::with_capacity(sides.len());
@@ -217,10 +246,7 @@ fn draw_plot(path: &std::path::Path, report: &BenchReport) -> Result<(), AppErro
 }
 
 fn steps(args: &Args) -> Result<usize, AppError> {
-    match args.value_or("steps", DEFAULT_STEPS)? {
-        0 => Err(AppError::Usage("--steps must be at least 1".into())),
-        steps => Ok(steps),
-    }
+    args.count("steps", DEFAULT_STEPS, 1)
 }
 
 /// `32,100,316`: grid sides, each at least 2.

@@ -11,12 +11,10 @@
 //! iterations (plain is always run to 200 for that); writes the curves as
 //! CSV and as a two-panel plot.
 
-use super::args::Args;
-use super::convergence_flags;
-use super::convergence_plot::NamedCurve;
-use super::AppError;
+use super::args::{Args, CommandSpec, Flag};
+use super::convergence_flags::{self, ITERATIONS, PINS, RHO, WINDOW};
+use super::{load_scene, AppError};
 use masssprings::files::write_file;
-use masssprings::mesh::load_scene;
 use masssprings::sim::energy::free_norm;
 use masssprings::sim::methods::chebyshev::estimate_rho;
 use masssprings::sim::methods::Iterate;
@@ -59,6 +57,46 @@ struct Request {
 
 /// Plain iterations whose energies are the yardsticks.
 const YARDSTICKS: [usize; 2] = [50, 200];
+
+/// `converge`'s operands and flags.
+pub static COMMAND: CommandSpec = CommandSpec {
+    name: "converge",
+    operands: "SCENE.json",
+    summary: "Solve one time step by every method, iteration by iteration.",
+    details: "\
+Runs the canonical simulation (plain, 50 iterations) up to step K, then
+solves step K again with each method, up to N iterations, recording per
+iteration the energy E(p) − E(p⁰), the relative gradient and the wall time.
+Prints, per method, the iterations and milliseconds it needed to reach the
+energy of 50 and of 200 plain iterations; writes the curves as CSV and as a
+two-panel plot.",
+    flags: &[
+        Flag::value(
+            "step",
+            "K",
+            "The step to solve, counted from 1 (default 1).",
+        ),
+        Flag::value(
+            "methods",
+            "LIST",
+            "Comma-separated methods (default: plain,chebyshev,anderson,lbfgs,newton).",
+        ),
+        Flag::value("csv", "FILE", "Write the curves as CSV."),
+        Flag::value("plot", "FILE.png", "Draw the curves into a PNG."),
+        Flag::value(
+            "steps",
+            "S",
+            "Instead of one step, steps 1…S: the median time each method takes to reach \
+             plain-50's energy.",
+        ),
+        ITERATIONS,
+        RHO,
+        WINDOW,
+        PINS,
+    ],
+    shorts: &[],
+    run,
+};
 
 pub fn run(args: &[String]) -> Result<(), AppError> {
     let request = parse(args)?;
@@ -108,21 +146,10 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
 }
 
 fn parse(args: &[String]) -> Result<Request, AppError> {
-    let mut options = vec!["step", "steps", "methods", "csv", "plot"];
-    options.extend(
-        convergence_flags::OPTIONS
-            .iter()
-            .filter(|&&o| o != "method" && o != "tolerance"),
-    );
-    let args = Args::parse(args, &options, &[])?;
+    let args = Args::parse(args, &COMMAND)?;
     let scene = PathBuf::from(args.single_positional("SCENE.json")?);
-    let step: usize = args.value_or("step", 1)?;
-    if step == 0 {
-        return Err(AppError::Usage(
-            "--step counts from 1 (the first step from rest)".into(),
-        ));
-    }
-    let methods = match args.value_or("methods", String::new())? {
+    let step = args.count("step", 1, 1)?;
+    let methods = match args.text("methods").unwrap_or("").to_string() {
         list if list.is_empty() => StepMethod::ALL.to_vec(),
         list => list
             .split(',')
@@ -135,9 +162,7 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
     };
     convergence_flags::apply(&args, &mut sim_options)?;
     let path = |name: &str| -> Result<Option<PathBuf>, AppError> {
-        Ok(Some(args.value_or(name, String::new())?)
-            .filter(|s| !s.is_empty())
-            .map(PathBuf::from))
+        Ok(args.text(name).filter(|s| !s.is_empty()).map(PathBuf::from))
     };
     Ok(Request {
         scene,
@@ -150,7 +175,7 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
             pins: sim_options.pins,
             ..SimulationOptions::default()
         },
-        over_steps: match args.value_or("steps", 0usize)? {
+        over_steps: match args.count("steps", 0, 0)? {
             0 => None,
             steps => Some(steps),
         },
@@ -282,7 +307,7 @@ fn write_csv(out: &mut dyn Write, curves: &[Curve]) -> std::io::Result<()> {
 }
 
 /// Each curve as (name, [(iteration, energy, ms)]), for the plot.
-fn curves_for_plot(curves: &[Curve]) -> Vec<NamedCurve> {
+fn curves_for_plot(curves: &[Curve]) -> Vec<super::convergence_plot::PlotCurve> {
     curves
         .iter()
         .map(|c| {

@@ -1,46 +1,88 @@
 //! The flags that choose how each step is solved, shared by `simulate`,
 //! `render`, `view` and `converge`: `--method`, `--tolerance`,
-//! `--iterations`, `--rho`, `--window`, `--pins`.
+//! `--iterations`, `--rho`, `--window`, `--pins`. A command lists the ones it accepts
+//! in its flag table ([`super::args::CommandSpec`]); [`apply`] reads those
+//! that were declared.
 
-use super::args::Args;
+use super::args::{Args, Flag};
 use super::AppError;
 use masssprings::sim::simulation::SimulationOptions;
+use masssprings::sim::StepMethod;
 
-/// The option names (each takes a value).
-pub const OPTIONS: &[&str] = &["method", "tolerance", "iterations", "rho", "window", "pins"];
+pub const METHOD: Flag = Flag::value(
+    "method",
+    "M",
+    "How each step is solved: plain, chebyshev, anderson, lbfgs or newton (default plain).",
+);
+pub const TOLERANCE: Flag = Flag::value(
+    "tolerance",
+    "T",
+    "Stop a step once its relative gradient is at most T (between 0 and 1; default: run \
+     every iteration).",
+);
+pub const ITERATIONS: Flag = Flag::value(
+    "iterations",
+    "N",
+    "The most iterations a step may take (default 50).",
+);
+pub const RHO: Flag = Flag::value(
+    "rho",
+    "R",
+    "Chebyshev's spectral radius, between 0 and 1 (default: estimated).",
+);
+pub const WINDOW: Flag = Flag::value(
+    "window",
+    "W",
+    "Anderson's and L-BFGS's history length, 1 to 100.",
+);
 
-/// Sets `options` from the flags that were given.
+pub const PINS: Flag = Flag::value(
+    "pins",
+    "P",
+    "penalty (the assignment's w = 1e10, default) or exact (pinned vertices removed from the \
+     unknowns).",
+);
+
+/// Sets `options` from the flags that were given (among those the command
+/// declares).
 ///
 /// # Errors
 /// A usage error for an unknown method or a value out of range.
 pub fn apply(args: &Args, options: &mut SimulationOptions) -> Result<(), AppError> {
-    options.method = args.value_or("method", options.method)?;
-    options.pins = args.value_or("pins", options.pins)?;
-    options.iterations = args.value_or("iterations", options.iterations)?;
-    let tolerance: f64 = args.value_or("tolerance", f64::NAN)?;
-    if !tolerance.is_nan() {
-        if !(tolerance > 0.0 && tolerance < 1.0) {
-            return Err(AppError::Usage(format!(
-                "--tolerance expects a number between 0 and 1 (a relative gradient), got {tolerance}"
-            )));
-        }
-        options.tolerance = Some(tolerance);
+    if args.declares("method") {
+        let names = StepMethod::ALL.map(StepMethod::name);
+        let name = args.choice("method", options.method.name(), &names)?;
+        options.method = name.parse().map_err(AppError::Usage)?;
     }
-    let rho: f64 = args.value_or("rho", f64::NAN)?;
-    if !rho.is_nan() {
-        if !(rho > 0.0 && rho < 1.0) {
-            return Err(AppError::Usage(format!(
-                "--rho expects a spectral radius between 0 and 1, got {rho}"
-            )));
-        }
-        options.rho = Some(rho);
+    if args.declares("pins") {
+        let name = args.choice("pins", "penalty", &["penalty", "exact"])?;
+        options.pins = name.parse().map_err(AppError::Usage)?;
     }
-    options.window = args.value_or("window", options.window)?;
-    if options.window == 0 || options.window > 100 {
-        return Err(AppError::Usage(format!(
-            "--window expects a history length from 1 to 100, got {}",
-            options.window
-        )));
+    if args.declares("iterations") {
+        options.iterations = args.count("iterations", options.iterations, 1)?;
+    }
+    if args.declares("tolerance") {
+        options.tolerance =
+            open_unit_interval(args, "tolerance", "a relative gradient")?.or(options.tolerance);
+    }
+    if args.declares("rho") {
+        options.rho = open_unit_interval(args, "rho", "a spectral radius")?.or(options.rho);
+    }
+    if args.declares("window") {
+        options.window = args.whole_number("window", options.window as u64, 1..=100)? as usize;
     }
     Ok(())
+}
+
+/// `--name` as a number strictly between 0 and 1, if given.
+fn open_unit_interval(args: &Args, name: &str, what: &str) -> Result<Option<f64>, AppError> {
+    let Some(text) = args.text(name) else {
+        return Ok(None);
+    };
+    match text.trim().parse::<f64>() {
+        Ok(value) if value > 0.0 && value < 1.0 => Ok(Some(value)),
+        _ => Err(AppError::Usage(format!(
+            "--{name} expects {what} between 0 and 1, got '{text}'"
+        ))),
+    }
 }

@@ -14,16 +14,15 @@ use super::render::plot::{Figure, Panel, Scale, Series};
 use super::AppError;
 use std::path::Path;
 
-/// One method's curve: its name and `(iteration, E(p) − E(p⁰), ms)` per
-/// iterate.
-pub type NamedCurve = (String, Vec<(f64, f64, f64)>);
+/// A method's name and its points (iteration, energy gap, milliseconds).
+pub type PlotCurve = (String, Vec<(f64, f64, f64)>);
 
-/// Draws `curves` into
+/// Draws `curves` — `(method, [(iteration, E(p) − E(p⁰), ms)])` — into
 /// `path` as a PNG.
 ///
 /// # Errors
 /// When the file cannot be written.
-pub fn draw(path: &Path, scene: &str, step: usize, curves: &[NamedCurve]) -> Result<(), AppError> {
+pub fn draw(path: &Path, scene: &str, step: usize, curves: &[PlotCurve]) -> Result<(), AppError> {
     let best = curves
         .iter()
         .flat_map(|(_, points)| points.iter().map(|p| p.1))

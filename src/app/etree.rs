@@ -4,10 +4,10 @@
 //! its own colour, its columns joined by a band. Prints `n`, the height of
 //! the tree and the number of supernodes.
 
-use super::args::Args;
+use super::args::{Args, CommandSpec, Flag};
 use super::render::encode::write_png;
 use super::render::sparsity::{depths, elimination_tree};
-use super::spy::{file_name, load_lower, required_out, short_out};
+use super::spy::{file_name, load_lower, required_out};
 use super::AppError;
 use masssprings::files::write_file;
 use masssprings::linalg::sparse::{Ordering, SymbolicCholesky};
@@ -16,12 +16,30 @@ use std::path::PathBuf;
 /// Larger trees are a smudge at any size; `spy` suits them better.
 const MAX_COLUMNS: usize = 4096;
 
+/// `etree`'s operands and flags.
+pub static COMMAND: CommandSpec = CommandSpec {
+    name: "etree",
+    operands: "MATRIX.mtx|SCENE.json -o OUT.png",
+    summary: "Draw the elimination tree of Q with its supernodes.",
+    details: "\
+Draws the elimination tree of Q in the order the factorization uses, each
+supernode in its own colour (at most 4096 columns). Prints the tree's
+height and the number of supernodes.",
+    flags: &[
+        Flag::value("out", "OUT.png", "The picture to write (required)."),
+        Flag::value("ordering", "amd|natural", "The ordering (default amd)."),
+        Flag::value("size", "WxH", "Picture size (default 720x360)."),
+    ],
+    shorts: &[('o', "out")],
+    run,
+};
+
 pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(&short_out(args), &["ordering", "out", "size"], &[])?;
+    let args = Args::parse(args, &COMMAND)?;
     let path = PathBuf::from(args.single_positional("MATRIX.mtx|SCENE.json")?);
     let out = required_out(&args, "etree", "OUT.png")?;
-    let (width, height) = parse_size(&args.value_or("size", "720x360".to_string())?)?;
-    let ordering: Ordering = args.value_or("ordering", Ordering::Amd)?;
+    let (width, height) = parse_size(args.text("size").unwrap_or("720x360"))?;
+    let ordering: Ordering = args.parsed("ordering", Ordering::Amd, "amd or natural")?;
     let lower = load_lower(&path)?;
     if lower.ncols() > MAX_COLUMNS {
         return Err(AppError::Failed(format!(

@@ -4,8 +4,8 @@
 //! `masssprings analyze Q.mtx` (and any other sparse solver) can be tried
 //! on any scene.
 
-use super::args::Args;
-use super::spy::{required_out, scene_q, short_out};
+use super::args::{Args, CommandSpec, Flag};
+use super::spy::{required_out, scene_q};
 use super::AppError;
 use masssprings::files::write_file;
 use masssprings::linalg::matrix_market::{write_coordinate, Symmetry};
@@ -14,8 +14,21 @@ use masssprings::mesh::load_scene;
 use masssprings::sim::PIN_WEIGHT;
 use std::path::PathBuf;
 
+/// `export-q`'s operands and flags.
+pub static COMMAND: CommandSpec = CommandSpec {
+    name: "export-q",
+    operands: "SCENE.json -o Q.mtx",
+    summary: "Write a scene's Q as a Matrix Market file, for analyze.",
+    details: "\
+Writes the scene's Q = k AᵀA + M/Δt² + w CᵀC, as the simulation builds it,
+as a Matrix Market file (lower triangle) that analyze reads.",
+    flags: &[Flag::value("out", "Q.mtx", "The file to write (required).")],
+    shorts: &[('o', "out")],
+    run,
+};
+
 pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(&short_out(args), &["out"], &[])?;
+    let args = Args::parse(args, &COMMAND)?;
     let scene_path = PathBuf::from(args.single_positional("SCENE.json")?);
     let out = required_out(&args, "export-q", "Q.mtx")?;
     let scene = load_scene(&scene_path)?;

@@ -7,19 +7,36 @@
 //! (`up_looking.rs`), then plain forward and back substitution
 //! (`triangular_solve.rs`).
 
-use super::args::Args;
+use super::args::{Args, Flag};
 use super::AppError;
 use masssprings::sim::simulation::SimulationOptions;
 
-/// The option names (each takes a value).
-pub const OPTIONS: &[&str] = &["ordering", "factorization"];
+pub const ORDERING: Flag = Flag::value(
+    "ordering",
+    "amd|natural",
+    "The sparse Q's fill-reducing ordering (default amd; natural: the textbook path).",
+);
+pub const FACTORIZATION: Flag = Flag::value(
+    "factorization",
+    "supernodal|simplicial",
+    "The sparse Q's factorization and solves (default supernodal; simplicial: the textbook \
+     row-by-row method).",
+);
 
 /// Sets `options` from the flags that were given.
 ///
 /// # Errors
 /// A usage error for an unknown ordering or factorization.
 pub fn apply(args: &Args, options: &mut SimulationOptions) -> Result<(), AppError> {
-    options.ordering = args.value_or("ordering", options.ordering)?;
-    options.factorization = args.value_or("factorization", options.factorization)?;
+    if args.declares("ordering") {
+        options.ordering = args.parsed("ordering", options.ordering, "amd or natural")?;
+    }
+    if args.declares("factorization") {
+        options.factorization = args.parsed(
+            "factorization",
+            options.factorization,
+            "supernodal or simplicial",
+        )?;
+    }
     Ok(())
 }

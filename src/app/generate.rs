@@ -4,39 +4,62 @@
 //! Each file is written all or nothing: into a temporary file in `DIR`,
 //! renamed into place once complete (`masssprings::files::write_file`).
 
-use super::args::Args;
+use super::args::{Args, CommandSpec, Flag};
 use super::render::encode::write_png;
+use super::suggest::nearest;
 use super::AppError;
 use masssprings::files::write_file;
 use masssprings::mesh::procedural::{self, GeneratedScene};
 use std::fs;
 use std::path::{Path, PathBuf};
 
+/// `generate`'s operands and flags.
+pub static COMMAND: CommandSpec = CommandSpec {
+    name: "generate",
+    operands: "grid N | examples",
+    summary: "Write the benchmark cloth grid-N, or the five bundled scenes.",
+    details: "\
+generate grid N writes DIR/grid-N.json and .obj: the N×N cloth of the
+benchmarks, the same bytes as the reference tool's `ref grid N`.
+generate examples writes the five teaching scenes (single-spring-horizontal,
+horizontal-chain, net, flag, skirt) and their PNG textures, as in data/.",
+    flags: &[Flag::value(
+        "out",
+        "DIR",
+        "Folder to write into (default .).",
+    )],
+    shorts: &[],
+    run,
+};
+
 pub fn run(args: &[String]) -> Result<(), AppError> {
-    let (scenes, options) = match args.first().map(String::as_str) {
-        Some("grid") => {
-            let options = Args::parse(&args[1..], &["out"], &[])?;
-            let n = grid_size(options.single_positional("N (the grid's side)")?)?;
-            (vec![procedural::grid(n)], options)
+    let options = Args::parse(args, &COMMAND)?;
+    let scenes = match options.positionals() {
+        [what, n] if what == "grid" => vec![procedural::grid(grid_size(n)?)],
+        [what] if what == "grid" => {
+            return Err(AppError::Usage(
+                "generate grid needs N, the grid's side".into(),
+            ))
         }
-        Some("examples") => {
-            // The only positional argument must be `examples` itself.
-            let options = Args::parse(args, &["out"], &[])?;
-            options.single_positional("examples")?;
-            (procedural::examples(), options)
-        }
-        Some(other) => {
-            return Err(AppError::Usage(format!(
-                "generate {other}: expected `grid N` or `examples`"
-            )))
-        }
-        None => {
+        [what] if what == "examples" => procedural::examples(),
+        [] => {
             return Err(AppError::Usage(
                 "generate what? `grid N` or `examples`".into(),
             ))
         }
+        [what, extra, ..] if what == "grid" || what == "examples" => {
+            return Err(AppError::Usage(format!("unexpected argument '{extra}'")))
+        }
+        [other, ..] => {
+            let hint = nearest(other, ["grid", "examples"])
+                .map(|word| format!("; did you mean {word}?"))
+                .unwrap_or_default();
+            return Err(AppError::Usage(format!(
+                "generate {other}: expected `grid N` or `examples`{hint}"
+            )));
+        }
     };
-    let folder = PathBuf::from(options.value_or("out", ".".to_string())?);
+    let folder = PathBuf::from(options.text("out").unwrap_or("."));
     fs::create_dir_all(&folder)
         .map_err(|e| AppError::Failed(format!("{}: {e}", folder.display())))?;
     for scene in &scenes {
@@ -50,7 +73,7 @@ fn grid_size(text: &str) -> Result<usize, AppError> {
     match text.parse::<usize>() {
         Ok(n) if n >= 2 => Ok(n),
         _ => Err(AppError::Usage(format!(
-            "grid {text}: N must be an integer ≥ 2"
+            "generate grid expects N, a whole number ≥ 2, got '{text}'"
         ))),
     }
 }

@@ -11,11 +11,18 @@ mod etree;
 mod export_q;
 mod factorization_flags;
 mod generate;
+mod progress;
 mod render;
 mod simulate;
 mod spy;
+mod suggest;
 mod timing;
 mod view;
+
+use args::CommandSpec;
+use masssprings::mesh::Scene;
+use std::io::Read;
+use std::path::Path;
 
 /// What went wrong, and whether it was the way the program was called.
 #[derive(Debug)]
@@ -32,103 +39,134 @@ impl<E: std::error::Error> From<E> for AppError {
     }
 }
 
-const USAGE: &str = "\
-usage: masssprings <command> [options]
+/// Reads a scene, first making sure the file is one: a scene is JSON that
+/// names an OBJ, and an OBJ (or anything else) given in its place gets a
+/// sentence saying so rather than a JSON parser's complaint.
+///
+/// # Errors
+/// That sentence, or the scene reader's error (file, line, problem).
+pub fn load_scene(path: &Path) -> Result<Scene, AppError> {
+    if !looks_like_json(path) {
+        return Err(AppError::Failed(format!(
+            "{} is not a scene file: scenes are JSON that name an OBJ; see data/README.md",
+            path.display()
+        )));
+    }
+    Ok(masssprings::mesh::load_scene(path)?)
+}
 
-commands:
-  analyze MATRIX.mtx [--ordering amd|natural] [--method supernodal|simplicial]
-                     [--relax cholmod|none] [--repeats N] [--json]
-      Sparse Cholesky of a symmetric positive definite Matrix Market matrix:
-      n, nnz, nnz(L), flops, median times of ordering, symbolic analysis,
-      numeric factorization and a 3-column solve, and the relative residual.
-      The right-hand side is MATRIX.b.mtx (an n×3 array) when it exists.
-      --relax cholmod merges supernodes by CHOLMOD's rule (relaxed
-      supernodes, storing some zeros) before the supernodal factorization;
-      the default, none, keeps the fundamental supernodes.
-  bench [--sizes 32,100,316] [--steps S] [--csv OUT.csv] [--plot OUT.png]
-        [--json]
-      Scaling benchmark on the grid-N cloths (built in memory), each size in
-      a fresh process: n, nnz(Q), nnz(L), flops, median times of ordering,
-      symbolic analysis, numeric factorization, a 3-column solve and a full
-      step (S steps, default 3), peak memory (VmHWM), the solve's bandwidth
-      beside a measured triad bandwidth, and the log-log slope of each cost;
-      --plot draws them (time and memory against n, log-log).
-      Default sizes 32,100,316 (about a minute); 1000, 2000, 3162 on request.
-  export-q SCENE.json -o Q.mtx
-      Writes the scene's Q = k AᵀA + M/Δt² + w CᵀC, as the simulation
-      builds it, as a Matrix Market file (lower triangle) for analyze.
-  generate grid N [--out DIR]
-      Writes DIR/grid-N.json and .obj (DIR defaults to .): the N×N cloth of
-      the benchmarks, the same bytes as the reference tool's `ref grid N`.
-  generate examples [--out DIR]
-      Writes the five teaching scenes (single-spring-horizontal,
-      horizontal-chain, net, flag, skirt) and their PNG textures.
-  simulate SCENE.json [--dense] [--steps N] [--every K] [--out DIR] [--wind]
-                      [--ordering amd|natural]
-                      [--factorization supernodal|simplicial] [--json]
-      Runs the simulation (sparse unless --dense) for N steps (default 100).
-      The sparse Q is ordered by AMD and factored by supernodes unless
-      --ordering/--factorization say otherwise; `--ordering natural
-      --factorization simplicial` runs the textbook code end to end.
-      With --out, writes DIR/frame-NNNNNN.obj for step 0 and every K-th step.
-      Ends with n, springs, precomputation time and the median step time.
-  render SCENE.json -o OUT.gif|OUT.png [--steps N] [--every K] [--size WxH]
-                    [--dense] [--wind] [--springs]
-      Simulates N steps (default 100) and draws step 0 and every K-th step
-      (default 2) with the viewer's look into a looping GIF that plays in
-      real time, or draws the last step into a PNG. Size default 480x360.
-      Cloths show their surface and pins; --springs adds every spring and
-      point mass (always drawn for scenes made only of springs).
-  view SCENE.json [--port P] [--address ADDR] [--dense]
-                  [--ordering amd|natural]
-                  [--factorization supernodal|simplicial]
-      Serves an interactive viewer on http://127.0.0.1:P/ (P defaults to
-      8080, 0 picks a free port; --address serves on another address) and
-      prints its URL. The simulation runs here in real time; the page draws
-      it with WebGL. Keys: space step, A animate, L springs, R reset,
-      W wind; drag to orbit, wheel to zoom, shift-drag to pull a vertex.
-      Ctrl-C stops it.
-  spy MATRIX.mtx|SCENE.json -o OUT.png [--ordering amd|natural] [--factor]
-                            [--size S]
-      Draws the pattern of Q (a scene's, or a Matrix Market matrix's lower
-      triangle mirrored) in the order the factorization uses (AMD unless
-      --ordering natural), or with --factor that of its Cholesky factor L,
-      fill-in in orange; S pixels a side (default 480). Prints n, nnz and
-      the fill nnz(L)/nnz(tril Q).
-  etree MATRIX.mtx|SCENE.json -o OUT.png [--ordering amd|natural]
-                              [--size WxH]
-      Draws the elimination tree of Q in the same order, each supernode in
-      its own colour (default 720x360; at most 4096 columns). Prints the
-      tree's height and the number of supernodes.
-  help
-      This text.
-";
+/// Does the file start (after white space and a byte-order mark) with `{`?
+/// True when it cannot be read or is empty: the reader then says why.
+fn looks_like_json(path: &Path) -> bool {
+    let mut start = [0u8; 512];
+    let Ok(read) = std::fs::File::open(path).and_then(|mut file| file.read(&mut start)) else {
+        return true;
+    };
+    let text = start[..read]
+        .strip_prefix(b"\xef\xbb\xbf")
+        .unwrap_or(&start[..read]);
+    match text.iter().find(|byte| !byte.is_ascii_whitespace()) {
+        None => true,
+        Some(&first) => first == b'{',
+    }
+}
+
+/// Every command, in the order `masssprings help` lists them. Each
+/// command's flags live in its own file, in its `COMMAND` table.
+const COMMANDS: &[&CommandSpec] = &[
+    &simulate::COMMAND,
+    &render::COMMAND,
+    &view::COMMAND,
+    &converge::COMMAND,
+    &analyze::COMMAND,
+    &bench::COMMAND,
+    &export_q::COMMAND,
+    &spy::COMMAND,
+    &etree::COMMAND,
+    &generate::COMMAND,
+];
+
+/// `masssprings help`, generated from [`COMMANDS`].
+fn usage() -> String {
+    let mut text = format!(
+        "masssprings {}: fast simulation of mass-spring systems (Liu et al. 2013)\n\n\
+         usage: masssprings COMMAND [options]\n\ncommands:\n",
+        env!("CARGO_PKG_VERSION")
+    );
+    for command in COMMANDS {
+        args::push_entry(
+            &mut text,
+            &format!("{} {}", command.name, command.operands),
+            command.summary,
+        );
+    }
+    args::push_entry(
+        &mut text,
+        "help [COMMAND]",
+        "This text, or a command's options.",
+    );
+    args::push_entry(&mut text, "--version", "The version.");
+    text.push_str(
+        "\n`masssprings help COMMAND` or `masssprings COMMAND --help` shows a command's options.\n",
+    );
+    text
+}
+
+fn find_command(name: &str) -> Result<&'static CommandSpec, AppError> {
+    if let Some(command) = COMMANDS.iter().find(|command| command.name == name) {
+        return Ok(command);
+    }
+    let names = COMMANDS.iter().map(|command| command.name);
+    let hint = suggest::nearest(name, names.chain(["help"]))
+        .map(|name| format!("; did you mean {name}?"))
+        .unwrap_or_default();
+    Err(AppError::Usage(format!("unknown command '{name}'{hint}")))
+}
+
+/// Asks for help: `-h` or `--help` among the arguments (before a `--`).
+fn asks_for_help(args: &[String]) -> bool {
+    args.iter()
+        .take_while(|arg| *arg != "--")
+        .any(|arg| arg == "-h" || arg == "--help")
+}
+
+/// Runs one command line; help goes to standard output.
+fn dispatch(args: &[String]) -> Result<(), AppError> {
+    match args.first().map(String::as_str) {
+        None => Err(AppError::Usage("no command given".into())),
+        Some("help" | "--help" | "-h") => {
+            match args.get(1) {
+                None => print!("{}", usage()),
+                Some(name) => print!("{}", find_command(name)?.help()),
+            }
+            Ok(())
+        }
+        Some("--version" | "-V" | "version") => {
+            println!("masssprings {}", env!("CARGO_PKG_VERSION"));
+            Ok(())
+        }
+        Some(name) => {
+            let command = find_command(name)?;
+            if asks_for_help(&args[1..]) {
+                print!("{}", command.help());
+                return Ok(());
+            }
+            (command.run)(&args[1..])
+        }
+    }
+}
 
 /// Runs the command line `args` (without the program name); returns the
 /// exit code.
 pub fn run(args: &[String]) -> i32 {
-    let result = match args.first().map(String::as_str) {
-        Some("analyze") => analyze::run(&args[1..]),
-        Some("bench") => bench::run(&args[1..]),
-        Some("export-q") => export_q::run(&args[1..]),
-        Some("spy") => spy::run(&args[1..]),
-        Some("etree") => etree::run(&args[1..]),
-        Some("simulate") => simulate::run(&args[1..]),
-        Some("generate") => generate::run(&args[1..]),
-        Some("view") => view::run(&args[1..]),
-        Some("render") => render::run(&args[1..]),
-        Some("converge") => converge::run(&args[1..]),
-        Some("help" | "--help" | "-h") => {
-            print!("{USAGE}");
-            Ok(())
-        }
-        Some(other) => Err(AppError::Usage(format!("unknown command '{other}'"))),
-        None => Err(AppError::Usage("no command given".into())),
-    };
-    match result {
+    match dispatch(args) {
         Ok(()) => 0,
         Err(AppError::Usage(message)) => {
-            eprintln!("masssprings: {message}\n(see `masssprings help`)");
+            let see = match args.first().and_then(|name| find_command(name).ok()) {
+                Some(command) => format!("masssprings {} --help", command.name),
+                None => "masssprings help".to_string(),
+            };
+            eprintln!("masssprings: {message}\n(see `{see}`)");
             2
         }
         Err(AppError::Failed(message)) => {

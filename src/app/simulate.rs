@@ -1,13 +1,14 @@
 //! `masssprings simulate SCENE.json`: run the simulation headless, write
 //! OBJ frames, report timings.
 
-use super::args::Args;
-use super::convergence_flags;
-use super::factorization_flags;
+use super::args::{Args, CommandSpec, Flag};
+use super::convergence_flags::{self, ITERATIONS, METHOD, PINS, RHO, TOLERANCE, WINDOW};
+use super::factorization_flags::{self, FACTORIZATION, ORDERING};
+use super::progress::{duration, Progress};
 use super::timing::median;
-use super::AppError;
+use super::{load_scene, AppError};
 use masssprings::files::write_file;
-use masssprings::mesh::{load_scene, Scene};
+use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Dense, LinearAlgebra, Simulation, Sparse};
 use std::io::{self, Write};
@@ -22,6 +23,8 @@ struct Summary {
     steps: usize,
     precompute_s: f64,
     step_median_s: f64,
+    /// Wall-clock time of the whole run: precomputation, steps, frames.
+    total_s: f64,
     backend: &'static str,
     /// How each step was solved, and how well.
     method: &'static str,
@@ -35,26 +38,69 @@ struct Run {
     steps: usize,
     every: usize,
     out: Option<PathBuf>,
+    /// Digits after the decimal point in frame files; `None`: the shortest
+    /// form that reads back to the same `f64`.
+    precision: Option<usize>,
     progress: bool,
 }
 
+/// `simulate`'s operands and flags.
+pub static COMMAND: CommandSpec = CommandSpec {
+    name: "simulate",
+    operands: "SCENE.json",
+    summary: "Run a scene headless, write OBJ frames, report timings.",
+    details: "\
+Runs the simulation (sparse unless --dense) for N steps. With --out, writes
+DIR/frame-NNNNNN.obj for step 0 and every K-th step (with DIR/NAME.mtl and
+the texture when the scene has one, so Blender shows it). Shows progress on
+standard error; ends with n, springs, precomputation time, the median step
+time and the total time.",
+    flags: &[
+        Flag::value("steps", "N", "Time steps to run (default 100)."),
+        Flag::value("every", "K", "Write every K-th step (default 1)."),
+        Flag::value("out", "DIR", "Write OBJ frames into DIR."),
+        Flag::value(
+            "precision",
+            "D",
+            "Digits after the decimal point of the positions in the frames (default: as \
+             many as it takes to read back the same f64).",
+        ),
+        Flag::switch(
+            "dense",
+            "Dense matrices and Cholesky (the assignment's dense path).",
+        ),
+        Flag::switch("wind", "Add the assignment viewer's wind to gravity."),
+        Flag::switch(
+            "json",
+            "Print one JSON object instead of the table (no progress).",
+        ),
+        METHOD,
+        TOLERANCE,
+        ITERATIONS,
+        RHO,
+        WINDOW,
+        PINS,
+        ORDERING,
+        FACTORIZATION,
+    ],
+    shorts: &[],
+    run,
+};
+
 pub fn run(args: &[String]) -> Result<(), AppError> {
-    let mut options = vec!["steps", "every", "out"];
-    options.extend(convergence_flags::OPTIONS);
-    options.extend(factorization_flags::OPTIONS);
-    let args = Args::parse(args, &options, &["dense", "wind", "json"])?;
+    let args = Args::parse(args, &COMMAND)?;
     let scene_path = PathBuf::from(args.single_positional("SCENE.json")?);
+    let precision = match args.text("precision") {
+        None => None,
+        Some(_) => Some(args.whole_number("precision", 17, 0..=17)? as usize),
+    };
     let run = Run {
-        steps: args.value_or("steps", 100usize)?,
-        every: args.value_or("every", 1usize)?,
-        out: args
-            .value_or("out", String::new())
-            .map(|s| (!s.is_empty()).then(|| PathBuf::from(s)))?,
+        steps: args.count("steps", 100, 0)?,
+        every: args.count("every", 1, 1)?,
+        out: args.text("out").map(PathBuf::from),
+        precision,
         progress: !args.switch("json"),
     };
-    if run.every == 0 {
-        return Err(AppError::Usage("--every must be at least 1".into()));
-    }
     let scene = load_scene(&scene_path)?;
     let mut options = SimulationOptions {
         wind: args.switch("wind"),
@@ -87,14 +133,26 @@ fn simulate<B: LinearAlgebra>(
     let started = Instant::now();
     let mut simulation = Simulation::<B>::from_scene(scene, options)?;
     let precompute_s = started.elapsed().as_secs_f64();
-    if let Some(folder) = &run.out {
-        std::fs::create_dir_all(folder)
-            .map_err(|e| AppError::Failed(format!("{}: {e}", folder.display())))?;
-        write_frame(folder, 0, scene, simulation.positions())?;
-    }
-    let mut step_times = Vec::new();
+    let material = match &run.out {
+        Some(folder) => {
+            std::fs::create_dir_all(folder)
+                .map_err(|e| AppError::Failed(format!("{}: {e}", folder.display())))?;
+            let material = write_material(folder, scene)?;
+            write_frame(
+                folder,
+                0,
+                scene,
+                simulation.positions(),
+                run,
+                material.as_deref(),
+            )?;
+            material
+        }
+        None => None,
+    };
+    let mut step_times = Vec::with_capacity(run.steps);
     let (mut iterations, mut gradients) = (Vec::new(), Vec::new());
-    let mut last_report = Instant::now();
+    let mut progress = Progress::new(run.steps, run.progress);
     for step in 1..=run.steps {
         let t = Instant::now();
         let report = simulation
@@ -105,24 +163,20 @@ fn simulate<B: LinearAlgebra>(
         gradients.push(report.relative_gradient);
         if let Some(folder) = &run.out {
             if step.is_multiple_of(run.every) {
-                write_frame(folder, step, scene, simulation.positions())?;
+                let positions = simulation.positions();
+                write_frame(folder, step, scene, positions, run, material.as_deref())?;
             }
         }
-        if run.progress && last_report.elapsed().as_secs_f64() > 1.0 {
-            eprintln!(
-                "step {step}/{} ({:.1} ms/step)",
-                run.steps,
-                1e3 * step_times.last().copied().unwrap_or(0.0)
-            );
-            last_report = Instant::now();
-        }
+        progress.step_done(step);
     }
+    progress.finish();
     Ok(Summary {
         n: scene.vertices.len(),
         springs: scene.springs.len(),
         steps: run.steps,
         precompute_s,
         step_median_s: median(&mut step_times),
+        total_s: started.elapsed().as_secs_f64(),
         backend: B::NAME,
         method: options.method.name(),
         tolerance: options.tolerance,
@@ -131,29 +185,79 @@ fn simulate<B: LinearAlgebra>(
     })
 }
 
-/// `folder/frame-NNNNNN.obj`: the positions (shortest decimal form that
-/// reads back to the same `f64`) and the scene's faces, written all or
-/// nothing.
+/// The material of the frames, when the scene has a texture and texture
+/// coordinates: writes `folder/NAME.mtl` (one material, `map_Kd` the
+/// texture) and a copy of the texture beside it, and returns the material's
+/// name.
+fn write_material(folder: &Path, scene: &Scene) -> Result<Option<String>, AppError> {
+    let Some(texture) = &scene.texture else {
+        return Ok(None);
+    };
+    if scene.face_texture_coords.is_empty() {
+        return Ok(None);
+    }
+    let Some(texture_name) = texture.file_name() else {
+        return Ok(None);
+    };
+    let bytes = std::fs::read(texture)
+        .map_err(|e| AppError::Failed(format!("{}: {e}", texture.display())))?;
+    write_file(&folder.join(texture_name), |out| out.write_all(&bytes))?;
+    let name = scene.name.clone();
+    write_file(&folder.join(format!("{name}.mtl")), |out| {
+        writeln!(out, "# {name} — masssprings frames")?;
+        writeln!(out, "newmtl {name}")?;
+        writeln!(out, "Kd 1 1 1")?;
+        writeln!(out, "map_Kd {}", texture_name.to_string_lossy())
+    })?;
+    Ok(Some(name))
+}
+
+/// `folder/frame-NNNNNN.obj`: the positions and the scene's faces, written
+/// all or nothing.
 fn write_frame(
     folder: &Path,
     step: usize,
     scene: &Scene,
     positions: &[[f64; 3]],
+    run: &Run,
+    material: Option<&str>,
 ) -> Result<(), AppError> {
     let path = folder.join(format!("frame-{step:06}.obj"));
-    write_file(&path, |out| write_obj(out, scene, positions))?;
+    write_file(&path, |out| {
+        write_obj(out, scene, positions, run.precision, material)
+    })?;
     Ok(())
 }
 
-/// An OBJ with `v` lines for `positions`, the scene's `vt` lines, and its
-/// faces (with texture indices when the scene has them).
-fn write_obj(out: &mut dyn Write, scene: &Scene, positions: &[[f64; 3]]) -> io::Result<()> {
+/// An OBJ with `v` lines for `positions` (with `precision` digits after the
+/// point, or the shortest decimal form that reads back to the same `f64`),
+/// the scene's `vt` lines, the material, and the faces (with texture indices
+/// when the scene has them).
+fn write_obj(
+    out: &mut dyn Write,
+    scene: &Scene,
+    positions: &[[f64; 3]],
+    precision: Option<usize>,
+    material: Option<&str>,
+) -> io::Result<()> {
     writeln!(out, "# {} — masssprings frame", scene.name)?;
+    if let Some(material) = material {
+        writeln!(out, "mtllib {material}.mtl")?;
+    }
     for p in positions {
-        writeln!(out, "v {} {} {}", p[0], p[1], p[2])?;
+        match precision {
+            None => writeln!(out, "v {} {} {}", p[0], p[1], p[2])?,
+            Some(d) => {
+                let [x, y, z] = p.map(|x| without_negative_zero(x, d));
+                writeln!(out, "v {x:.d$} {y:.d$} {z:.d$}")?;
+            }
+        }
     }
     for uv in &scene.texture_coords {
         writeln!(out, "vt {} {}", uv[0], uv[1])?;
+    }
+    if let Some(material) = material {
+        writeln!(out, "usemtl {material}")?;
     }
     let textured = !scene.face_texture_coords.is_empty();
     for (f, face) in scene.faces.iter().enumerate() {
@@ -175,6 +279,15 @@ fn write_obj(out: &mut dyn Write, scene: &Scene, positions: &[[f64; 3]]) -> io::
     Ok(())
 }
 
+/// `x`, or 0 when it rounds to zero at `digits` digits (no `-0.000`).
+fn without_negative_zero(x: f64, digits: usize) -> f64 {
+    if x.abs() < 0.5 * 10f64.powi(-(digits as i32)) {
+        0.0
+    } else {
+        x
+    }
+}
+
 fn print_summary(scene_path: &Path, s: &Summary) {
     println!("scene            {}", scene_path.display());
     println!("vertices         {}", s.n);
@@ -190,4 +303,5 @@ fn print_summary(scene_path: &Path, s: &Summary) {
         "rel. gradient    {:.3e} at the end of a step (median)",
         s.relative_gradient_median
     );
+    println!("total            {}", duration(s.total_s));
 }

@@ -6,7 +6,7 @@
 //! `nnz(L) / nnz(lower triangle of Q)`.
 
 use super::analyze::read_symmetric_lower;
-use super::args::Args;
+use super::args::{Args, CommandSpec, Flag};
 use super::render::encode::write_png;
 use super::render::sparsity::{spy, Mark};
 use super::AppError;
@@ -31,11 +31,31 @@ struct Picture {
     factor: bool,
 }
 
+/// `spy`'s operands and flags.
+pub static COMMAND: CommandSpec = CommandSpec {
+    name: "spy",
+    operands: "MATRIX.mtx|SCENE.json -o OUT.png",
+    summary: "Draw the sparsity pattern of Q or of its Cholesky factor L.",
+    details: "\
+Draws the pattern of Q (a scene's, or a Matrix Market matrix's lower
+triangle mirrored) in the order the factorization uses (AMD unless
+--ordering natural), or with --factor that of its Cholesky factor L,
+fill-in in orange. Prints n, nnz and the fill nnz(L)/nnz(tril Q).",
+    flags: &[
+        Flag::value("out", "OUT.png", "The picture to write (required)."),
+        Flag::value("ordering", "amd|natural", "The ordering (default amd)."),
+        Flag::switch("factor", "Draw L instead of Q."),
+        Flag::value("size", "S", "Pixels a side, 16 to 4096 (default 480)."),
+    ],
+    shorts: &[('o', "out")],
+    run,
+};
+
 pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(&short_out(args), &["ordering", "out", "size"], &["factor"])?;
+    let args = Args::parse(args, &COMMAND)?;
     let path = PathBuf::from(args.single_positional("MATRIX.mtx|SCENE.json")?);
     let out = required_out(&args, "spy", "OUT.png")?;
-    let size: usize = args.value_or("size", DEFAULT_SIZE)?;
+    let size: usize = args.parsed("size", DEFAULT_SIZE, "a whole number of pixels")?;
     if !(16..=4096).contains(&size) {
         return Err(AppError::Usage(format!(
             "--size {size}: expected 16 to 4096 pixels"
@@ -43,7 +63,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     }
     let picture = Picture {
         label: file_name(&path),
-        ordering: args.value_or("ordering", Ordering::Amd)?,
+        ordering: args.parsed("ordering", Ordering::Amd, "amd or natural")?,
         factor: args.switch("factor"),
     };
     let lower = load_lower(&path)?;
@@ -148,17 +168,10 @@ pub fn scene_q(scene: &Scene) -> Result<CscMatrix, AppError> {
     Ok(system.Q)
 }
 
-/// `-o FILE` is the short form of `--out FILE`.
-pub fn short_out(args: &[String]) -> Vec<String> {
-    args.iter()
-        .map(|a| if a == "-o" { "--out".into() } else { a.clone() })
-        .collect()
-}
-
 /// The value of `--out`, which `command` requires (`file` names it in the
 /// message).
 pub fn required_out(args: &Args, command: &str, file: &str) -> Result<PathBuf, AppError> {
-    let out = args.value_or("out", String::new())?;
+    let out = args.text("out").unwrap_or("");
     if out.is_empty() {
         return Err(AppError::Usage(format!("{command} needs -o {file}")));
     }

@@ -134,6 +134,55 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
         Ok(())
     }
 
+    /// New stiffness `k`, time step `delta_t` and masses `m`: rebuilds `M`
+    /// and `Q` (same pattern, new values) and refactors `Q` numerically on
+    /// the analysis already done, as a drag does. When the refactorization
+    /// fails, the previous parameters are restored.
+    ///
+    /// # Errors
+    /// [`SimulationError::InvalidInput`] for `k`, `delta_t` or a mass not
+    /// positive and finite, or not one mass per vertex; a factorization
+    /// error.
+    pub fn set_parameters(
+        &mut self,
+        k: f64,
+        delta_t: f64,
+        m: &[f64],
+    ) -> Result<(), SimulationError> {
+        let positive = |x: f64| x > 0.0 && x.is_finite();
+        if !positive(k)
+            || !positive(delta_t)
+            || m.len() != self.n()
+            || !m.iter().all(|&x| positive(x))
+        {
+            return Err(SimulationError::InvalidInput(format!(
+                "k = {k} and Δt = {delta_t} must be positive and finite, with {} positive masses",
+                self.n()
+            )));
+        }
+        let previous = (self.k, self.delta_t, self.m.clone());
+        self.install_parameters(k, delta_t, m);
+        if let Err(error) = B::refactor(&mut self.prefactorization, &self.Q) {
+            self.install_parameters(previous.0, previous.1, &previous.2);
+            B::refactor(&mut self.prefactorization, &self.Q)?;
+            return Err(error.into());
+        }
+        if let Some(how) = self.exact_pins.as_ref().map(|e| e.how) {
+            self.use_exact_pins(how)?;
+        }
+        Ok(())
+    }
+
+    /// Sets `k`, `Δt`, `m` and rebuilds `M` and `Q` (not the factorization).
+    fn install_parameters(&mut self, k: f64, delta_t: f64, m: &[f64]) {
+        let n = self.n();
+        self.k = k;
+        self.delta_t = delta_t;
+        self.m.copy_from_slice(m);
+        self.M = B::from_entries(n, n, m.iter().enumerate().map(|(i, &mi)| (i, i, mi)));
+        self.Q = assemble_q::<B>(&self.A, &self.M, &self.C, k, delta_t, self.w);
+    }
+
     /// Moves the current pins to `targets` (one per row of `C`): only the
     /// right-hand side `w Cᵀ targets` changes, `Q` and its factorization
     /// stay.

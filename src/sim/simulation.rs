@@ -137,6 +137,10 @@ pub struct Simulation<B: LinearAlgebra> {
     steps: usize,
     /// The vertex being dragged, if any (an extra, last pin).
     dragged: Option<usize>,
+    /// The scene's masses, before [`Simulation::set_parameters`] scales them.
+    masses: Vec<f64>,
+    /// The factor the scene's masses are multiplied by.
+    mass_scale: f64,
 }
 
 impl<B: LinearAlgebra> Simulation<B> {
@@ -181,6 +185,8 @@ impl<B: LinearAlgebra> Simulation<B> {
             scale: bounding_box_diagonal(vertices),
             steps: 0,
             dragged: None,
+            masses: masses.to_vec(),
+            mass_scale: 1.0,
         })
     }
 
@@ -280,9 +286,39 @@ impl<B: LinearAlgebra> Simulation<B> {
         self.options.wind = wind;
     }
 
+    /// Spring stiffness `k`, time step `Δt` and the factor on the scene's
+    /// masses: changes `Q`'s values, so `Q` is refactored (numerically, on
+    /// the pattern already analysed). The state is kept.
+    ///
+    /// # Errors
+    /// [`SimulationError::InvalidInput`] for values not positive and
+    /// finite; a factorization error (the previous values then stay).
+    pub fn set_parameters(
+        &mut self,
+        k: f64,
+        delta_t: f64,
+        mass_scale: f64,
+    ) -> Result<(), SimulationError> {
+        let masses: Vec<f64> = self.masses.iter().map(|&m| m * mass_scale).collect();
+        self.system.set_parameters(k, delta_t, &masses)?;
+        self.options.delta_t = delta_t;
+        self.mass_scale = mass_scale;
+        Ok(())
+    }
+
+    /// The factor on the scene's masses.
+    pub fn mass_scale(&self) -> f64 {
+        self.mass_scale
+    }
+
     /// The options the simulation runs with.
     pub fn options(&self) -> &SimulationOptions {
         &self.options
+    }
+
+    /// Local/global iterations per step from the next step on.
+    pub fn set_iterations(&mut self, iterations: usize) {
+        self.options.iterations = iterations;
     }
 
     /// Solves later steps by `method`, with `tolerance` (nothing to

@@ -2,7 +2,8 @@
 # The browser test of `masssprings view` (viewer.test.mjs beside this file):
 # installs what is missing (Debian's chromium, the npm packages pinned by
 # package-lock.json), builds the binary, and runs the test with node's test
-# runner. The screenshot goes to target/browser/viewer.png.
+# runner. The screenshots go to target/browser/; with --update-screenshots,
+# the two the README shows are then copied to docs/images/.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
@@ -21,3 +22,8 @@ fi
 cd "$here"
 MASSSPRINGS_BIN="$root/target/debug/masssprings" CHROMIUM="$(command -v chromium)" \
   node --test viewer.test.mjs
+if [ "${1:-}" = "--update-screenshots" ]; then
+  cp "$root/target/browser/viewer.png" "$root/docs/images/viewer.png"
+  cp "$root/target/browser/skirt.png" "$root/docs/images/viewer-skirt.png"
+  echo "copied target/browser/{viewer,skirt}.png to docs/images/"
+fi

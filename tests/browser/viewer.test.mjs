@@ -1,9 +1,13 @@
 // The viewer as a person uses it: `masssprings view data/flag.json` opened in
 // headless Chromium (Debian's /usr/bin/chromium, driven by playwright-core).
-// Checks that the canvas shows the textured flag, that the keys change the
-// simulation's state, that shift-drag pulls a vertex, that the page loads
-// nothing from elsewhere, and saves screenshots to target/browser/
-// (viewer.png is the one in the README).
+// Checks that the page starts paused at rest and the canvas shows the
+// textured flag, that the keys, the buttons, the sliders (a change of k
+// refactors Q), the method picker and the scene picker change the
+// simulation's state, that F fits and right-drag pans the camera, that
+// shift-drag pulls a vertex, that the page loads nothing from elsewhere, and
+// saves screenshots to target/browser/ (viewer.png and skirt.png are the
+// ones in the README: `tests/browser/run.sh --update-screenshots` copies
+// them to docs/images/).
 //
 // Run with tests/browser/run.sh (it builds the binary and installs what is
 // missing). Environment: MASSSPRINGS_BIN (the binary), CHROMIUM (the browser).
@@ -123,21 +127,25 @@ after(async () => {
   }
 });
 
-test('the page draws the textured flag on the canvas', async () => {
+test('the page starts paused at rest and draws the textured flag on the canvas', async () => {
   await page.waitForFunction(() => window.viewer.ready && window.viewer.textureLoaded
-    && window.viewer.framesReceived > 5 && window.viewer.framesDrawn > 10, null, { timeout: 20000 });
+    && window.viewer.framesReceived > 0 && window.viewer.framesDrawn > 10, null, { timeout: 20000 });
   const { foreground } = await canvasContent();
   assert.ok(foreground > 0.01, `only ${(100 * foreground).toFixed(2)}% of the canvas differs from the background`);
   const overlay = await page.textContent('#stats');
   assert.match(overlay, /n 3200 · springs 12442/);
-  assert.match(overlay, /ms\/step/);
+  assert.match(overlay, /paused at rest/);
+  const s = await status();
+  assert.equal(s.animating, false);
+  assert.equal(s.steps, 0, 'nothing ran before anyone pressed play');
+  assert.equal(s.watched, true, 'the page counts as watching');
+  assert.equal(await page.textContent('#play'), '▶ play');
 });
 
-test('space pauses, then advances exactly one step per press', async () => {
+test('space advances exactly one step per press', async () => {
+  const paused = await status();
   await page.keyboard.press('Space');
-  const paused = await waitForStatus((s) => !s.animating, 'the pause');
-  await page.keyboard.press('Space');
-  await waitForStatus((s) => s.steps === paused.steps + 1, 'one more step');
+  await waitForStatus((s) => s.steps === paused.steps + 1 && !s.animating, 'one more step');
   await new Promise((resolve) => setTimeout(resolve, 300));
   assert.equal((await status()).steps, paused.steps + 1, 'no step while paused');
 });
@@ -190,6 +198,137 @@ test('shift-drag pulls the nearest vertex through the solver', async () => {
   assert.ok(distance < 0.05, `the dragged vertex is ${distance} from its target`);
 });
 
+test('the buttons play, pause, step, toggle the wind and the springs', async () => {
+  if ((await status()).animating) await page.click('#play');
+  await waitForStatus((s) => !s.animating, 'paused');
+  await page.click('#play');
+  await waitForStatus((s) => s.animating && s.steps > 2, 'the animation');
+  await page.waitForFunction(() => document.getElementById('play').textContent.includes('pause'));
+  await page.click('#play');
+  const paused = await waitForStatus((s) => !s.animating, 'the pause');
+  await page.click('#step');
+  await waitForStatus((s) => s.steps === paused.steps + 1, 'a step');
+  await page.click('#wind');
+  await waitForStatus((s) => s.wind !== paused.wind, 'the wind');
+  await page.click('#wind');
+  await page.click('#springs');
+  await waitForStatus((s) => s.show_springs, 'springs shown');
+  await page.click('#springs');
+  await waitForStatus((s) => !s.show_springs, 'springs hidden');
+  await page.click('#reset');
+  await waitForStatus((s) => s.steps === 0, 'the reset');
+});
+
+test('a change of k with the slider refactors Q, and the overlay shows how long it took', async () => {
+  const before = await status();
+  await page.evaluate(() => {
+    const slider = document.getElementById('k');
+    slider.value = String(Number(slider.value) - 1); // ten times softer
+    slider.dispatchEvent(new Event('input'));
+    slider.dispatchEvent(new Event('change'));
+  });
+  const after = await waitForStatus((s) => s.refactor_ms !== null && Math.abs(s.k - before.k / 10) < 1e-6 * before.k,
+    'k / 10 and a refactorization');
+  assert.ok(after.refactor_ms > 0);
+  assert.equal(after.delta_t, before.delta_t, 'only k changed');
+  await page.waitForFunction(() => /Q rebuilt and refactored in [0-9.]+ ms/.test(document.getElementById('stats').textContent));
+  await page.evaluate(() => {
+    const slider = document.getElementById('iterations');
+    slider.value = '20';
+    slider.dispatchEvent(new Event('change'));
+  });
+  await waitForStatus((s) => s.iterations === 20, '20 iterations');
+});
+
+test('the method picker and the convergence plot', async () => {
+  try {
+    await page.selectOption('#method', 'chebyshev');
+    await waitForStatus((s) => s.method === 'chebyshev', 'Chebyshev');
+    await page.waitForFunction(() => window.viewer.state.status.method === 'chebyshev');
+    await page.evaluate(() => document.activeElement.blur()); // keys go to the page again
+    await page.keyboard.press('m'); // the next method
+    await waitForStatus((s) => s.method === 'anderson', 'Anderson');
+    const before = (await status()).steps;
+    for (let i = 1; i <= 3; i++) {
+      await page.click('#step');
+      await waitForStatus((s) => s.steps === before + i, `step ${i}`, 30000);
+    }
+    await page.waitForFunction(() => window.viewer.plotPoints >= 3);
+    const s = await status();
+    const last = s.history.slice(-3);
+    assert.ok(last.every((r) => r.iterations <= s.iterations && Number.isFinite(r.relative_gradient)),
+      JSON.stringify(last));
+  } finally {
+    await page.selectOption('#method', 'plain');
+    await waitForStatus((s) => s.method === 'plain', 'plain again');
+  }
+});
+
+test('F fits the camera to the cloth; right-drag pans; the wheel zooms toward the cursor', async () => {
+  const fits = await page.evaluate(() => window.viewer.fits);
+  await page.keyboard.press('f');
+  await page.waitForFunction((n) => window.viewer.fits === n + 1, fits);
+  const fitted = await page.evaluate(() => ({ ...window.viewer.camera, target: [...window.viewer.camera.target] }));
+  assert.equal(fitted.autoFrame, false);
+  await page.mouse.move(400, 225);
+  await page.mouse.down({ button: 'right' });
+  await page.mouse.move(460, 245, { steps: 5 });
+  await page.mouse.up({ button: 'right' });
+  const panned = await page.evaluate(() => [...window.viewer.camera.target]);
+  assert.ok(Math.hypot(...panned.map((t, k) => t - fitted.target[k])) > 1e-3, 'the target moved');
+  await page.mouse.move(200, 120);
+  await page.mouse.wheel(0, -300);
+  const zoomed = await page.evaluate(() => ({ distance: window.viewer.camera.distance, target: [...window.viewer.camera.target] }));
+  assert.ok(zoomed.distance < fitted.distance, 'closer');
+  await page.click('#fit');
+  await page.waitForFunction((n) => window.viewer.fits === n + 2, fits);
+  // Fitted: every vertex on the canvas, and the cloth spans most of its
+  // width or height.
+  const extent = await page.evaluate(() => {
+    const canvas = document.getElementById('view');
+    const xs = [];
+    const ys = [];
+    for (let i = 0; i < window.viewer.state.scene.n; i++) {
+      const p = window.viewer.screenPositionOf(i);
+      xs.push(p.x / canvas.clientWidth);
+      ys.push(p.y / canvas.clientHeight);
+    }
+    return { left: Math.min(...xs), right: Math.max(...xs), top: Math.min(...ys), bottom: Math.max(...ys) };
+  });
+  assert.ok(extent.left >= 0 && extent.right <= 1 && extent.top >= 0 && extent.bottom <= 1, JSON.stringify(extent));
+  assert.ok(Math.max(extent.right - extent.left, extent.bottom - extent.top) > 0.7, JSON.stringify(extent));
+});
+
+test('? shows the help and Esc hides it', async () => {
+  await page.keyboard.press('?');
+  assert.equal(await page.isVisible('#help-overlay'), true);
+  await page.keyboard.press('Escape');
+  assert.equal(await page.isVisible('#help-overlay'), false);
+});
+
+test('the scene picker switches to the skirt and back', async () => {
+  const options = await page.$$eval('#scene option', (o) => o.map((x) => x.textContent));
+  assert.ok(options.includes('skirt') && options[0] === 'flag', options.join(', '));
+  const loaded = await page.evaluate(() => window.viewer.scenesLoaded);
+  await page.selectOption('#scene', { label: 'skirt' });
+  await waitForStatus((s) => s.scene === 'skirt' && s.n === 9840 && s.steps === 0, 'the skirt', 20000);
+  await page.waitForFunction((n) => window.viewer.scenesLoaded > n && window.viewer.textureLoaded
+    && window.viewer.state.positions && window.viewer.state.positions.length === 3 * 9840, loaded, { timeout: 20000 });
+  for (let step = 1; step <= 3; step++) {
+    await page.click('#step');
+    await waitForStatus((s) => s.steps === step, `skirt step ${step}`);
+  }
+  await page.waitForFunction(() => window.viewer.state.frameSteps === 3);
+  await page.waitForTimeout(300);
+  const { foreground } = await canvasContent();
+  assert.ok(foreground > 0.05, `the skirt covers ${(100 * foreground).toFixed(1)}% of the canvas`);
+  await page.screenshot({ path: path.join(outputFolder, 'skirt.png') });
+  await page.selectOption('#scene', { label: 'flag' });
+  await waitForStatus((s) => s.scene === 'flag' && s.n === 3200, 'the flag again', 20000);
+  await page.waitForFunction(() => window.viewer.state.positions && window.viewer.state.positions.length === 3 * 3200
+    && window.viewer.textureLoaded, null, { timeout: 20000 });
+});
+
 test('a screenshot of the flag in the wind is saved; nothing was loaded from elsewhere', async () => {
   // A picture that does not depend on the machine's speed: reset, wind on,
   // then four single steps (space).
@@ -204,6 +343,7 @@ test('a screenshot of the flag in the wind is saved; nothing was loaded from els
     await waitForStatus((s) => s.steps === step, `step ${step}`);
   }
   await page.waitForFunction(() => window.viewer.state.frameSteps === 4);
+  await page.keyboard.press('f');
   await page.waitForTimeout(200); // drawn
   const file = path.join(outputFolder, 'viewer.png');
   await page.screenshot({ path: file });

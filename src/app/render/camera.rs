@@ -109,6 +109,12 @@ impl Camera {
         }
     }
 
+    /// Samples per world unit at unit depth (a length `l` at depth `z`
+    /// spans `focal · l / z` samples).
+    pub fn focal(&self) -> f64 {
+        self.focal
+    }
+
     /// The eye's position.
     #[cfg(test)]
     pub fn eye(&self) -> [f64; 3] {

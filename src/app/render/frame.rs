@@ -28,8 +28,9 @@ use super::discs::{draw_disc, DiscStyle};
 use super::lighting::{lambert, toward_light, toward_viewer, vertex_normals};
 use super::lines::draw_line;
 use super::look::{
-    Rgb, AMBIENT, BACKGROUND_BOTTOM, BACKGROUND_TOP, CLOTH, MASS, MASS_RADIUS, PIN, PIN_OUTLINE,
-    PIN_OUTLINE_WIDTH, PIN_RADIUS, SPRING, SPRING_OPACITY, SPRING_WIDTH, SUPERSAMPLING,
+    mass_radius, Rgb, AMBIENT, BACKGROUND_BOTTOM, BACKGROUND_TOP, CLOTH, MASS, MASS_RADIUS,
+    MASS_RADIUS_LIMITS, PIN, PIN_OUTLINE, PIN_OUTLINE_WIDTH, PIN_RADIUS, SPRING, SPRING_OPACITY,
+    SPRING_WIDTH, SUPERSAMPLING,
 };
 use super::texture::Texture;
 use super::triangle::{fill_triangle, Fragment};
@@ -51,6 +52,9 @@ pub struct FrameRenderer<'a> {
     is_pinned: Vec<bool>,
     /// Draw every spring and point mass, not only the pinned vertices?
     springs: bool,
+    /// The point masses' radius in world units, from the mesh spacing
+    /// (0: a fixed [`MASS_RADIUS`] on screen, for a scene of springs).
+    mass_radius: f64,
 }
 
 impl<'a> FrameRenderer<'a> {
@@ -80,6 +84,11 @@ impl<'a> FrameRenderer<'a> {
             normals: Vec::with_capacity(scene.vertices.len()),
             is_pinned,
             springs: springs || !has_surfaces(scene),
+            mass_radius: if has_surfaces(scene) {
+                mass_radius(&scene.vertices, &scene.springs)
+            } else {
+                0.0
+            },
         }
     }
 
@@ -169,11 +178,25 @@ impl<'a> FrameRenderer<'a> {
         } else {
             &[true]
         };
+        let [least, most] = MASS_RADIUS_LIMITS.map(|r| r * scale);
+        let focal = self.camera.focal() as f32;
         for &pinned in kinds {
-            let style = if pinned { &pin } else { &mass };
             for (v, &centre) in self.projected.iter().enumerate() {
-                if self.is_pinned[v] == pinned {
-                    draw_disc(&mut self.canvas, centre, style);
+                if self.is_pinned[v] != pinned {
+                    continue;
+                }
+                if pinned {
+                    draw_disc(&mut self.canvas, centre, &pin);
+                } else if self.mass_radius > 0.0 {
+                    // Sized to the mesh: nearer dots are larger.
+                    let radius = self.mass_radius as f32 * focal * centre.inv_depth;
+                    let style = DiscStyle {
+                        radius: radius.clamp(least, most),
+                        ..mass
+                    };
+                    draw_disc(&mut self.canvas, centre, &style);
+                } else {
+                    draw_disc(&mut self.canvas, centre, &mass);
                 }
             }
         }

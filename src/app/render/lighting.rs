@@ -5,12 +5,15 @@
 //! unit direction toward the light `l`,
 //!
 //! ```text
-//! brightness = ambient + diffuse · max(0, n·l)     (0.35 + 0.65 · max(0, n·l))
+//! brightness = ambient + diffuse · |n·l|     (0.35 + 0.65 · |n·l|)
 //! ```
 //!
 //! Lambert's cosine law: a surface receives light in proportion to the
 //! cosine of the angle between its normal and the light. The surface colour
-//! (texture or flat) is multiplied by it.
+//! (texture or flat) is multiplied by it. Cloth is a thin sheet: the side
+//! turned away from the light is lit through it as brightly (`|n·l|`, not
+//! `max(0, n·l)`, which left the back of a cloth at the ambient level,
+//! nearly black).
 //!
 //! **Two-sided.** Cloth has no inside: both sides are seen. The normal
 //! `n` is flipped when the camera sees the back of the triangle
@@ -37,10 +40,10 @@ pub fn toward_light() -> [f32; 3] {
     normalize(TOWARD_LIGHT).map(|v| v as f32)
 }
 
-/// `ambient + diffuse · max(0, n·l)` for a unit normal `n` already turned
-/// toward the viewer and the unit direction `l` toward the light.
+/// `ambient + diffuse · |n·l|` for a unit normal `n` and the unit
+/// direction `l` toward the light.
 pub fn lambert(normal: [f32; 3], toward_light: [f32; 3]) -> f32 {
-    AMBIENT + DIFFUSE * dot_f32(normal, toward_light).max(0.0)
+    AMBIENT + DIFFUSE * dot_f32(normal, toward_light).abs()
 }
 
 /// The normal of the side the camera sees: `normal` on the front, `−normal`
@@ -80,10 +83,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn facing_the_light_is_full_brightness_and_turned_away_is_ambient() {
+    fn both_sides_of_the_sheet_are_lit_and_edge_on_is_ambient() {
         let l = toward_light();
         assert!((lambert(l, l) - (AMBIENT + DIFFUSE)).abs() < 1e-6);
-        assert_eq!(lambert(l.map(|v| -v), l), AMBIENT);
+        assert_eq!(lambert(l.map(|v| -v), l), lambert(l, l));
+        let edge_on = normalize(cross([-0.4, 0.8, 0.45], [0.0, 0.0, 1.0])).map(|v| v as f32);
+        assert!((lambert(edge_on, l) - AMBIENT).abs() < 1e-6);
     }
 
     #[test]

@@ -31,7 +31,7 @@ pub const CLOTH: Rgb = hex(0x5b8fd6);
 pub const TOWARD_LIGHT: [f64; 3] = [-0.4, 0.8, 0.45];
 /// Light that reaches every surface whatever its orientation.
 pub const AMBIENT: f32 = 0.35;
-/// Weight of the Lambert term `max(0, n·l)`.
+/// Weight of the two-sided Lambert term `|n·l|` (see `lighting.rs`).
 pub const DIFFUSE: f32 = 0.65;
 
 /// Springs: colour, opacity and width in output pixels.
@@ -42,6 +42,30 @@ pub const SPRING_WIDTH: f32 = 1.0;
 /// Point masses: discs of this colour and radius (output pixels).
 pub const MASS: Rgb = hex(0xc0392b);
 pub const MASS_RADIUS: f32 = 2.0;
+/// In a mesh, a point mass's radius is this fraction of the median spring
+/// rest length (so neighbouring dots never touch), in world units, kept
+/// between these radii in output pixels.
+pub const MASS_RADIUS_PER_SPACING: f64 = 0.2;
+pub const MASS_RADIUS_LIMITS: [f32; 2] = [1.0, 6.0];
+
+/// The world radius of the point masses of a mesh with springs
+/// `springs` over `vertices`: [`MASS_RADIUS_PER_SPACING`] of the median
+/// rest length (0 without springs).
+pub fn mass_radius(vertices: &[[f64; 3]], springs: &[[usize; 2]]) -> f64 {
+    let mut lengths: Vec<f64> = springs
+        .iter()
+        .map(|&[i, j]| {
+            let (a, b) = (vertices[i], vertices[j]);
+            ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+        })
+        .collect();
+    if lengths.is_empty() {
+        return 0.0;
+    }
+    let middle = lengths.len() / 2;
+    let (_, median, _) = lengths.select_nth_unstable_by(middle, f64::total_cmp);
+    MASS_RADIUS_PER_SPACING * *median
+}
 /// Pinned vertices: silver discs with a darker outline.
 pub const PIN: Rgb = hex(0xc8ccd0);
 pub const PIN_OUTLINE: Rgb = hex(0x7f8c8d);

@@ -26,7 +26,7 @@ pub(super) mod encode;
 mod frame;
 mod lighting;
 mod lines;
-mod look;
+pub(super) mod look;
 mod palette;
 pub(super) mod plot;
 pub(super) mod sparsity;
@@ -39,16 +39,16 @@ mod vector;
 #[path = "../../../tests/common/mod.rs"]
 mod tests_common;
 
-use super::args::Args;
-use super::convergence_flags;
+use super::args::{Args, CommandSpec, Flag};
+use super::convergence_flags::{self, ITERATIONS, METHOD, PINS, RHO, TOLERANCE, WINDOW};
 use super::timing::median;
-use super::AppError;
+use super::{load_scene, AppError};
 use camera::{BoundingBox, Camera};
 use frame::FrameRenderer;
 use look::SUPERSAMPLING;
 use masssprings::files::write_file;
 use masssprings::mesh::procedural::RgbImage;
-use masssprings::mesh::{load_scene, Scene};
+use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Dense, LinearAlgebra, Simulation, Sparse};
 use std::path::{Path, PathBuf};
@@ -81,6 +81,43 @@ struct Request {
     options: SimulationOptions,
     springs: bool,
 }
+
+/// `render`'s operands and flags.
+pub static COMMAND: CommandSpec = CommandSpec {
+    name: "render",
+    operands: "SCENE.json -o OUT.gif|OUT.png",
+    summary: "Draw a simulated scene into a looping GIF, or its last step into a PNG.",
+    details: "\
+Simulates N steps and draws step 0 and every K-th step with the viewer's
+look into a looping GIF that plays in real time, or draws the last step into
+a PNG. Cloths show their surface and pins; --springs adds every spring and
+point mass (always drawn for scenes made only of springs).",
+    flags: &[
+        Flag::value(
+            "out",
+            "OUT",
+            "The picture: .gif (an animation) or .png (the last step).",
+        ),
+        Flag::value("steps", "N", "Time steps to simulate (default 100)."),
+        Flag::value(
+            "every",
+            "K",
+            "Draw every K-th step into the GIF (default 2).",
+        ),
+        Flag::value("size", "WxH", "Picture size in pixels (default 480x360)."),
+        Flag::switch("dense", "Dense matrices and Cholesky."),
+        Flag::switch("wind", "Add the assignment viewer's wind to gravity."),
+        Flag::switch("springs", "Draw every spring and point mass too."),
+        METHOD,
+        TOLERANCE,
+        ITERATIONS,
+        RHO,
+        WINDOW,
+        PINS,
+    ],
+    shorts: &[('o', "out")],
+    run,
+};
 
 pub fn run(args: &[String]) -> Result<(), AppError> {
     let request = parse(args)?;
@@ -136,35 +173,25 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
 
 /// Checks the command line: usage errors before any work is done.
 fn parse(args: &[String]) -> Result<Request, AppError> {
-    // `-o FILE` is the short form of `--out FILE`.
-    let args: Vec<String> = args
-        .iter()
-        .map(|a| if a == "-o" { "--out".into() } else { a.clone() })
-        .collect();
-    let mut options = vec!["steps", "every", "size", "out"];
-    options.extend(convergence_flags::OPTIONS);
-    let args = Args::parse(&args, &options, &["dense", "wind", "springs"])?;
+    let args = Args::parse(args, &COMMAND)?;
+    let scene = PathBuf::from(args.single_positional("SCENE.json")?);
+    let out = PathBuf::from(args.text("out").unwrap_or(""));
+    if out.as_os_str().is_empty() {
+        return Err(AppError::Usage("missing -o OUT.gif or -o OUT.png".into()));
+    }
+    let format = output_format(&out)?;
+    let every = args.count("every", 2, 1)?;
+    let (width, height) = parse_size(args.text("size").unwrap_or("480x360"))?;
     let mut simulation_options = SimulationOptions {
         wind: args.switch("wind"),
         ..SimulationOptions::default()
     };
     convergence_flags::apply(&args, &mut simulation_options)?;
-    let scene = PathBuf::from(args.single_positional("SCENE.json")?);
-    let out = PathBuf::from(args.value_or("out", String::new())?);
-    if out.as_os_str().is_empty() {
-        return Err(AppError::Usage("missing -o OUT.gif or -o OUT.png".into()));
-    }
-    let format = output_format(&out)?;
-    let every = args.value_or("every", 2usize)?;
-    if every == 0 {
-        return Err(AppError::Usage("--every must be at least 1".into()));
-    }
-    let (width, height) = parse_size(&args.value_or("size", "480x360".to_string())?)?;
     Ok(Request {
         scene,
         out,
         format,
-        steps: args.value_or("steps", 100usize)?,
+        steps: args.count("steps", 100, 0)?,
         every,
         width,
         height,
@@ -201,7 +228,7 @@ fn parse_size(text: &str) -> Result<(usize, usize), AppError> {
     match parts.and_then(|(w, h)| Some((side(w)?, side(h)?))) {
         Some(size) => Ok(size),
         None => Err(AppError::Usage(format!(
-            "--size {text}: expected WIDTHxHEIGHT, each from 1 to {MAX_SIDE} (e.g. 480x360)"
+            "--size expects WIDTHxHEIGHT, each from 1 to {MAX_SIDE} (e.g. 480x360), got '{text}'"
         ))),
     }
 }

@@ -2,12 +2,16 @@
 //!
 //! | endpoint | answer |
 //! |---|---|
-//! | `GET /api/scene` | JSON [`DisplayMesh`](super::display_mesh::DisplayMesh): triangles, springs, pins, texture coordinates (once) |
+//! | `GET /api/scene` | JSON [`DisplayMesh`](super::display_mesh::DisplayMesh): triangles, springs, pins, texture coordinates (once per scene: again when `scene_serial` changes) |
 //! | `GET /api/frame[?since=S]` | binary [`Frame`]: the positions; `204` when serial `S` is still the latest |
-//! | `GET /api/status` | JSON [`Status`]: steps, time, toggles, timings |
+//! | `GET /api/status` | JSON [`Status`]: steps, time, toggles, parameters, timings, the last steps' convergence |
 //! | `POST /api/command` | JSON [`Command`] in; the new [`Status`] out (`409` with `{"error"}` when refused) |
 
 use serde::{Deserialize, Serialize};
+use std::collections::VecDeque;
+
+/// Steps kept in [`Status::history`] for the page's convergence plot.
+pub const HISTORY_LENGTH: usize = 150;
 
 /// A command of the page, as JSON: `{"command": "step"}`,
 /// `{"command": "drag_start", "vertex": 12, "target": [x, y, z]}`.
@@ -34,6 +38,24 @@ pub enum Command {
     DragTo { target: [f64; 3] },
     /// Let go.
     DragEnd {},
+    /// New parameters: stiffness, time step, the factor on the scene's
+    /// masses (these three change `Q`, which is refactored) and the
+    /// local/global iterations per step.
+    SetParameters {
+        k: f64,
+        delta_t: f64,
+        mass_scale: f64,
+        iterations: usize,
+    },
+    /// Switch to scene `scene` of [`Status::scenes`] (paused, at rest).
+    LoadScene { scene: usize },
+    /// Solve later steps by `method` (one of [`Status::methods`]), stopping
+    /// at relative gradient `tolerance` (`null`: run every iteration).
+    /// Nothing is refactored: every method uses the same `Q`.
+    SetMethod {
+        method: String,
+        tolerance: Option<f64>,
+    },
 }
 
 impl Command {
@@ -78,6 +100,50 @@ pub struct Status {
     pub dragged: Option<usize>,
     /// Why the animation stopped, if a step failed.
     pub error: Option<String>,
+    /// Is a page showing the simulation (it asked for a frame within the
+    /// last second)? The simulation runs only while `animating && watched`.
+    pub watched: bool,
+    /// Pages that asked for a frame within the last second.
+    pub pages: usize,
+    /// Spring stiffness `k`.
+    pub k: f64,
+    /// Time step `Δt`, seconds.
+    pub delta_t: f64,
+    /// The factor on the scene's masses.
+    pub mass_scale: f64,
+    /// The most iterations a step may take.
+    pub iterations: usize,
+    /// How each step is solved, and the methods there are.
+    pub method: &'static str,
+    pub methods: Vec<&'static str>,
+    /// The relative gradient a step stops at (`None`: every iteration).
+    pub tolerance: Option<f64>,
+    /// How long the last rebuild and refactorization of `Q` took
+    /// (milliseconds), after a parameter change or a drag; `None` before any.
+    pub refactor_ms: Option<f64>,
+    /// The scenes the page can switch to (names), and the one shown.
+    pub scenes: Vec<String>,
+    pub scene_index: usize,
+    /// Changes whenever another scene is loaded: fetch `/api/scene` again.
+    pub scene_serial: u32,
+    /// The last steps, oldest first, for the convergence plot.
+    pub history: VecDeque<StepRecord>,
+}
+
+/// What one step did, for the convergence plot.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct StepRecord {
+    /// The step's number (since the start or the last reset).
+    pub step: usize,
+    /// Local/global iterations run.
+    pub iterations: usize,
+    /// `E(p⁰) − E(p)`: the energy the step took off.
+    pub energy_decrease: f64,
+    /// `‖∇E(p)‖ / ‖∇E(p⁰)‖` over the free vertices where the step stopped.
+    pub relative_gradient: f64,
+    /// Did the step stop on the tolerance (rather than on its iteration
+    /// budget or a stalled line search)?
+    pub converged: bool,
 }
 
 /// The latest positions, encoded once per step for every client:
@@ -165,6 +231,30 @@ mod tests {
         assert!(parse(r#"{"command":"drag_to","target":[1,2]}"#).is_err());
         assert!(parse(r#"{"command":"drag_to","target":[1,2,3],"x":1}"#).is_err());
         assert!(parse(r#"{"command":"drag_start","vertex":-1,"target":[1,2,3]}"#).is_err());
+        assert_eq!(
+            parse(
+                r#"{"command":"set_parameters","k":1,"delta_t":0.1,"mass_scale":2,"iterations":5}"#
+            )
+            .unwrap(),
+            Command::SetParameters {
+                k: 1.0,
+                delta_t: 0.1,
+                mass_scale: 2.0,
+                iterations: 5
+            }
+        );
+        assert!(parse(r#"{"command":"set_parameters","k":1}"#).is_err());
+        assert_eq!(
+            parse(r#"{"command":"set_method","method":"lbfgs","tolerance":null}"#).unwrap(),
+            Command::SetMethod {
+                method: "lbfgs".into(),
+                tolerance: None
+            }
+        );
+        assert_eq!(
+            parse(r#"{"command":"load_scene","scene":2}"#).unwrap(),
+            Command::LoadScene { scene: 2 }
+        );
     }
 
     #[test]

@@ -9,6 +9,7 @@
 //! mass computation does); two-corner faces are springs and draw nothing
 //! here (the springs are drawn as lines).
 
+use super::super::render::look::mass_radius;
 use masssprings::mesh::bounding_box::BoundingBox;
 use masssprings::mesh::fan::fan_corners;
 use masssprings::mesh::Scene;
@@ -39,6 +40,10 @@ pub struct DisplayMesh {
     /// initial target and distance).
     pub center: [f64; 3],
     pub diagonal: f64,
+    /// The point masses' radius in world units (key L), from the mesh
+    /// spacing as `render` draws them; 0 for a scene of a few springs,
+    /// whose masses keep a fixed size on screen.
+    pub mass_radius: f64,
 }
 
 /// The path the texture is served at.
@@ -90,6 +95,11 @@ pub fn display_mesh(scene: &Scene, textured: bool, backend: &'static str) -> Dis
         texture: textured.then_some(TEXTURE_PATH),
         center,
         diagonal,
+        mass_radius: if scene.faces.first().is_some_and(|f| f.len() >= 3) {
+            mass_radius(&scene.vertices, &scene.springs)
+        } else {
+            0.0
+        },
     }
 }
 

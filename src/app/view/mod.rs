@@ -20,53 +20,121 @@ mod display_mesh;
 mod http;
 mod routes;
 mod simulation_thread;
+mod watchers;
 
-use super::args::Args;
-use super::convergence_flags;
-use super::factorization_flags;
-use super::AppError;
+use super::args::{Args, CommandSpec, Flag};
+use super::convergence_flags::{self, ITERATIONS, METHOD, PINS, RHO, TOLERANCE, WINDOW};
+use super::factorization_flags::{self, FACTORIZATION, ORDERING};
+use super::{load_scene, AppError};
 use api::{Frame, Status};
 use http::{Connection, Method, ReadError};
-use masssprings::mesh::{load_scene, Scene};
+use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Dense, LinearAlgebra, Simulation, Sparse};
 use routes::Routes;
-use simulation_thread::{Message, Shared, SimulationThread};
+use simulation_thread::{Message, SceneAssets, Shared, SimulationThread};
 use std::io::Write;
 use std::net::{IpAddr, Ipv4Addr, Ipv6Addr, SocketAddr, TcpListener, TcpStream};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Arc, Mutex};
 use std::thread;
 use std::time::Duration;
+use watchers::Watchers;
 
 /// The port when `--port` is not given.
 const DEFAULT_PORT: u16 = 8080;
 /// Connections served at once; more are closed at once (a few tabs need a
 /// handful each).
 const MAX_CONNECTIONS: usize = 64;
+/// Scenes listed in the page's picker at most.
+const MAX_SCENES: usize = 32;
 /// The first bytes of every PNG file.
 const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
 
+/// `view`'s operands and flags.
+pub static COMMAND: CommandSpec = CommandSpec {
+    name: "view",
+    operands: "SCENE.json",
+    summary: "Serve an interactive viewer of the scene to a web browser.",
+    details: "\
+Serves an interactive viewer on http://127.0.0.1:P/ and prints its URL. The
+simulation runs here; the page draws it with WebGL. Keys: space step,
+A animate, L springs, R reset, W wind; drag to orbit, wheel to zoom,
+shift-drag to pull a vertex. Ctrl-C stops it.",
+    flags: &[
+        Flag::value(
+            "port",
+            "P",
+            "Port to serve on (default 8080; 0 picks a free one).",
+        ),
+        Flag::value(
+            "address",
+            "ADDR",
+            "Address to serve on (default 127.0.0.1; 0.0.0.0 serves every network).",
+        ),
+        Flag::switch("dense", "Dense matrices and Cholesky."),
+        METHOD,
+        TOLERANCE,
+        ITERATIONS,
+        RHO,
+        WINDOW,
+        PINS,
+        ORDERING,
+        FACTORIZATION,
+    ],
+    shorts: &[],
+    run,
+};
+
 pub fn run(args: &[String]) -> Result<(), AppError> {
-    let mut options = vec!["port", "address"];
-    options.extend(convergence_flags::OPTIONS);
-    options.extend(factorization_flags::OPTIONS);
-    let args = Args::parse(args, &options, &["dense"])?;
-    let mut simulation_options = SimulationOptions::default();
-    convergence_flags::apply(&args, &mut simulation_options)?;
-    factorization_flags::apply(&args, &mut simulation_options)?;
+    let args = Args::parse(args, &COMMAND)?;
     let scene_path = PathBuf::from(args.single_positional("SCENE.json")?);
-    let port: u16 = args.value_or("port", DEFAULT_PORT)?;
-    let ip: IpAddr = args.value_or("address", IpAddr::V4(Ipv4Addr::LOCALHOST))?;
+    let port = args.whole_number("port", u64::from(DEFAULT_PORT), 0..=u64::from(u16::MAX))? as u16;
+    let ip: IpAddr = args.parsed(
+        "address",
+        IpAddr::V4(Ipv4Addr::LOCALHOST),
+        "an IP address such as 127.0.0.1 or ::1",
+    )?;
     let scene = load_scene(&scene_path)?;
-    let texture = read_texture(&scene);
     let address = SocketAddr::new(ip, port);
+    let scenes = scene_list(&scene_path);
+    let mut options = SimulationOptions::default();
+    convergence_flags::apply(&args, &mut options)?;
+    factorization_flags::apply(&args, &mut options)?;
     if args.switch("dense") {
-        serve::<Dense>(&scene, texture, address, simulation_options)
+        serve::<Dense>(&scene, scenes, address, options)
     } else {
-        serve::<Sparse>(&scene, texture, address, simulation_options)
+        serve::<Sparse>(&scene, scenes, address, options)
     }
+}
+
+/// The scenes the page can switch to: the one given first, then the
+/// bundled ones in the project's `data/` folder (when it is there) and the
+/// others beside the given one, each once, by name.
+fn scene_list(given: &Path) -> Vec<PathBuf> {
+    let bundled = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
+    let beside = given.parent().unwrap_or(Path::new(".")).to_path_buf();
+    let mut scenes = vec![given.to_path_buf()];
+    let mut seen = vec![std::fs::canonicalize(given).unwrap_or_else(|_| given.to_path_buf())];
+    for folder in [bundled, beside] {
+        let Ok(entries) = std::fs::read_dir(&folder) else {
+            continue;
+        };
+        let mut found: Vec<PathBuf> = entries
+            .filter_map(|entry| entry.ok().map(|e| e.path()))
+            .filter(|path| path.extension().is_some_and(|e| e == "json"))
+            .collect();
+        found.sort();
+        for path in found {
+            let canonical = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
+            if !seen.contains(&canonical) && scenes.len() < MAX_SCENES {
+                seen.push(canonical);
+                scenes.push(path);
+            }
+        }
+    }
+    scenes
 }
 
 /// The scene's PNG texture, read from the path the scene names; `None`
@@ -95,7 +163,7 @@ fn read_texture(scene: &Scene) -> Option<Vec<u8>> {
 /// Starts the threads, prints the URL, and serves until Ctrl-C.
 fn serve<B>(
     scene: &Scene,
-    texture: Option<Vec<u8>>,
+    scenes: Vec<PathBuf>,
     address: SocketAddr,
     options: SimulationOptions,
 ) -> Result<(), AppError>
@@ -104,8 +172,7 @@ where
     Simulation<B>: Send,
 {
     let simulation = Simulation::<B>::from_scene(scene, options)?;
-    let listener = TcpListener::bind(address)
-        .map_err(|e| AppError::Failed(format!("cannot listen on {address}: {e}")))?;
+    let listener = TcpListener::bind(address).map_err(|e| bind_error(address, &e))?;
     let local = listener.local_addr()?;
     let stop_requested = stop_signal()?;
 
@@ -118,12 +185,14 @@ where
             springs: scene.springs.len(),
             ..Status::default()
         }),
+        scene: Mutex::new(SceneAssets::of(scene, B::NAME)),
+        watchers: Mutex::new(Watchers::default()),
     });
-    let mesh = display_mesh::display_mesh(scene, texture.is_some(), B::NAME);
     // A cloth shows its surface; a scene made only of springs, its springs.
-    let show_springs = mesh.triangles.is_empty();
+    let show_springs = scene.faces.first().is_none_or(|face| face.len() < 3);
     let (commands, inbox) = mpsc::channel();
-    let simulation_thread = SimulationThread::new(simulation, Arc::clone(&shared), show_springs);
+    let simulation_thread =
+        SimulationThread::new(simulation, Arc::clone(&shared), show_springs, scenes, 0);
     let simulation_handle = thread::Builder::new()
         .name("simulation".into())
         .spawn(move || simulation_thread.run(inbox))?;
@@ -131,8 +200,6 @@ where
     let routes = Arc::new(Routes {
         shared,
         commands: commands.clone(),
-        scene_json: serde_json::to_string(&mesh).expect("plain data serialises"),
-        texture,
         allowed_hosts: allowed_hosts(local),
     });
     let stopping = Arc::new(AtomicBool::new(false));
@@ -156,6 +223,24 @@ where
     }
     let _ = simulation_handle.join();
     Ok(())
+}
+
+/// Why the server cannot listen, in plain words.
+fn bind_error(address: SocketAddr, error: &std::io::Error) -> AppError {
+    let port = address.port();
+    match error.kind() {
+        std::io::ErrorKind::AddrInUse => AppError::Failed(format!(
+            "port {port} is in use (another viewer?); try --port 0, which picks a free one"
+        )),
+        std::io::ErrorKind::PermissionDenied if port < 1024 => AppError::Failed(format!(
+            "port {port} needs special rights; try a port from 1024, or --port 0"
+        )),
+        std::io::ErrorKind::AddrNotAvailable => AppError::Failed(format!(
+            "{} is not an address of this machine; try 127.0.0.1",
+            address.ip()
+        )),
+        _ => AppError::Failed(format!("cannot listen on {address}: {error}")),
+    }
 }
 
 /// A channel that receives once when the user presses Ctrl-C (SIGINT) or

@@ -1,12 +1,13 @@
 //! Which request gets which answer. The table is fixed: a path is compared
 //! literally with the few the viewer serves, and no part of a request is ever
 //! turned into a file name. The page, its script and style are compiled into
-//! the binary; the texture was read at start from the path the scene names.
+//! the binary; the texture was read, when the scene was loaded, from the
+//! path the scene names.
 //! Everything else is `404`.
 
 use super::api::{Command, Status};
 use super::http::{Method, Request, Response};
-use super::simulation_thread::{Message, Reply, Shared};
+use super::simulation_thread::{Message, Reply, SceneAssets, Shared};
 use std::sync::mpsc::{self, Sender};
 use std::sync::Arc;
 use std::time::Duration;
@@ -29,10 +30,6 @@ pub struct Routes {
     pub shared: Arc<Shared>,
     /// The simulation thread's inbox.
     pub commands: Sender<Message>,
-    /// `/api/scene`, serialised once at start.
-    pub scene_json: String,
-    /// The scene's PNG texture, if it has one and it could be read.
-    pub texture: Option<Vec<u8>>,
     /// The `Host` values accepted (`127.0.0.1:8080`, `localhost:8080`, …),
     /// or `None` to accept any (when serving beyond loopback). Refusing other
     /// names stops a web page elsewhere from reaching the viewer by DNS
@@ -56,12 +53,13 @@ impl Routes {
                 Response::new(200, "text/javascript; charset=utf-8", SCRIPT)
             }
             "/viewer.css" if read_only => Response::new(200, "text/css; charset=utf-8", STYLE),
-            "/texture.png" if read_only => match &self.texture {
-                Some(png) => Response::new(200, "image/png", png.clone()),
+            "/texture.png" if read_only => match self.scene_assets().texture {
+                Some(png) => Response::new(200, "image/png", png.to_vec()),
                 None => Response::error(404, "this scene has no texture"),
             },
             "/api/scene" if read_only => {
-                Response::new(200, "application/json", self.scene_json.clone())
+                let json = self.scene_assets().json;
+                Response::new(200, "application/json", json.as_bytes().to_vec())
             }
             "/api/status" if read_only => json_status(&self.status()),
             "/api/frame" if read_only => self.frame(request.query.as_deref()),
@@ -90,11 +88,35 @@ impl Routes {
             .clone()
     }
 
-    /// The latest frame, or `204` when it is still serial `since`.
+    /// The scene's JSON and texture (shared, not copied).
+    fn scene_assets(&self) -> SceneAssets {
+        let assets = self
+            .shared
+            .scene
+            .lock()
+            .expect("no thread panics holding it");
+        SceneAssets {
+            json: Arc::clone(&assets.json),
+            texture: assets.texture.clone(),
+        }
+    }
+
+    /// The latest frame, or `204` when it is still serial `since`. Counts
+    /// the asking page (`page=ID`) as watching.
     fn frame(&self, query: Option<&str>) -> Response {
-        let since = query
-            .and_then(|q| q.split('&').find_map(|pair| pair.strip_prefix("since=")))
-            .and_then(|value| value.parse::<u32>().ok());
+        let parameter = |name: &str| {
+            query.and_then(|q| {
+                q.split('&')
+                    .find_map(|pair| pair.strip_prefix(name)?.strip_prefix('='))
+            })
+        };
+        let since = parameter("since").and_then(|value| value.parse::<u32>().ok());
+        let page = parameter("page").and_then(|value| value.parse::<u64>().ok());
+        self.shared
+            .watchers
+            .lock()
+            .expect("no thread panics holding it")
+            .seen(page);
         let frame = self
             .shared
             .frame

@@ -1,6 +1,8 @@
 //! The simulation thread: it owns the [`Simulation`], steps it in real time
-//! (one step of Δt = 1/30 s every 1/30 s while animating), applies the
-//! page's commands between steps, and publishes what the HTTP threads serve.
+//! (one step of Δt every Δt while animating and a page is watching, see
+//! [`super::watchers`]), applies the page's commands between steps (keys,
+//! drags, new parameters, another scene), and publishes what the HTTP
+//! threads serve.
 //!
 //! ```text
 //!  HTTP threads ──Message::Command──▶ simulation thread ──▶ Shared.frame  (positions, f32)
@@ -12,12 +14,21 @@
 //! allocates nothing here either: the positions are written into the frame
 //! buffer in place.
 
-use super::api::{Command, Frame, Status};
+use super::api::{Command, Frame, Status, StepRecord, HISTORY_LENGTH};
+use super::display_mesh::display_mesh;
+use super::watchers::Watchers;
 use masssprings::mesh::bounding_box::BoundingBox;
-use masssprings::sim::{LinearAlgebra, Simulation, DELTA_T};
+use masssprings::mesh::Scene;
+use masssprings::sim::simulation::SimulationOptions;
+use masssprings::sim::{LinearAlgebra, Simulation, StepMethod, StepReport, Stop};
+use std::path::PathBuf;
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
+
+/// How often the thread looks again whether a page has come back, while
+/// animating with nobody watching.
+const WATCH_POLL: Duration = Duration::from_millis(100);
 
 /// What the HTTP threads publish and read.
 pub struct Shared {
@@ -25,6 +36,32 @@ pub struct Shared {
     pub frame: Mutex<Frame>,
     /// The latest state, as `/api/status` sends it.
     pub status: Mutex<Status>,
+    /// The scene shown: `/api/scene` and the texture.
+    pub scene: Mutex<SceneAssets>,
+    /// The pages that asked for frames lately.
+    pub watchers: Mutex<Watchers>,
+}
+
+/// What the page loads once per scene.
+pub struct SceneAssets {
+    /// `/api/scene`: the [`super::display_mesh::DisplayMesh`] as JSON.
+    pub json: Arc<str>,
+    /// `/texture.png`, when the scene has one that could be read.
+    pub texture: Option<Arc<[u8]>>,
+}
+
+impl SceneAssets {
+    /// The display mesh and texture of `scene` on backend `backend`.
+    pub fn of(scene: &Scene, backend: &'static str) -> SceneAssets {
+        let texture = super::read_texture(scene);
+        let mesh = display_mesh(scene, texture.is_some(), backend);
+        SceneAssets {
+            json: serde_json::to_string(&mesh)
+                .expect("plain data serialises")
+                .into(),
+            texture: texture.map(Into::into),
+        }
+    }
 }
 
 /// The answer to a command: `Err` carries the reason it was refused.
@@ -96,48 +133,82 @@ pub struct SimulationThread<B: LinearAlgebra> {
     /// against targets that would blow the solve up).
     center: [f64; 3],
     reach: f64,
+    /// The scene files the page may switch to, and the one shown.
+    scenes: Vec<PathBuf>,
+    scene_index: usize,
+    /// The time the last rebuild and refactorization of `Q` took.
+    refactor: Option<Duration>,
 }
 
 impl<B: LinearAlgebra> SimulationThread<B> {
-    /// Wraps `simulation` (animating from the start, springs shown or not)
-    /// and publishes its first frame.
-    pub fn new(simulation: Simulation<B>, shared: Arc<Shared>, show_springs: bool) -> Self {
+    /// Wraps `simulation` of scene `scenes[scene_index]` (paused at rest,
+    /// springs shown or not) and publishes its first frame.
+    pub fn new(
+        simulation: Simulation<B>,
+        shared: Arc<Shared>,
+        show_springs: bool,
+        scenes: Vec<PathBuf>,
+        scene_index: usize,
+    ) -> Self {
         let bounds = BoundingBox::of(simulation.rest_positions());
         let (center, diagonal) = (bounds.centre(), bounds.diagonal());
         let thread = SimulationThread {
             simulation,
             shared,
-            animating: true,
+            animating: false,
             show_springs,
             next_step_at: Instant::now(),
             stats: StepStats::new(),
             error: None,
             center,
             reach: 10.0 * diagonal.max(1.0),
+            scenes,
+            scene_index,
+            refactor: None,
         };
         thread.publish_frame();
+        thread.publish_scene_list();
         thread.publish_status();
         thread
+    }
+
+    /// Is a page showing the simulation?
+    fn watched(&self) -> bool {
+        self.shared
+            .watchers
+            .lock()
+            .expect("no thread panics holding it")
+            .count()
+            > 0
+    }
+
+    /// Steps are due: animating, a page watching, and the time has come.
+    fn running(&self) -> bool {
+        self.animating && self.watched()
     }
 
     /// Runs until [`Message::Quit`] (or until every sender is gone).
     pub fn run(mut self, inbox: Receiver<Message>) {
         loop {
-            if self.animating && Instant::now() >= self.next_step_at {
+            let running = self.running();
+            if running && Instant::now() >= self.next_step_at {
                 self.real_time_step();
+            } else if !running {
+                // Paused, or nobody watching: no step is due; keep the
+                // status's page count fresh, and start afresh when a page
+                // comes back.
+                self.next_step_at = Instant::now();
+                self.publish_status();
             }
-            let message = if self.animating {
-                let wait = self.next_step_at.saturating_duration_since(Instant::now());
-                match inbox.recv_timeout(wait) {
-                    Ok(message) => message,
-                    Err(RecvTimeoutError::Timeout) => continue,
-                    Err(RecvTimeoutError::Disconnected) => return,
-                }
+            let wait = if running {
+                self.next_step_at.saturating_duration_since(Instant::now())
             } else {
-                match inbox.recv() {
-                    Ok(message) => message,
-                    Err(_) => return,
-                }
+                WATCH_POLL
+            };
+            let message = match inbox.recv_timeout(wait) {
+                Ok(message) => message,
+                Err(RecvTimeoutError::Timeout) => continue,
+                Err(RecvTimeoutError::Disconnected) => return,
             };
             match message {
                 Message::Quit => return,
@@ -155,7 +226,7 @@ impl<B: LinearAlgebra> SimulationThread<B> {
     /// longer than Δt the animation slows down rather than piling up.
     fn real_time_step(&mut self) {
         let _ = self.step_once();
-        let period = Duration::from_secs_f64(DELTA_T);
+        let period = Duration::from_secs_f64(self.simulation.options().delta_t);
         self.next_step_at = (self.next_step_at + period).max(Instant::now());
         self.publish_status();
     }
@@ -164,9 +235,10 @@ impl<B: LinearAlgebra> SimulationThread<B> {
     fn step_once(&mut self) -> Reply {
         let started = Instant::now();
         match self.simulation.step() {
-            Ok(_) => {
+            Ok(report) => {
                 self.stats.record(started.elapsed());
                 self.publish_frame();
+                self.record_step(&report);
                 Ok(())
             }
             Err(error) => {
@@ -197,6 +269,7 @@ impl<B: LinearAlgebra> SimulationThread<B> {
                 self.simulation.reset().map_err(|e| e.to_string())?;
                 self.error = None;
                 self.publish_frame();
+                self.clear_history();
                 Ok(())
             }
             Command::ToggleWind {} => {
@@ -211,8 +284,174 @@ impl<B: LinearAlgebra> SimulationThread<B> {
                 }
                 self.simulation.drag_to(target).map_err(|e| e.to_string())
             }
-            Command::DragEnd {} => self.simulation.end_drag().map_err(|e| e.to_string()),
+            Command::DragEnd {} => self.timed_refactor(|s| s.end_drag()),
+            Command::SetParameters {
+                k,
+                delta_t,
+                mass_scale,
+                iterations,
+            } => self.set_parameters(k, delta_t, mass_scale, iterations),
+            Command::LoadScene { scene } => self.load_scene(scene),
+            Command::SetMethod { method, tolerance } => self.set_method(&method, tolerance),
         }
+    }
+
+    /// Another method or tolerance for later steps.
+    fn set_method(&mut self, method: &str, tolerance: Option<f64>) -> Reply {
+        let method: StepMethod = method.parse()?;
+        if let Some(t) = tolerance {
+            if !(t > 0.0 && t < 1.0) {
+                return Err(format!("tolerance {t}: expected between 0 and 1"));
+            }
+        }
+        self.simulation.set_method(method, tolerance);
+        Ok(())
+    }
+
+    /// `change`, which rebuilds and refactors `Q`, timed for the overlay.
+    fn timed_refactor(
+        &mut self,
+        change: impl FnOnce(&mut Simulation<B>) -> Result<(), masssprings::sim::SimulationError>,
+    ) -> Reply {
+        let started = Instant::now();
+        change(&mut self.simulation).map_err(|e| e.to_string())?;
+        self.refactor = Some(started.elapsed());
+        Ok(())
+    }
+
+    /// New k, Δt and mass scale (refactoring `Q` only when one of them
+    /// changed) and iterations.
+    fn set_parameters(
+        &mut self,
+        k: f64,
+        delta_t: f64,
+        mass_scale: f64,
+        iterations: usize,
+    ) -> Reply {
+        let in_range = |x: f64, low: f64, high: f64| x.is_finite() && (low..=high).contains(&x);
+        if !in_range(k, 1e-6, 1e12) {
+            return Err(format!("k = {k}: expected a stiffness from 1e-6 to 1e12"));
+        }
+        if !in_range(delta_t, 1e-4, 1.0) {
+            return Err(format!("Δt = {delta_t}: expected from 0.0001 to 1 s"));
+        }
+        if !in_range(mass_scale, 1e-3, 1e3) {
+            return Err(format!(
+                "mass scale {mass_scale}: expected from 0.001 to 1000"
+            ));
+        }
+        if !(1..=1000).contains(&iterations) {
+            return Err(format!("{iterations} iterations: expected from 1 to 1000"));
+        }
+        let current = (
+            self.simulation.system().k,
+            self.simulation.options().delta_t,
+            self.simulation.mass_scale(),
+        );
+        if current != (k, delta_t, mass_scale) {
+            self.timed_refactor(|s| s.set_parameters(k, delta_t, mass_scale))?;
+        }
+        self.simulation.set_iterations(iterations);
+        Ok(())
+    }
+
+    /// Switches to scene `index`: loads it, precomputes, and starts paused
+    /// at rest with the scene's own k, Δt and masses (iterations and wind
+    /// carry over). On failure the current scene stays.
+    fn load_scene(&mut self, index: usize) -> Reply {
+        let path = self
+            .scenes
+            .get(index)
+            .ok_or_else(|| format!("there is no scene {index}"))?
+            .clone();
+        let scene = crate::app::load_scene(&path).map_err(|e| match e {
+            crate::app::AppError::Usage(why) | crate::app::AppError::Failed(why) => why,
+        })?;
+        let current = self.simulation.options();
+        let options = SimulationOptions {
+            iterations: current.iterations,
+            wind: current.wind,
+            method: current.method,
+            tolerance: current.tolerance,
+            ..SimulationOptions::default()
+        };
+        let started = Instant::now();
+        let simulation = Simulation::<B>::from_scene(&scene, options)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        self.refactor = Some(started.elapsed());
+        let assets = SceneAssets::of(&scene, B::NAME);
+        let bounds = BoundingBox::of(&scene.vertices);
+        self.center = bounds.centre();
+        self.reach = 10.0 * bounds.diagonal().max(1.0);
+        self.simulation = simulation;
+        self.scene_index = index;
+        self.show_springs = scene.faces.first().is_none_or(|face| face.len() < 3);
+        self.error = None;
+        self.set_animating(false);
+        self.stats = StepStats::new();
+        *self
+            .shared
+            .scene
+            .lock()
+            .expect("no thread panics holding it") = assets;
+        *self
+            .shared
+            .frame
+            .lock()
+            .expect("no thread panics holding it") = Frame::new(scene.vertices.len());
+        self.publish_frame();
+        self.clear_history();
+        let mut status = self
+            .shared
+            .status
+            .lock()
+            .expect("no thread panics holding it");
+        status.scene.clone_from(&scene.name);
+        status.n = scene.vertices.len();
+        status.springs = scene.springs.len();
+        status.scene_serial = status.scene_serial.wrapping_add(1);
+        Ok(())
+    }
+
+    /// Appends what a step did to the status's history (in place: the
+    /// history never grows beyond its capacity, so this does not allocate).
+    fn record_step(&self, report: &StepReport) {
+        let mut status = self
+            .shared
+            .status
+            .lock()
+            .expect("no thread panics holding it");
+        if status.history.len() == HISTORY_LENGTH {
+            status.history.pop_front();
+        }
+        status.history.push_back(StepRecord {
+            step: self.simulation.steps(),
+            iterations: report.iterations,
+            energy_decrease: report.energy_decrease,
+            relative_gradient: report.relative_gradient,
+            converged: report.stop == Stop::Tolerance,
+        });
+    }
+
+    fn clear_history(&self) {
+        let mut status = self
+            .shared
+            .status
+            .lock()
+            .expect("no thread panics holding it");
+        status.history.clear();
+    }
+
+    /// The scene names the page lists, once.
+    fn publish_scene_list(&self) {
+        let mut status = self
+            .shared
+            .status
+            .lock()
+            .expect("no thread panics holding it");
+        status.scenes = self.scenes.iter().map(|path| scene_name(path)).collect();
+        status.methods = StepMethod::ALL.map(StepMethod::name).to_vec();
+        status.history.reserve(HISTORY_LENGTH);
     }
 
     /// Starts dragging a free vertex (a pinned one stays where it is).
@@ -224,9 +463,7 @@ impl<B: LinearAlgebra> SimulationThread<B> {
         if self.simulation.pinned().contains(&vertex) {
             return Err(format!("vertex {vertex} is pinned"));
         }
-        self.simulation
-            .start_drag(vertex, target)
-            .map_err(|e| e.to_string())
+        self.timed_refactor(|s| s.start_drag(vertex, target))
     }
 
     /// A drag target must be finite and near the scene.
@@ -267,6 +504,13 @@ impl<B: LinearAlgebra> SimulationThread<B> {
 
     /// Writes the current state into the shared status.
     fn publish_status(&self) {
+        // Never hold the status while taking the watchers' lock.
+        let pages = self
+            .shared
+            .watchers
+            .lock()
+            .expect("no thread panics holding it")
+            .count();
         let mut status = self
             .shared
             .status
@@ -283,5 +527,23 @@ impl<B: LinearAlgebra> SimulationThread<B> {
         if status.error != self.error {
             status.error.clone_from(&self.error);
         }
+        status.pages = pages;
+        status.watched = pages > 0;
+        status.k = self.simulation.system().k;
+        status.delta_t = self.simulation.options().delta_t;
+        status.mass_scale = self.simulation.mass_scale();
+        status.iterations = self.simulation.options().iterations;
+        status.method = self.simulation.options().method.name();
+        status.tolerance = self.simulation.options().tolerance;
+        status.refactor_ms = self.refactor.map(|d| 1e3 * d.as_secs_f64());
+        status.scene_index = self.scene_index;
     }
+}
+
+/// The name the page shows for a scene file: its stem (`flag`).
+fn scene_name(path: &std::path::Path) -> String {
+    path.file_stem().map_or_else(
+        || path.display().to_string(),
+        |s| s.to_string_lossy().into_owned(),
+    )
 }

@@ -2,16 +2,24 @@
 // that runs in the masssprings process, and sends it keys and drags.
 //
 // Data flow (see src/app/view/api.rs):
-//   GET  /api/scene         once: triangles, springs, pins, texture coordinates
-//   GET  /api/frame?since=S every animation frame: the positions (binary f32),
-//                           or 204 when nothing moved since frame serial S
-//   GET  /api/status        four times a second: steps, timings, toggles
-//   POST /api/command       keys (space, A, L, R, W) and vertex drags
+//   GET  /api/scene         once per scene: triangles, springs, pins, texture
+//                           coordinates (again when status.scene_serial changes)
+//   GET  /api/frame?since=S&page=ID
+//                           every animation frame: the positions (binary f32),
+//                           or 204 when nothing moved since frame serial S; it
+//                           also tells the server this page is watching (the
+//                           simulation runs only while some page is)
+//   GET  /api/status        four times a second: steps, timings, toggles,
+//                           parameters, the last steps' convergence
+//   POST /api/command       keys, buttons, sliders, the scene picker, drags
+//
+// Each tab keeps its own camera; every command acts on the one simulation
+// the server runs, so two tabs see the same cloth.
 //
 // Drawing, back to front: a background gradient, the mesh (textured or
 // flat, lit on both sides), then, when shown (key L), the springs as lines
-// and the point masses as discs, and always the pinned vertices as silver
-// discs.
+// and the point masses as discs sized to the mesh spacing, and always the
+// pinned vertices as silver discs.
 'use strict';
 
 // ---------------------------------------------------------------------------
@@ -28,11 +36,12 @@ const LOOK = {
   cloth: hex(0x5b8fd6), // the mesh's colour without texture
   towardLight: normalize([-0.4, 0.8, 0.45]), // world space, upper left front
   ambient: 0.35,
-  diffuse: 0.65, // brightness = ambient + diffuse · max(0, n·l)
+  diffuse: 0.65, // brightness = ambient + diffuse · |n·l| (a thin sheet: both sides lit)
   spring: hex(0x33414f),
   springOpacity: 0.5,
   mass: hex(0xc0392b),
-  massRadius: 2, // CSS pixels
+  massRadius: 2, // CSS pixels, when the scene gives no mass radius
+  massRadiusLimits: [1, 6], // CSS pixels: dots sized to the mesh stay within
   pin: hex(0xc8ccd0),
   pinOutline: hex(0x7f8c8d),
   pinRadius: 3,
@@ -45,6 +54,10 @@ const LOOK = {
 
 /** Pixels within which a shift-click picks the nearest vertex. */
 const PICK_RADIUS = 24;
+/** A touch held this long without moving pulls the nearest vertex. */
+const LONG_PRESS_MS = 500;
+/** The random name this page gives itself on /api/frame. */
+const PAGE_ID = Math.floor(Math.random() * 2 ** 31) + 1;
 /** Milliseconds between two status polls. */
 const STATUS_PERIOD = 250;
 
@@ -113,8 +126,9 @@ function transform(m, p) {
 // The orbit camera. It looks at `target` from the direction
 //   back = (cos e · sin a, sin e, cos e · cos a)
 // (azimuth a from +z toward +x, elevation e), from `distance` away; world y
-// is up. Until the user moves it, it frames everything the scene has
-// occupied so far (like the renderer, which frames all frames).
+// is up. When a scene loads it frames the cloth, and until the user moves
+// the camera it keeps framing everything the cloth has occupied since (like
+// the renderer, which frames all frames). F frames the cloth as it is now.
 
 const camera = {
   azimuth: LOOK.azimuthDegrees * Math.PI / 180,
@@ -123,8 +137,12 @@ const camera = {
   target: [0, 0, 0],
   distance: 1,
   autoFrame: true,
-  box: { min: [Infinity, Infinity, Infinity], max: [-Infinity, -Infinity, -Infinity] },
+  box: emptyBox(),
 };
+
+function emptyBox() {
+  return { min: [Infinity, Infinity, Infinity], max: [-Infinity, -Infinity, -Infinity] };
+}
 
 /** The camera's axes and eye for the current angles. */
 function cameraFrame() {
@@ -137,11 +155,8 @@ function cameraFrame() {
   return { eye, right, up, back };
 }
 
-/** Grows the framed box by the current positions and, while the camera is
- *  automatic, aims at it: target = the box's centre, distance = the least at
- *  which all eight corners fit with the margin (as src/app/render/camera.rs). */
-function frameScene(positions, aspect) {
-  if (!camera.autoFrame) return;
+/** Grows the camera's box by `positions`. */
+function growBox(positions) {
   const { min, max } = camera.box;
   for (let i = 0; i < positions.length; i += 3) {
     for (let k = 0; k < 3; k++) {
@@ -149,6 +164,13 @@ function frameScene(positions, aspect) {
       max[k] = Math.max(max[k], positions[i + k]);
     }
   }
+}
+
+/** Aims at the box: target = its centre, distance = the least at which all
+ *  eight corners fit with the margin (as src/app/render/camera.rs). */
+function aimAtBox(aspect) {
+  const { min, max } = camera.box;
+  if (!(min[0] <= max[0])) return;
   camera.target = scale(add(min, max), 0.5);
   const { right, up, back } = cameraFrame();
   const tanY = Math.tan(camera.fovY / 2);
@@ -161,6 +183,41 @@ function frameScene(positions, aspect) {
     distance = Math.max(distance, dot(o, back) + LOOK.margin * fit);
   }
   camera.distance = distance;
+}
+
+/** While the camera is automatic, frames everything seen so far. */
+function frameScene(positions, aspect) {
+  if (!camera.autoFrame) return;
+  growBox(positions);
+  aimAtBox(aspect);
+}
+
+/** Key F: frames the cloth as it is now (and stays there). */
+function fitToCloth() {
+  if (!state.positions) return;
+  camera.box = emptyBox();
+  growBox(state.positions);
+  aimAtBox(aspectRatio());
+  camera.autoFrame = false;
+  window.viewer.fits++;
+}
+
+/** Moves the target by (dx, dy) CSS pixels across the screen. */
+function pan(dx, dy) {
+  const { right, up } = cameraFrame();
+  const worldPerPixel = 2 * camera.distance * Math.tan(camera.fovY / 2) / Math.max(1, canvas.clientHeight);
+  camera.target = add(camera.target, add(scale(right, -dx * worldPerPixel), scale(up, dy * worldPerPixel)));
+  camera.autoFrame = false;
+}
+
+/** Zooms by `factor` (< 1: closer) toward the point under (x, y): eye and
+ *  target both move toward it, so that point stays under the cursor. */
+function zoomToward(x, y, factor) {
+  const matrices = cameraMatrices(aspectRatio());
+  const anchor = pointUnderCursor(x, y, camera.target, matrices);
+  camera.target = add(anchor, scale(sub(camera.target, anchor), factor));
+  camera.distance *= factor;
+  camera.autoFrame = false;
 }
 
 /** projection · view, and the pieces picking needs. */
@@ -217,7 +274,8 @@ const SHADERS = {
         // Cloth has no inside: light the side we see (flip the back's normal).
         vec3 n = normalize(v_normal);
         if (!gl_FrontFacing) n = -n;
-        float brightness = u_ambient + u_diffuse * max(dot(n, u_towardLight), 0.0);
+        // A thin sheet: the light reaches the side we see through it too.
+        float brightness = u_ambient + u_diffuse * abs(dot(n, u_towardLight));
         vec3 colour = u_textured ? texture2D(u_texture, v_uv).rgb : u_cloth;
         gl_FragColor = vec4(colour * brightness, 1.0);
       }`,
@@ -233,24 +291,30 @@ const SHADERS = {
       uniform vec4 u_colour;
       void main() { gl_FragColor = u_colour; }`,
   },
-  // Point masses: round discs with an optional outline.
+  // Point masses: round discs with an optional outline, of a fixed radius
+  // in pixels, or (u_worldRadius > 0) of a radius in world units, clamped.
   points: {
     vertex: `
       attribute vec3 a_position;
       uniform mat4 u_viewProjection;
-      uniform mediump float u_size; // shared with the fragment shader: same precision
+      uniform float u_radius, u_worldRadius, u_pixelsPerUnit, u_minRadius, u_maxRadius;
+      varying float v_radius;
       void main() {
         gl_Position = u_viewProjection * vec4(a_position, 1.0);
-        gl_PointSize = u_size;
+        v_radius = u_worldRadius > 0.0
+          ? clamp(u_worldRadius * u_pixelsPerUnit / gl_Position.w, u_minRadius, u_maxRadius)
+          : u_radius;
+        gl_PointSize = 2.0 * v_radius + 1.0;
       }`,
     fragment: `
       precision mediump float;
       uniform vec3 u_fill, u_outline;
-      uniform float u_radius, u_outlineWidth, u_size;
+      uniform float u_outlineWidth;
+      varying float v_radius;
       void main() {
-        float d = length(gl_PointCoord - 0.5) * u_size; // pixels from the centre
-        if (d > u_radius) discard;
-        gl_FragColor = vec4(d > u_radius - u_outlineWidth ? u_outline : u_fill, 1.0);
+        float d = length(gl_PointCoord - 0.5) * (2.0 * v_radius + 1.0); // pixels from the centre
+        if (d > v_radius) discard;
+        gl_FragColor = vec4(d > v_radius - u_outlineWidth ? u_outline : u_fill, 1.0);
       }`,
   },
 };
@@ -304,11 +368,16 @@ const state = {
   frameRequestPending: false,
   dragged: null, // { vertex, plane point } while shift-dragging
   dragTarget: null, // where the dragged vertex is pulled to
+  sceneSerial: null, // status.scene_serial of the scene drawn
+  loadingScene: false,
+  refusal: null, // why the last command was refused
+  sliderHeld: false,
 };
 
 // What tests (tests/browser) read.
 window.viewer = {
   ready: false, framesReceived: 0, framesDrawn: 0, textureLoaded: false, error: null,
+  fits: 0, scenesLoaded: 0, plotPoints: 0,
   state, camera, look: LOOK,
   screenPositionOf: (vertex) => screenPosition(vertex, cameraMatrices(aspectRatio())),
 };
@@ -459,7 +528,8 @@ function draw() {
   // are always drawn, in silver.
   if (state.status && state.status.show_springs) {
     drawSprings(matrices);
-    drawPoints(matrices, gpu.freeVertices, gpu.freeVertexCount, LOOK.mass, LOOK.mass, LOOK.massRadius, 0, pixelRatio);
+    drawPoints(matrices, gpu.freeVertices, gpu.freeVertexCount, LOOK.mass, LOOK.mass, LOOK.massRadius, 0,
+      pixelRatio, state.scene.mass_radius || 0);
   }
   drawPoints(matrices, gpu.pins, gpu.pinCount, LOOK.pin, LOOK.pinOutline, LOOK.pinRadius, LOOK.pinOutlineWidth, pixelRatio);
   if (state.dragged && state.dragTarget) drawDragMarker(matrices, pixelRatio);
@@ -523,14 +593,13 @@ function drawSprings(matrices) {
 }
 
 /** Discs at the simulated vertices listed in `indexBuffer`. */
-function drawPoints(matrices, indexBuffer, count, fill, outline, radius, outlineWidth, pixelRatio) {
+function drawPoints(matrices, indexBuffer, count, fill, outline, radius, outlineWidth, pixelRatio,
+  worldRadius = 0) {
   if (count === 0) return;
   const { program, locations } = gpu.programs.points;
-  const size = 2 * radius * pixelRatio + 1;
   gl.useProgram(program);
   gl.uniformMatrix4fv(locations.u_viewProjection, false, matrices.viewProjection);
-  gl.uniform1f(locations.u_size, size);
-  gl.uniform1f(locations.u_radius, radius * pixelRatio);
+  setPointRadius(locations, radius * pixelRatio, worldRadius, pixelRatio);
   gl.uniform1f(locations.u_outlineWidth, outlineWidth * pixelRatio);
   gl.uniform3fv(locations.u_fill, fill);
   gl.uniform3fv(locations.u_outline, outline);
@@ -538,6 +607,19 @@ function drawPoints(matrices, indexBuffer, count, fill, outline, radius, outline
   gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, indexBuffer);
   gl.drawElements(gl.POINTS, count, gl.UNSIGNED_INT, 0);
   gl.disableVertexAttribArray(locations.a_position);
+}
+
+/** The points program's radius: `pixels` (device pixels), or, when
+ *  `worldRadius` > 0, that many world units at each point's depth, kept
+ *  within LOOK.massRadiusLimits. */
+function setPointRadius(locations, pixels, worldRadius, pixelRatio) {
+  const [least, most] = LOOK.massRadiusLimits;
+  gl.uniform1f(locations.u_radius, pixels);
+  gl.uniform1f(locations.u_worldRadius, worldRadius);
+  // Device pixels per world unit at clip w = 1: f · height / 2.
+  gl.uniform1f(locations.u_pixelsPerUnit, canvas.height / 2 / Math.tan(camera.fovY / 2));
+  gl.uniform1f(locations.u_minRadius, least * pixelRatio);
+  gl.uniform1f(locations.u_maxRadius, most * pixelRatio);
 }
 
 /** A line from the dragged vertex to where the mouse pulls it, and a disc
@@ -555,11 +637,9 @@ function drawDragMarker(matrices, pixelRatio) {
   bindAttribute(locations.a_position, gpu.dragLine, 3);
   gl.drawArrays(gl.LINES, 0, 2);
   ({ program, locations } = gpu.programs.points);
-  const radius = LOOK.pinRadius * pixelRatio;
   gl.useProgram(program);
   gl.uniformMatrix4fv(locations.u_viewProjection, false, matrices.viewProjection);
-  gl.uniform1f(locations.u_size, 2 * radius + 1);
-  gl.uniform1f(locations.u_radius, radius);
+  setPointRadius(locations, LOOK.pinRadius * pixelRatio, 0, pixelRatio);
   gl.uniform1f(locations.u_outlineWidth, LOOK.pinOutlineWidth * pixelRatio);
   gl.uniform3fv(locations.u_fill, LOOK.mass);
   gl.uniform3fv(locations.u_outline, LOOK.spring);
@@ -578,25 +658,34 @@ async function sendCommand(body) {
     body: JSON.stringify(body),
   });
   const answer = await response.json();
-  if (response.ok) state.status = answer;
-  else console.warn('command refused:', body.command, answer.error);
-  updateOverlay();
+  if (response.ok) {
+    state.status = answer;
+    state.refusal = null;
+  } else {
+    state.refusal = `${body.command}: ${answer.error}`;
+    console.warn('command refused:', body.command, answer.error);
+  }
+  onStatus();
   return answer;
+}
+
+function send(body) {
+  return sendCommand(body).catch(() => setConnected(false));
 }
 
 /** Asks for the frame after the one we have; 204 means nothing moved. */
 async function pollFrame() {
-  if (state.frameRequestPending) return;
+  if (state.frameRequestPending || state.loadingScene) return;
   state.frameRequestPending = true;
   try {
-    const query = state.serial === null ? '' : `?since=${state.serial}`;
-    const response = await fetch(`/api/frame${query}`, { cache: 'no-store' });
+    const since = state.serial === null ? '' : `since=${state.serial}&`;
+    const response = await fetch(`/api/frame?${since}page=${PAGE_ID}`, { cache: 'no-store' });
     if (response.status === 200) {
       const bytes = await response.arrayBuffer();
       // Header (src/app/view/api.rs): u32 n, u32 serial, u32 steps, f32 time.
       const header = new DataView(bytes, 0, 16);
       const n = header.getUint32(0, true);
-      if (n === state.scene.n) {
+      if (state.scene && n === state.scene.n && !state.loadingScene) {
         state.serial = header.getUint32(4, true);
         state.frameSteps = header.getUint32(8, true);
         applyFrame(new Float32Array(bytes, 16, 3 * n));
@@ -620,12 +709,45 @@ async function pollStatus() {
   } catch (error) {
     setConnected(false);
   }
-  updateOverlay();
+  onStatus();
 }
 
 function setConnected(connected) {
   state.connected = connected;
   overlay.classList.toggle('disconnected', !connected);
+}
+
+/** Fetches the scene the server shows (at start, and when it changes):
+ *  the mesh, its texture, a fresh camera framing it. */
+async function loadScene() {
+  state.loadingScene = true;
+  try {
+    const response = await fetch('/api/scene', { cache: 'no-store' });
+    state.scene = await response.json();
+    gpu = createGpuScene(state.scene);
+    window.viewer.textureLoaded = false;
+    if (state.scene.texture) loadTexture(`${state.scene.texture}?scene=${state.sceneSerial}`);
+    state.positions = null;
+    state.serial = null;
+    camera.box = emptyBox();
+    camera.autoFrame = true;
+    window.viewer.scenesLoaded++;
+  } finally {
+    state.loadingScene = false;
+  }
+}
+
+/** A new status: a changed scene is fetched; the overlay, the plot and the
+ *  controls follow. */
+function onStatus() {
+  const s = state.status;
+  if (s && state.sceneSerial !== null && s.scene_serial !== state.sceneSerial && !state.loadingScene) {
+    state.sceneSerial = s.scene_serial;
+    loadScene().catch((error) => { window.viewer.error = String(error); });
+  }
+  updateOverlay();
+  drawPlot();
+  syncControls();
 }
 
 function updateOverlay() {
@@ -635,20 +757,215 @@ function updateOverlay() {
     return;
   }
   if (!s) return;
+  let running;
+  if (!s.animating) {
+    running = s.steps === 0 ? 'paused at rest: ▶ play (A) or step (space)' : 'paused';
+  } else if (!s.watched) {
+    running = 'waiting for a page to show it';
+  } else {
+    running = `animating (while a page shows it: ${s.pages} now)`;
+  }
+  const tolerance = s.tolerance === null ? 'all iterations' : `tolerance ${s.tolerance.toExponential(0)}`;
+  const last = s.history.length > 0 ? s.history[s.history.length - 1] : null;
   const lines = [
-    `${s.scene} · ${s.backend}`,
-    `n ${s.n} · springs ${s.springs}`,
+    `${s.scene} · ${s.backend} · n ${s.n} · springs ${s.springs}`,
+    `k ${formatNumber(s.k)} · Δt ${s.delta_t.toFixed(4)} s · mass ×${formatNumber(s.mass_scale)}`,
+    `${s.method} · ≤ ${s.iterations} iterations · ${tolerance}`,
+    s.refactor_ms === null ? 'Q factored once at start'
+      : `Q rebuilt and refactored in ${s.refactor_ms.toFixed(1)} ms`,
     `${s.ms_per_step.toFixed(2)} ms/step · ${s.steps_per_second.toFixed(1)} steps/s`,
-    `step ${s.steps} · t ${s.time.toFixed(2)} s · ${s.animating ? 'animating' : 'paused'}`
-      + ` · wind ${s.wind ? 'on' : 'off'}`,
+    `step ${s.steps} · t ${s.time.toFixed(2)} s · wind ${s.wind ? 'on' : 'off'}`,
+    running,
   ];
+  if (last) {
+    lines.push(`last step: ${last.iterations} iterations, relative gradient `
+      + `${last.relative_gradient.toExponential(1)}${last.converged ? ' (converged)' : ''}`);
+  }
   if (s.dragged !== null) lines.push(`dragging vertex ${s.dragged + 1}`);
   if (s.error) lines.push(`stopped: ${s.error}`);
+  if (state.refusal) lines.push(`refused: ${state.refusal}`);
   statsText.textContent = lines.join('\n');
 }
 
+function formatNumber(x) {
+  if (x === 0) return '0';
+  if (Math.abs(x) >= 1e4 || Math.abs(x) < 1e-2) return x.toExponential(1);
+  return String(Number(x.toPrecision(3)));
+}
+
 // ---------------------------------------------------------------------------
-// Keys: as the assignment's viewer.
+// The convergence plot: for the last steps (oldest on the left), the
+// relative gradient where each step stopped (blue line, log scale, 1 at the
+// top, 1e-8 at the bottom) and the iterations it used (grey bars, up to the
+// iteration budget).
+
+const plot = document.getElementById('plot');
+const plotContext = plot.getContext('2d');
+const PLOT_DECADES = 8;
+
+function drawPlot() {
+  const s = state.status;
+  const { width, height } = plot;
+  const c = plotContext;
+  c.clearRect(0, 0, width, height);
+  if (!s) return;
+  const left = 30;
+  const bottom = height - 12;
+  const top = 4;
+  const columns = Math.max(1, s.history.length);
+  const columnWidth = (width - left) / 150;
+  c.font = '9px ui-monospace, monospace';
+  c.fillStyle = '#5d6d7e';
+  for (let decade = 0; decade <= PLOT_DECADES; decade += 2) {
+    const y = top + (bottom - top) * decade / PLOT_DECADES;
+    c.fillText(decade === 0 ? '1' : `1e-${decade}`, 0, y + 3);
+    c.fillRect(left, y, width - left, 0.5);
+  }
+  c.fillText(`relative gradient (line) · iterations (bars, max ${s.iterations}) · last ${columns} steps`,
+    0, height - 1);
+  c.fillStyle = 'rgba(127, 140, 141, 0.45)';
+  s.history.forEach((record, i) => {
+    const h = (bottom - top) * Math.min(1, record.iterations / Math.max(1, s.iterations));
+    c.fillRect(left + i * columnWidth, bottom - h, Math.max(1, columnWidth - 0.5), h);
+  });
+  c.strokeStyle = '#3f6fb0';
+  c.lineWidth = 1.5;
+  c.beginPath();
+  s.history.forEach((record, i) => {
+    const decades = -Math.log10(Math.max(record.relative_gradient, 10 ** -PLOT_DECADES));
+    const y = top + (bottom - top) * Math.min(PLOT_DECADES, Math.max(0, decades)) / PLOT_DECADES;
+    const x = left + (i + 0.5) * columnWidth;
+    if (i === 0) c.moveTo(x, y); else c.lineTo(x, y);
+  });
+  c.stroke();
+  window.viewer.plotPoints = s.history.length;
+}
+
+// ---------------------------------------------------------------------------
+// The controls panel: buttons (the keys' commands), the scene picker, and
+// sliders for k (log scale), Δt, the mass scale (log scale) and the
+// iterations, plus the method and the tolerance. A slider shows its value
+// while it moves and sends set_parameters when let go.
+
+const controls = {
+  play: document.getElementById('play'),
+  step: document.getElementById('step'),
+  reset: document.getElementById('reset'),
+  wind: document.getElementById('wind'),
+  springs: document.getElementById('springs'),
+  fit: document.getElementById('fit'),
+  help: document.getElementById('help-button'),
+  scene: document.getElementById('scene'),
+  method: document.getElementById('method'),
+  tolerance: document.getElementById('tolerance'),
+};
+
+/** Each slider: how its position maps to the parameter and back. */
+const SLIDERS = {
+  k: { toValue: (x) => 10 ** x, toSlider: Math.log10, show: formatNumber },
+  delta_t: { toValue: (x) => x, toSlider: (v) => v, show: (v) => v.toFixed(4) },
+  mass_scale: { toValue: (x) => 10 ** x, toSlider: Math.log10, show: (v) => `×${formatNumber(v)}` },
+  iterations: { toValue: (x) => Math.round(x), toSlider: (v) => v, show: String },
+};
+
+function sliderValue(name) {
+  const input = document.getElementById(name);
+  return SLIDERS[name].toValue(Number(input.value));
+}
+
+/** Sends the parameters: the server's values, with the one of slider
+ *  `name` changed (the others are not read back from their sliders, whose
+ *  steps would round them). */
+function sendParameters(name) {
+  const s = state.status;
+  const parameters = { k: s.k, delta_t: s.delta_t, mass_scale: s.mass_scale, iterations: s.iterations };
+  parameters[name] = sliderValue(name);
+  return send({ command: 'set_parameters', ...parameters });
+}
+
+function sendMethod() {
+  const tolerance = Number(controls.tolerance.value);
+  return send({
+    command: 'set_method',
+    method: controls.method.value,
+    tolerance: tolerance > 0 ? 10 ** -tolerance : null,
+  });
+}
+
+for (const name of Object.keys(SLIDERS)) {
+  const input = document.getElementById(name);
+  const output = document.getElementById(`${name}-value`);
+  input.addEventListener('input', () => { output.textContent = SLIDERS[name].show(sliderValue(name)); });
+  input.addEventListener('change', () => { if (state.status) sendParameters(name); });
+}
+
+const BUTTON_COMMANDS = {
+  play: 'toggle_animation', step: 'step', reset: 'reset', wind: 'toggle_wind', springs: 'toggle_springs',
+};
+for (const [id, command] of Object.entries(BUTTON_COMMANDS)) {
+  controls[id].addEventListener('click', () => send({ command }));
+}
+controls.fit.addEventListener('click', fitToCloth);
+controls.help.addEventListener('click', () => toggleHelp());
+controls.scene.addEventListener('change', () => {
+  send({ command: 'load_scene', scene: Number(controls.scene.value) });
+});
+controls.method.addEventListener('change', sendMethod);
+controls.tolerance.addEventListener('change', sendMethod);
+controls.tolerance.addEventListener('input', () => {
+  document.getElementById('tolerance-value').textContent = toleranceText(Number(controls.tolerance.value));
+});
+
+function toleranceText(decades) {
+  return decades > 0 ? `1e-${decades}` : 'off';
+}
+
+/** Shows the status in the controls, except in the one being handled. */
+function syncControls() {
+  const s = state.status;
+  if (!s) return;
+  controls.play.textContent = s.animating ? '❚❚ pause' : '▶ play';
+  controls.play.classList.toggle('on', s.animating);
+  controls.wind.classList.toggle('on', s.wind);
+  controls.springs.classList.toggle('on', s.show_springs);
+  if (controls.scene.options.length !== s.scenes.length) {
+    controls.scene.replaceChildren(...s.scenes.map((name, i) => new Option(name, String(i))));
+  }
+  if (document.activeElement !== controls.scene) controls.scene.value = String(s.scene_index);
+  if (controls.method.options.length !== s.methods.length) {
+    controls.method.replaceChildren(...s.methods.map((name) => new Option(name, name)));
+  }
+  if (document.activeElement !== controls.method) controls.method.value = s.method;
+  if (document.activeElement !== controls.tolerance) {
+    const decades = s.tolerance === null ? 0 : Math.round(-Math.log10(s.tolerance));
+    controls.tolerance.value = String(decades);
+    document.getElementById('tolerance-value').textContent = toleranceText(decades);
+  }
+  for (const name of Object.keys(SLIDERS)) {
+    const input = document.getElementById(name);
+    if (document.activeElement === input && state.sliderHeld) continue;
+    input.value = String(SLIDERS[name].toSlider(s[name]));
+    document.getElementById(`${name}-value`).textContent = SLIDERS[name].show(s[name]);
+  }
+}
+
+window.addEventListener('pointerdown', () => { state.sliderHeld = true; });
+window.addEventListener('pointerup', () => { state.sliderHeld = false; });
+
+// ---------------------------------------------------------------------------
+// Help overlay: ? or H shows and hides it, Esc hides it.
+
+const helpOverlay = document.getElementById('help-overlay');
+
+function toggleHelp(show = helpOverlay.hidden) {
+  helpOverlay.hidden = !show;
+}
+
+helpOverlay.addEventListener('click', () => toggleHelp(false));
+
+// ---------------------------------------------------------------------------
+// Keys: as the assignment's viewer, plus F (fit), M (next method) and ?/H
+// (help).
 
 const KEY_COMMANDS = {
   ' ': 'step', // pause and advance one step
@@ -658,17 +975,41 @@ const KEY_COMMANDS = {
   w: 'toggle_wind',
 };
 
+/** Key M: the next method in the server's list. */
+function nextMethod() {
+  const s = state.status;
+  if (!s) return;
+  const next = s.methods[(s.methods.indexOf(s.method) + 1) % s.methods.length];
+  send({ command: 'set_method', method: next, tolerance: s.tolerance });
+}
+
 window.addEventListener('keydown', (event) => {
   if (event.ctrlKey || event.metaKey || event.altKey) return;
-  const command = KEY_COMMANDS[event.key.toLowerCase()];
-  if (!command) return;
+  const target = event.target;
+  if (target instanceof HTMLInputElement || target instanceof HTMLSelectElement) return;
+  const key = event.key.toLowerCase();
+  if (key === '?' || key === 'h') {
+    toggleHelp();
+  } else if (key === 'escape') {
+    toggleHelp(false);
+  } else if (key === 'f') {
+    fitToCloth();
+  } else if (key === 'm') {
+    nextMethod();
+  } else {
+    const command = KEY_COMMANDS[key];
+    if (!command) return;
+    event.preventDefault();
+    if (event.repeat && command !== 'step') return; // holding space keeps stepping
+    send({ command });
+    return;
+  }
   event.preventDefault();
-  if (event.repeat && command !== 'step') return; // holding space keeps stepping
-  sendCommand({ command }).catch(() => setConnected(false));
 });
 
 // ---------------------------------------------------------------------------
-// Mouse: drag to orbit, wheel to zoom, shift-drag to pull a vertex.
+// Mouse: drag to orbit, right-drag or ctrl-drag to pan, wheel to zoom
+// toward the cursor, shift-drag to pull a vertex.
 //
 // Picking: every free vertex is projected to the screen with the current
 // projection · view matrix; the nearest one within PICK_RADIUS pixels of the
@@ -690,9 +1031,9 @@ function screenPosition(i, matrices) {
 }
 
 /** The free vertex nearest to the cursor (x, y) on screen, or null. */
-function pickVertex(x, y, matrices) {
+function pickVertex(x, y, matrices, radius = PICK_RADIUS) {
   let best = null;
-  let bestDistance = PICK_RADIUS;
+  let bestDistance = radius;
   for (let i = 0; i < state.scene.n; i++) {
     if (gpu.pinned[i]) continue;
     const s = screenPosition(i, matrices);
@@ -738,22 +1079,52 @@ function queueDragTo() {
   }).catch(() => setConnected(false));
 }
 
-let orbiting = null; // the last mouse position while orbiting
+/** Starts pulling the free vertex nearest to (x, y); false when none. */
+function startVertexDrag(x, y, radius) {
+  const matrices = cameraMatrices(aspectRatio());
+  const vertex = pickVertex(x, y, matrices, radius);
+  if (vertex === null) return false;
+  const point = Array.from(state.positions.subarray(3 * vertex, 3 * vertex + 3));
+  state.dragged = { vertex, point };
+  state.dragTarget = point;
+  canvas.classList.add('dragging-vertex');
+  queueDragCommand({ command: 'drag_start', vertex, target: point });
+  return true;
+}
+
+/** Pulls the dragged vertex toward the point under (x, y). */
+function moveVertexDrag(x, y) {
+  const matrices = cameraMatrices(aspectRatio());
+  state.dragTarget = pointUnderCursor(x, y, state.dragged.point, matrices);
+  queueDragTo();
+}
+
+function endVertexDrag() {
+  if (!state.dragged) return;
+  state.dragged = null;
+  state.dragTarget = null;
+  canvas.classList.remove('dragging-vertex');
+  queueDragCommand({ command: 'drag_end' });
+}
+
+function orbit(dx, dy) {
+  camera.azimuth -= dx * 0.01;
+  const limit = Math.PI / 2 - 0.01;
+  camera.elevation = Math.max(-limit, Math.min(limit, camera.elevation + dy * 0.01));
+  camera.autoFrame = false;
+}
+
+let mouse = null; // { mode: 'orbit' | 'pan', x, y } while a button is held
+
+canvas.addEventListener('contextmenu', (event) => event.preventDefault());
 
 canvas.addEventListener('mousedown', (event) => {
   if (!state.positions) return;
-  camera.autoFrame = false;
-  const matrices = cameraMatrices(aspectRatio());
   if (event.shiftKey && event.button === 0) {
-    const vertex = pickVertex(event.offsetX, event.offsetY, matrices);
-    if (vertex === null) return;
-    const point = Array.from(state.positions.subarray(3 * vertex, 3 * vertex + 3));
-    state.dragged = { vertex, point };
-    state.dragTarget = point;
-    canvas.classList.add('dragging-vertex');
-    queueDragCommand({ command: 'drag_start', vertex, target: point });
+    startVertexDrag(event.offsetX, event.offsetY, PICK_RADIUS);
   } else {
-    orbiting = { x: event.clientX, y: event.clientY };
+    const panning = event.button === 2 || (event.button === 0 && event.ctrlKey);
+    mouse = { mode: panning ? 'pan' : 'orbit', x: event.clientX, y: event.clientY };
   }
   event.preventDefault();
 });
@@ -761,52 +1132,106 @@ canvas.addEventListener('mousedown', (event) => {
 window.addEventListener('mousemove', (event) => {
   if (state.dragged) {
     const rect = canvas.getBoundingClientRect();
-    const matrices = cameraMatrices(aspectRatio());
-    state.dragTarget = pointUnderCursor(event.clientX - rect.left, event.clientY - rect.top,
-      state.dragged.point, matrices);
-    queueDragTo();
-  } else if (orbiting) {
-    const dx = event.clientX - orbiting.x;
-    const dy = event.clientY - orbiting.y;
-    orbiting = { x: event.clientX, y: event.clientY };
-    camera.azimuth -= dx * 0.01;
-    const limit = Math.PI / 2 - 0.01;
-    camera.elevation = Math.max(-limit, Math.min(limit, camera.elevation + dy * 0.01));
+    moveVertexDrag(event.clientX - rect.left, event.clientY - rect.top);
+  } else if (mouse) {
+    const dx = event.clientX - mouse.x;
+    const dy = event.clientY - mouse.y;
+    mouse.x = event.clientX;
+    mouse.y = event.clientY;
+    if (mouse.mode === 'pan') pan(dx, dy); else orbit(dx, dy);
   }
 });
 
 window.addEventListener('mouseup', () => {
-  if (state.dragged) {
-    state.dragged = null;
-    state.dragTarget = null;
-    canvas.classList.remove('dragging-vertex');
-    queueDragCommand({ command: 'drag_end' });
-  }
-  orbiting = null;
+  endVertexDrag();
+  mouse = null;
 });
 
 canvas.addEventListener('wheel', (event) => {
-  camera.autoFrame = false;
-  camera.distance *= Math.exp(event.deltaY * 0.001);
+  zoomToward(event.offsetX, event.offsetY, Math.exp(event.deltaY * 0.001));
   event.preventDefault();
 }, { passive: false });
 
 // ---------------------------------------------------------------------------
-// Start: fetch the scene, then draw on every animation frame of the browser.
+// Touch: one finger orbits, two fingers pinch-zoom (toward their midpoint)
+// and pan, a finger held still for LONG_PRESS_MS pulls the nearest vertex.
+
+let touch = null; // { x, y, distance, timer, moved } while fingers are down
+
+function touchPoints(event) {
+  const rect = canvas.getBoundingClientRect();
+  return Array.from(event.touches, (t) => ({ x: t.clientX - rect.left, y: t.clientY - rect.top }));
+}
+
+canvas.addEventListener('touchstart', (event) => {
+  event.preventDefault();
+  if (!state.positions) return;
+  const points = touchPoints(event);
+  if (touch?.timer) clearTimeout(touch.timer);
+  if (points.length === 1) {
+    const [p] = points;
+    touch = { x: p.x, y: p.y, moved: false, timer: null };
+    touch.timer = setTimeout(() => {
+      if (touch && !touch.moved) startVertexDrag(touch.x, touch.y, 2 * PICK_RADIUS);
+    }, LONG_PRESS_MS);
+  } else if (points.length === 2) {
+    endVertexDrag();
+    const [a, b] = points;
+    touch = { x: (a.x + b.x) / 2, y: (a.y + b.y) / 2, distance: Math.hypot(a.x - b.x, a.y - b.y), moved: true };
+  }
+}, { passive: false });
+
+canvas.addEventListener('touchmove', (event) => {
+  event.preventDefault();
+  if (!touch) return;
+  const points = touchPoints(event);
+  if (points.length === 1) {
+    const [p] = points;
+    if (Math.hypot(p.x - touch.x, p.y - touch.y) > 8) touch.moved = true;
+    if (state.dragged) {
+      moveVertexDrag(p.x, p.y);
+    } else if (touch.moved) {
+      orbit(p.x - touch.x, p.y - touch.y);
+      touch.x = p.x;
+      touch.y = p.y;
+    }
+  } else if (points.length === 2 && touch.distance) {
+    const [a, b] = points;
+    const x = (a.x + b.x) / 2;
+    const y = (a.y + b.y) / 2;
+    const distance = Math.max(1, Math.hypot(a.x - b.x, a.y - b.y));
+    pan(x - touch.x, y - touch.y);
+    zoomToward(x, y, touch.distance / distance);
+    touch = { ...touch, x, y, distance };
+  }
+}, { passive: false });
+
+canvas.addEventListener('touchend', (event) => {
+  event.preventDefault();
+  if (event.touches.length === 0) {
+    if (touch?.timer) clearTimeout(touch.timer);
+    endVertexDrag();
+    touch = null;
+  }
+}, { passive: false });
+
+// ---------------------------------------------------------------------------
+// Start: fetch the status and the scene, then draw on every animation frame
+// of the browser.
 
 function everyAnimationFrame() {
-  pollFrame();
-  draw();
+  if (!state.loadingScene && gpu) {
+    pollFrame();
+    draw();
+  }
   requestAnimationFrame(everyAnimationFrame);
 }
 
 async function start() {
   if (!gl) throw new Error('this browser has no WebGL');
-  const response = await fetch('/api/scene');
-  state.scene = await response.json();
-  gpu = createGpuScene(state.scene);
-  if (state.scene.texture) loadTexture(state.scene.texture);
   await pollStatus();
+  state.sceneSerial = state.status ? state.status.scene_serial : 0;
+  await loadScene();
   setInterval(pollStatus, STATUS_PERIOD);
   window.viewer.ready = true;
   requestAnimationFrame(everyAnimationFrame);

@@ -1,0 +1,243 @@
+//! The command line as a new user meets it: help for every command in every
+//! spelling, the version, "did you mean", errors in plain words, a busy
+//! port, a file that is not a scene, frame files with a precision and a
+//! material.
+#[path = "common/cli.rs"]
+mod cli;
+
+use cli::{data, masssprings, stderr, stdout, temp_folder};
+use std::net::TcpListener;
+
+const COMMANDS: [&str; 6] = [
+    "simulate", "render", "view", "converge", "analyze", "generate",
+];
+
+/// The run failed with a usage error (exit code 2) whose message contains
+/// `expected`.
+fn usage_error(args: &[&str], expected: &str) {
+    let output = masssprings(args);
+    assert_eq!(
+        output.status.code(),
+        Some(2),
+        "{args:?}: {}",
+        stderr(&output)
+    );
+    assert!(
+        stderr(&output).contains(expected),
+        "{args:?}: expected {expected:?} in {:?}",
+        stderr(&output)
+    );
+}
+
+#[test]
+fn every_command_has_the_same_help_in_every_spelling() {
+    let top = masssprings(&["--help"]);
+    assert!(top.status.success());
+    for command in COMMANDS {
+        assert!(
+            stdout(&top).contains(&format!("\n  {command} ")),
+            "{command} missing from {}",
+            stdout(&top)
+        );
+        let help = stdout(&masssprings(&["help", command]));
+        assert!(
+            help.starts_with(&format!("usage: masssprings {command} ")),
+            "{help}"
+        );
+        assert!(help.contains("-h, --help"), "{help}");
+        for spelling in ["--help", "-h"] {
+            let output = masssprings(&[command, spelling]);
+            assert!(output.status.success(), "{command} {spelling}");
+            assert_eq!(stdout(&output), help, "{command} {spelling}");
+        }
+        // Help wins over anything else on the line, even wrong arguments.
+        assert_eq!(stdout(&masssprings(&[command, "x", "--bogus", "-h"])), help);
+    }
+    for spelling in [&["help"][..], &["-h"][..]] {
+        assert_eq!(stdout(&masssprings(spelling)), stdout(&top));
+    }
+}
+
+#[test]
+fn the_help_lists_the_flags_each_command_accepts() {
+    let simulate = stdout(&masssprings(&["simulate", "--help"]));
+    for flag in [
+        "--steps N",
+        "--every K",
+        "--out DIR",
+        "--precision D",
+        "--dense",
+        "--wind",
+        "--json",
+    ] {
+        assert!(simulate.contains(flag), "{flag} in {simulate}");
+    }
+    let render = stdout(&masssprings(&["render", "--help"]));
+    assert!(render.contains("-o, --out OUT"), "{render}");
+    let view = stdout(&masssprings(&["view", "--help"]));
+    assert!(view.contains("--port P"), "{view}");
+}
+
+#[test]
+fn the_version_is_the_packages() {
+    for spelling in ["--version", "-V", "version"] {
+        let output = masssprings(&[spelling]);
+        assert!(output.status.success());
+        assert_eq!(
+            stdout(&output),
+            format!("masssprings {}\n", env!("CARGO_PKG_VERSION"))
+        );
+    }
+}
+
+#[test]
+fn typos_get_a_suggestion() {
+    usage_error(
+        &["simulte"],
+        "unknown command 'simulte'; did you mean simulate?",
+    );
+    usage_error(&["frobnicate"], "unknown command 'frobnicate'");
+    usage_error(&["help", "rendr"], "did you mean render?");
+    usage_error(
+        &["simulate", &data("net.json"), "--step", "3"],
+        "simulate has no option '--step'; did you mean --steps?",
+    );
+    usage_error(
+        &["render", &data("net.json"), "-o", "x.gif", "--sprigs"],
+        "did you mean --springs?",
+    );
+    usage_error(
+        &["analyze", "a.mtx", "--ordering", "amf"],
+        "--ordering expects amd or natural, got 'amf'; did you mean amd?",
+    );
+    usage_error(&["generate", "gird", "3"], "did you mean grid?");
+    usage_error(
+        &["simulate", "x.json", "--bogus"],
+        "(see `masssprings simulate --help`)",
+    );
+}
+
+#[test]
+fn bad_values_are_explained_in_plain_words() {
+    let net = data("net.json");
+    usage_error(
+        &["simulate", &net, "--steps", "ten"],
+        "--steps expects a whole number ≥ 0, got 'ten'",
+    );
+    usage_error(
+        &["simulate", &net, "--every", "0"],
+        "--every expects a whole number ≥ 1; 0 is out of range",
+    );
+    usage_error(
+        &["view", &net, "--port", "99999"],
+        "--port expects a whole number from 0 to 65535; 99999 is out of range",
+    );
+    usage_error(
+        &["view", &net, "--address", "nowhere"],
+        "--address expects an IP address",
+    );
+    usage_error(
+        &["simulate", &net, "--precision", "40"],
+        "--precision expects a whole number from 0 to 17",
+    );
+    usage_error(&["simulate", &net, "--steps"], "--steps needs a value");
+    usage_error(
+        &["simulate"],
+        "missing SCENE.json: masssprings simulate SCENE.json",
+    );
+}
+
+#[test]
+fn a_busy_port_suggests_port_0() {
+    let taken = TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = taken.local_addr().unwrap().port().to_string();
+    let output = masssprings(&["view", &data("net.json"), "--port", &port]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        stderr(&output).contains(&format!("port {port} is in use")),
+        "{}",
+        stderr(&output)
+    );
+    assert!(
+        stderr(&output).contains("try --port 0"),
+        "{}",
+        stderr(&output)
+    );
+}
+
+#[test]
+fn an_obj_given_as_the_scene_is_named_for_what_it_is() {
+    for command in [
+        &["simulate"][..],
+        &["view"][..],
+        &["render", "-o", "never-written.png"][..],
+    ] {
+        let obj = data("flag.obj");
+        let mut args = command.to_vec();
+        args.insert(1, &obj);
+        let output = masssprings(&args);
+        assert_eq!(output.status.code(), Some(1), "{args:?}");
+        assert!(
+            stderr(&output).contains(&format!(
+                "{obj} is not a scene file: scenes are JSON that name an OBJ; see data/README.md"
+            )),
+            "{}",
+            stderr(&output)
+        );
+    }
+    assert!(!std::path::Path::new("never-written.png").exists());
+}
+
+#[test]
+fn frames_carry_the_precision_asked_and_the_texture_as_a_material() {
+    let folder = temp_folder("precision");
+    let output = masssprings(&[
+        "simulate",
+        &data("flag.json"),
+        "--steps",
+        "2",
+        "--every",
+        "2",
+        "--precision",
+        "4",
+        "--out",
+        folder.to_str().unwrap(),
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(stdout(&output).contains("total "), "{}", stdout(&output));
+    let frame = std::fs::read_to_string(folder.join("frame-000002.obj")).unwrap();
+    let positions: Vec<&str> = frame.lines().filter(|l| l.starts_with("v ")).collect();
+    assert_eq!(positions.len(), 3200);
+    for line in &positions {
+        for number in line.split_whitespace().skip(1) {
+            let (_, decimals) = number.split_once('.').expect("a decimal point");
+            assert_eq!(decimals.len(), 4, "{line}");
+            assert_ne!(number, "-0.0000", "{line}");
+        }
+    }
+    assert!(frame.lines().any(|l| l == "mtllib flag.mtl"));
+    let usemtl = frame.lines().position(|l| l == "usemtl flag").unwrap();
+    let first_face = frame.lines().position(|l| l.starts_with("f ")).unwrap();
+    assert!(usemtl < first_face, "the material comes before the faces");
+    let material = std::fs::read_to_string(folder.join("flag.mtl")).unwrap();
+    assert!(material.contains("newmtl flag") && material.contains("map_Kd flag.png"));
+    assert_eq!(
+        std::fs::read(folder.join("flag.png")).unwrap(),
+        std::fs::read(data("flag.png")).unwrap()
+    );
+}
+
+#[test]
+fn progress_is_plain_lines_off_a_terminal_and_absent_with_json() {
+    let output = masssprings(&["simulate", &data("net.json"), "--steps", "5"]);
+    assert!(output.status.success());
+    assert!(
+        !stderr(&output).contains('\r'),
+        "no carriage returns into a pipe: {:?}",
+        stderr(&output)
+    );
+    let output = masssprings(&["simulate", &data("net.json"), "--steps", "5", "--json"]);
+    assert_eq!(stderr(&output), "");
+    let summary: serde_json::Value = serde_json::from_str(stdout(&output).trim()).unwrap();
+    assert!(summary["total_s"].as_f64().unwrap() > 0.0);
+}
