@@ -5,9 +5,10 @@
 //! renamed into place once complete (`masssprings::files::write_file`).
 
 use super::args::Args;
+use super::limits::check_grid;
 use super::render::encode::write_png;
 use super::AppError;
-use masssprings::files::write_file;
+use masssprings::files::{remove_stale_temporaries, write_file};
 use masssprings::mesh::procedural::{self, GeneratedScene};
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -17,6 +18,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         Some("grid") => {
             let options = Args::parse(&args[1..], &["out"], &[])?;
             let n = grid_size(options.single_positional("N (the grid's side)")?)?;
+            check_grid(n)?;
             (vec![procedural::grid(n)], options)
         }
         Some("examples") => {
@@ -39,6 +41,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let folder = PathBuf::from(options.value_or("out", ".".to_string())?);
     fs::create_dir_all(&folder)
         .map_err(|e| AppError::Failed(format!("{}: {e}", folder.display())))?;
+    remove_stale_temporaries(&folder)?;
     for scene in &scenes {
         write_scene(scene, &folder)?;
     }

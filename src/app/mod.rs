@@ -4,6 +4,7 @@
 mod analyze;
 mod args;
 mod generate;
+mod limits;
 mod render;
 mod simulate;
 mod timing;
@@ -40,10 +41,12 @@ commands:
   generate examples [--out DIR]
       Writes the five teaching scenes (single-spring-horizontal,
       horizontal-chain, net, flag, skirt) and their PNG textures.
-  simulate SCENE.json [--dense] [--steps N] [--every K] [--out DIR] [--wind]
-                      [--json]
+  simulate SCENE.json [--dense] [--steps N] [--every K] [--out DIR] [--force]
+                      [--wind] [--json]
       Runs the simulation (sparse unless --dense) for N steps (default 100).
-      With --out, writes DIR/frame-NNNNNN.obj for step 0 and every K-th step.
+      With --out, writes DIR/frame-NNNNNN.obj for step 0 and every K-th step;
+      a DIR holding frames of another run is refused unless --force, which
+      removes them first.
       Ends with n, springs, precomputation time and the median step time.
   render SCENE.json -o OUT.gif|OUT.png [--steps N] [--every K] [--size WxH]
                     [--dense] [--wind] [--springs]

@@ -1,13 +1,22 @@
 //! `masssprings simulate SCENE.json`: run the simulation headless, write
 //! OBJ frames, report timings.
+//!
+//! `--out DIR` refuses a folder that already holds frames (`frame-*.obj`,
+//! from another run: mixing the two would be wrong without a warning)
+//! unless `--force` is given, which removes those frames first. Each frame
+//! is written all or nothing; the temporaries of a run that was killed are
+//! removed by the next run into the same folder. Nothing is written before
+//! the precomputation succeeds. Memory does not grow with `--steps`: the
+//! median step time comes from a bounded sample.
 
 use super::args::Args;
-use super::timing::median;
+use super::limits::precompute;
+use super::timing::BoundedSample;
 use super::AppError;
-use masssprings::files::write_file;
+use masssprings::files::{remove_stale_temporaries, write_file};
 use masssprings::mesh::{load_scene, Scene};
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::{Dense, LinearAlgebra, Simulation, Sparse};
+use masssprings::sim::{Dense, LinearAlgebra, Sparse};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -28,11 +37,17 @@ struct Run {
     steps: usize,
     every: usize,
     out: Option<PathBuf>,
+    /// Remove the frames already in `out` instead of refusing.
+    force: bool,
     progress: bool,
 }
 
 pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(args, &["steps", "every", "out"], &["dense", "wind", "json"])?;
+    let args = Args::parse(
+        args,
+        &["steps", "every", "out"],
+        &["dense", "wind", "json", "force"],
+    )?;
     let scene_path = PathBuf::from(args.single_positional("SCENE.json")?);
     let run = Run {
         steps: args.value_or("steps", 100usize)?,
@@ -40,20 +55,26 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         out: args
             .value_or("out", String::new())
             .map(|s| (!s.is_empty()).then(|| PathBuf::from(s)))?,
+        force: args.switch("force"),
         progress: !args.switch("json"),
     };
     if run.every == 0 {
         return Err(AppError::Usage("--every must be at least 1".into()));
     }
     let scene = load_scene(&scene_path)?;
+    if let Some(folder) = &run.out {
+        if !run.force {
+            refuse_earlier_frames(folder)?;
+        }
+    }
     let options = SimulationOptions {
         wind: args.switch("wind"),
         ..SimulationOptions::default()
     };
     let summary = if args.switch("dense") {
-        simulate::<Dense>(&scene, options, &run)?
+        simulate::<Dense>(&scene, &scene_path, options, &run)?
     } else {
-        simulate::<Sparse>(&scene, options, &run)?
+        simulate::<Sparse>(&scene, &scene_path, options, &run)?
     };
     if args.switch("json") {
         println!(
@@ -69,18 +90,18 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
 /// Precompute, then step, writing frames and reporting progress.
 fn simulate<B: LinearAlgebra>(
     scene: &Scene,
+    scene_path: &Path,
     options: SimulationOptions,
     run: &Run,
 ) -> Result<Summary, AppError> {
     let started = Instant::now();
-    let mut simulation = Simulation::<B>::from_scene(scene, options)?;
+    let mut simulation = precompute::<B>(scene, scene_path, options)?;
     let precompute_s = started.elapsed().as_secs_f64();
     if let Some(folder) = &run.out {
-        std::fs::create_dir_all(folder)
-            .map_err(|e| AppError::Failed(format!("{}: {e}", folder.display())))?;
+        prepare_out_folder(folder)?;
         write_frame(folder, 0, scene, simulation.positions())?;
     }
-    let mut step_times = Vec::with_capacity(run.steps);
+    let mut step_times = BoundedSample::new();
     let mut last_report = Instant::now();
     for step in 1..=run.steps {
         let t = Instant::now();
@@ -97,7 +118,7 @@ fn simulate<B: LinearAlgebra>(
             eprintln!(
                 "step {step}/{} ({:.1} ms/step)",
                 run.steps,
-                1e3 * step_times.last().copied().unwrap_or(0.0)
+                1e3 * step_times.last().unwrap_or(0.0)
             );
             last_report = Instant::now();
         }
@@ -107,9 +128,61 @@ fn simulate<B: LinearAlgebra>(
         springs: scene.springs.len(),
         steps: run.steps,
         precompute_s,
-        step_median_s: median(&mut step_times),
+        step_median_s: step_times.median(),
         backend: B::NAME,
     })
+}
+
+/// Is `name` a frame of [`write_frame`], `frame-NNNNNN.obj` (6 digits or more)?
+fn is_frame_name(name: &str) -> bool {
+    name.strip_prefix("frame-")
+        .and_then(|rest| rest.strip_suffix(".obj"))
+        .is_some_and(|digits| digits.len() >= 6 && digits.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// The frames already in `folder` (none when it does not exist), sorted.
+fn earlier_frames(folder: &Path) -> Result<Vec<PathBuf>, AppError> {
+    let entries = match std::fs::read_dir(folder) {
+        Ok(entries) => entries,
+        Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(error) => return Err(AppError::Failed(format!("{}: {error}", folder.display()))),
+    };
+    let mut frames: Vec<PathBuf> = entries
+        .flatten()
+        .filter(|entry| entry.file_name().to_str().is_some_and(is_frame_name))
+        .map(|entry| entry.path())
+        .collect();
+    frames.sort();
+    Ok(frames)
+}
+
+/// Refuses an `--out` folder holding frames of another run (before any
+/// work is done).
+fn refuse_earlier_frames(folder: &Path) -> Result<(), AppError> {
+    let frames = earlier_frames(folder)?;
+    match frames.first() {
+        None => Ok(()),
+        Some(first) => Err(AppError::Failed(format!(
+            "--out {}: the folder already holds {} frame(s) of another run ({}, ...); \
+             give --force to remove them first, or choose another folder",
+            folder.display(),
+            frames.len(),
+            first.file_name().unwrap_or_default().to_string_lossy()
+        ))),
+    }
+}
+
+/// Creates the `--out` folder, removes the temporaries of killed runs and
+/// the frames of an earlier run (with `--force`; without it they were
+/// refused already).
+fn prepare_out_folder(folder: &Path) -> Result<(), AppError> {
+    let failed = |e: &dyn std::fmt::Display| AppError::Failed(format!("{}: {e}", folder.display()));
+    std::fs::create_dir_all(folder).map_err(|e| failed(&e))?;
+    remove_stale_temporaries(folder)?;
+    for frame in earlier_frames(folder)? {
+        std::fs::remove_file(&frame).map_err(|e| failed(&e))?;
+    }
+    Ok(())
 }
 
 /// `folder/frame-NNNNNN.obj`: the positions (shortest decimal form that

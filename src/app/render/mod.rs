@@ -37,6 +37,7 @@ mod vector;
 mod tests_common;
 
 use super::args::Args;
+use super::limits::{check_frames, precompute};
 use super::timing::median;
 use super::AppError;
 use camera::{BoundingBox, Camera};
@@ -46,7 +47,7 @@ use masssprings::files::write_file;
 use masssprings::mesh::procedural::RgbImage;
 use masssprings::mesh::{load_scene, Scene};
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::{Dense, LinearAlgebra, Simulation, Sparse};
+use masssprings::sim::{Dense, LinearAlgebra, Sparse};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use texture::Texture;
@@ -80,6 +81,11 @@ struct Request {
 pub fn run(args: &[String]) -> Result<(), AppError> {
     let request = parse(args)?;
     let scene = load_scene(&request.scene)?;
+    check_frames(
+        request.kept_frames(),
+        frame_bytes(scene.vertices.len(), request.width, request.height),
+        "draw fewer frames (fewer --steps, a larger --every, or a .png of the last step)",
+    )?;
     let texture = match &scene.texture {
         Some(path) if !scene.face_texture_coords.is_empty() => {
             Some(Texture::read_png(path).map_err(AppError::Failed)?)
@@ -166,6 +172,24 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
     })
 }
 
+impl Request {
+    /// The frames kept for the whole run: step 0 and every `every`-th step
+    /// (GIF), or the last step (PNG).
+    fn kept_frames(&self) -> u64 {
+        match self.format {
+            Format::Gif => (self.steps / self.every) as u64 + 1,
+            Format::Png => 1,
+        }
+    }
+}
+
+/// The bytes one kept frame costs: its positions (24 bytes a vertex) and its
+/// picture (3 bytes a pixel, and as much again for the palette indices and
+/// the encoder).
+fn frame_bytes(n: usize, width: usize, height: usize) -> u64 {
+    (n as u64).saturating_mul(24) + (width * height * 6) as u64
+}
+
 /// GIF or PNG, from the output file's extension.
 fn output_format(out: &Path) -> Result<Format, AppError> {
     let extension = out
@@ -208,7 +232,7 @@ fn simulate<B: LinearAlgebra>(
         wind: request.wind,
         ..SimulationOptions::default()
     };
-    let mut simulation = Simulation::<B>::from_scene(scene, options)?;
+    let mut simulation = precompute::<B>(scene, &request.scene, options)?;
     let keep = |step: usize| match request.format {
         Format::Gif => step.is_multiple_of(request.every),
         Format::Png => step == request.steps,

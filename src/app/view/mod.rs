@@ -7,8 +7,9 @@
 //!   steps it in real time (Δt = 1/30 s) while animating, applies commands,
 //!   and publishes the positions and the status;
 //! * the **acceptor** (this file) takes connections and gives each its own
-//!   **connection thread** (at most [`MAX_CONNECTIONS`] at once), which
-//!   reads requests with [`http`] and answers them with [`routes`];
+//!   **connection thread** (at most [`MAX_CONNECTIONS`] at once: when full,
+//!   the connection waiting longest is closed to make room, see [`pool`]),
+//!   which reads requests with [`http`] and answers them with [`routes`];
 //! * the **main thread** waits for Ctrl-C (SIGINT, or SIGTERM), then stops
 //!   the other two and returns, so the program exits with status 0.
 //!
@@ -18,30 +19,33 @@
 mod api;
 mod display_mesh;
 mod http;
+mod pool;
 mod routes;
 mod simulation_thread;
 
 use super::args::Args;
+use super::limits::precompute;
 use super::AppError;
 use api::{Frame, Status};
 use http::{Connection, Method, ReadError};
 use masssprings::mesh::{load_scene, Scene};
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Dense, LinearAlgebra, Simulation, Sparse};
+use pool::{Member, Pool};
 use routes::Routes;
 use simulation_thread::{Message, Shared, SimulationThread};
 use std::io::Write;
 use std::net::{IpAddr, Ipv4Addr, Ipv6Addr, SocketAddr, TcpListener, TcpStream};
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc, Mutex};
 use std::thread;
 use std::time::Duration;
 
 /// The port when `--port` is not given.
 const DEFAULT_PORT: u16 = 8080;
-/// Connections served at once; more are closed at once (a few tabs need a
-/// handful each).
+/// Connections served at once (a few tabs need a handful each); a new one
+/// beyond closes the one waiting longest ([`pool`]).
 const MAX_CONNECTIONS: usize = 64;
 /// The first bytes of every PNG file.
 const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
@@ -55,9 +59,11 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let texture = read_texture(&scene);
     let address = SocketAddr::new(ip, port);
     if args.switch("dense") {
-        serve::<Dense>(&scene, texture, address)
+        let simulation = precompute::<Dense>(&scene, &scene_path, SimulationOptions::default())?;
+        serve(&scene, simulation, texture, address)
     } else {
-        serve::<Sparse>(&scene, texture, address)
+        let simulation = precompute::<Sparse>(&scene, &scene_path, SimulationOptions::default())?;
+        serve(&scene, simulation, texture, address)
     }
 }
 
@@ -65,7 +71,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
 /// (with a warning) when it cannot be read or is not a PNG.
 fn read_texture(scene: &Scene) -> Option<Vec<u8>> {
     let path = scene.texture.as_ref()?;
-    match std::fs::read(path) {
+    match masssprings::files::read_bytes(path) {
         Ok(bytes) if bytes.starts_with(PNG_SIGNATURE) => Some(bytes),
         Ok(_) => {
             eprintln!(
@@ -75,22 +81,23 @@ fn read_texture(scene: &Scene) -> Option<Vec<u8>> {
             None
         }
         Err(error) => {
-            eprintln!(
-                "masssprings: warning: {}: {error}; drawing without texture",
-                path.display()
-            );
+            eprintln!("masssprings: warning: {error}; drawing without texture");
             None
         }
     }
 }
 
 /// Starts the threads, prints the URL, and serves until Ctrl-C.
-fn serve<B>(scene: &Scene, texture: Option<Vec<u8>>, address: SocketAddr) -> Result<(), AppError>
+fn serve<B>(
+    scene: &Scene,
+    simulation: Simulation<B>,
+    texture: Option<Vec<u8>>,
+    address: SocketAddr,
+) -> Result<(), AppError>
 where
     B: LinearAlgebra + 'static,
     Simulation<B>: Send,
 {
-    let simulation = Simulation::<B>::from_scene(scene, SimulationOptions::default())?;
     let listener = TcpListener::bind(address)
         .map_err(|e| AppError::Failed(format!("cannot listen on {address}: {e}")))?;
     let local = listener.local_addr()?;
@@ -171,9 +178,11 @@ fn allowed_hosts(local: SocketAddr) -> Option<Vec<String>> {
     Some(hosts)
 }
 
-/// Accepts connections until `stopping`, one thread each.
+/// Accepts connections until `stopping`, one thread each, at most
+/// [`MAX_CONNECTIONS`] (the pool closes the one waiting longest for a new
+/// one).
 fn accept_connections(listener: TcpListener, routes: Arc<Routes>, stopping: &AtomicBool) {
-    let active = Arc::new(AtomicUsize::new(0));
+    let pool = Pool::new(MAX_CONNECTIONS);
     for stream in listener.incoming() {
         if stopping.load(Ordering::SeqCst) {
             return;
@@ -187,47 +196,31 @@ fn accept_connections(listener: TcpListener, routes: Arc<Routes>, stopping: &Ato
                 continue;
             }
         };
-        if active.load(Ordering::SeqCst) >= MAX_CONNECTIONS {
-            continue; // dropping the stream closes it
-        }
+        let Some(member) = pool.admit(&stream) else {
+            continue; // every connection is being answered: dropping closes it
+        };
         let routes = Arc::clone(&routes);
-        let count = ActiveConnection::new(Arc::clone(&active));
         let spawned = thread::Builder::new()
             .name("connection".into())
-            .spawn(move || {
-                let _count = count;
-                serve_connection(stream, &routes);
-            });
+            .spawn(move || serve_connection(stream, &routes, &member));
         if let Err(error) = spawned {
             eprintln!("masssprings: cannot start a connection thread: {error}");
         }
     }
 }
 
-/// Counts a connection as active while it lives.
-struct ActiveConnection(Arc<AtomicUsize>);
-
-impl ActiveConnection {
-    fn new(active: Arc<AtomicUsize>) -> Self {
-        active.fetch_add(1, Ordering::SeqCst);
-        ActiveConnection(active)
-    }
-}
-
-impl Drop for ActiveConnection {
-    fn drop(&mut self) {
-        self.0.fetch_sub(1, Ordering::SeqCst);
-    }
-}
-
 /// Answers requests on one connection until it closes, times out, asks to
-/// close, or sends something malformed (answered with a 4xx, then closed).
-fn serve_connection(stream: TcpStream, routes: &Routes) {
+/// close, is evicted from the pool, or sends something malformed (answered
+/// with a 4xx, then closed).
+fn serve_connection(stream: TcpStream, routes: &Routes, member: &Member) {
     let Ok(mut connection) = Connection::new(stream) else {
         return;
     };
     loop {
-        match connection.read_request() {
+        member.waiting();
+        let request = connection.read_request();
+        member.answering();
+        match request {
             Ok(request) => {
                 let response = routes.respond(&request);
                 let head_only = request.method == Method::Head;
