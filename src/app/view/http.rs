@@ -262,7 +262,7 @@ fn unfinished(error: io::Error) -> ReadError {
 }
 
 /// The length of the head (through `\r\n\r\n`), if the buffer holds it all.
-fn find_head_end(buffer: &[u8]) -> Option<usize> {
+pub(crate) fn find_head_end(buffer: &[u8]) -> Option<usize> {
     buffer
         .windows(4)
         .position(|window| window == b"\r\n\r\n")
@@ -271,7 +271,7 @@ fn find_head_end(buffer: &[u8]) -> Option<usize> {
 
 /// The parts of a head that matter here.
 #[derive(Debug)]
-struct Head {
+pub(crate) struct Head {
     method: Method,
     path: String,
     query: Option<String>,
@@ -281,7 +281,7 @@ struct Head {
 }
 
 /// Parses the request line and headers (`head` ends with the blank line).
-fn parse_head(head: &[u8]) -> Result<Head, Response> {
+pub(crate) fn parse_head(head: &[u8]) -> Result<Head, Response> {
     if !head.iter().all(|&byte| is_head_byte(byte)) {
         return Err(Response::error(400, "the head must be printable ASCII"));
     }
