@@ -20,83 +20,6 @@ use masssprings::sim::{Dense, Simulation, SimulationError, Sparse, DELTA_T, PIN_
 use nalgebra::DMatrix;
 use proptest::prelude::*;
 
-/// A small random spring network: positions, springs (no self-loops),
-/// masses and pins.
-#[derive(Debug, Clone)]
-struct Network {
-    v: Vec<[f64; 3]>,
-    springs: Vec<[usize; 2]>,
-    masses: Vec<f64>,
-    pinned: Vec<usize>,
-    k: f64,
-}
-
-fn network(max_n: usize) -> impl Strategy<Value = Network> {
-    (2..=max_n).prop_flat_map(|n| {
-        (
-            prop::collection::vec(prop::array::uniform3(-1.0f64..1.0), n),
-            prop::collection::vec((0..n, 1..n), 1..3 * n),
-            prop::collection::vec(0.1f64..2.0, n),
-            prop::collection::vec(0..n, 0..3),
-            10.0f64..1000.0,
-        )
-            .prop_map(move |(v, pairs, masses, pinned, k)| Network {
-                v,
-                // (i, i + offset mod n) never joins a vertex to itself
-                springs: pairs
-                    .iter()
-                    .map(|&(i, offset)| [i, (i + offset) % n])
-                    .collect(),
-                masses,
-                pinned,
-                k,
-            })
-    })
-}
-
-fn points_to_nalgebra(points: &[[f64; 3]]) -> DMatrix<f64> {
-    DMatrix::from_fn(points.len(), 3, |i, c| points[i][c])
-}
-
-/// The objective E(p) of one step (spring energy,
-/// inertia, external work, pins), the quantity the local/global iteration
-/// decreases.
-fn step_energy(
-    net: &Network,
-    f_ext: &[[f64; 3]],
-    u_prev: &[[f64; 3]],
-    u_cur: &[[f64; 3]],
-    p: &[[f64; 3]],
-) -> f64 {
-    let dt2 = DELTA_T * DELTA_T;
-    let mut energy = 0.0;
-    for &[i, j] in &net.springs {
-        let rest = norm(sub(net.v[i], net.v[j]));
-        let length = norm(sub(p[i], p[j]));
-        energy += 0.5 * net.k * (length - rest).powi(2);
-    }
-    for i in 0..p.len() {
-        let inertial = [0, 1, 2].map(|c| p[i][c] - 2.0 * u_cur[i][c] + u_prev[i][c]);
-        energy += 0.5 * net.masses[i] * dot(inertial, inertial) / dt2;
-        energy -= dot(p[i], f_ext[i]);
-    }
-    for &i in &net.pinned {
-        let off = sub(p[i], net.v[i]);
-        energy += 0.5 * PIN_WEIGHT * dot(off, off);
-    }
-    energy
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
-
 fn gravity(n: usize) -> Vec<[f64; 3]> {
     vec![[0.0, -9.8, 0.0]; n]
 }
@@ -201,7 +124,7 @@ fn a_network_at_rest_without_forces_stays_at_rest() {
     let report =
         fast_mass_springs_step_sparse(&mut system, &[[0.0; 3]; 3], &v, &v, &mut u_next).unwrap();
     assert_eq!(report.iterations, 50);
-    assert!(report.relative_change < 1e-14, "{report:?}");
+    assert!(report.relative_gradient < 1e-12, "{report:?}");
     for i in 0..3 {
         for c in 0..3 {
             assert!((u_next[i][c] - v[i][c]).abs() < 1e-12);

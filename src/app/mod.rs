@@ -3,6 +3,10 @@
 
 mod analyze;
 mod args;
+mod bench;
+mod converge;
+mod convergence_flags;
+mod convergence_plot;
 mod generate;
 mod limits;
 mod render;
@@ -30,11 +34,23 @@ usage: masssprings <command> [options]
 
 commands:
   analyze MATRIX.mtx [--ordering amd|natural] [--method supernodal|simplicial]
-                     [--repeats N] [--json]
+                     [--relax cholmod|none] [--repeats N] [--json]
       Sparse Cholesky of a symmetric positive definite Matrix Market matrix:
       n, nnz, nnz(L), flops, median times of ordering, symbolic analysis,
       numeric factorization and a 3-column solve, and the relative residual.
       The right-hand side is MATRIX.b.mtx (an n×3 array) when it exists.
+      --relax cholmod merges supernodes by CHOLMOD's rule (relaxed
+      supernodes, storing some zeros) before the supernodal factorization;
+      the default, none, keeps the fundamental supernodes.
+  bench [--sizes 32,100,316] [--steps S] [--csv OUT.csv] [--plot OUT.png]
+        [--json]
+      Scaling benchmark on the grid-N cloths (built in memory), each size in
+      a fresh process: n, nnz(Q), nnz(L), flops, median times of ordering,
+      symbolic analysis, numeric factorization, a 3-column solve and a full
+      step (S steps, default 3), peak memory (VmHWM), the solve's bandwidth
+      beside a measured triad bandwidth, and the log-log slope of each cost;
+      --plot draws them (time and memory against n, log-log).
+      Default sizes 32,100,316 (about a minute); 1000, 2000, 3162 on request.
   generate grid N [--out DIR]
       Writes DIR/grid-N.json and .obj (DIR defaults to .): the N×N cloth of
       the benchmarks, the same bytes as the reference tool's `ref grid N`.
@@ -71,10 +87,12 @@ commands:
 pub fn run(args: &[String]) -> i32 {
     let result = match args.first().map(String::as_str) {
         Some("analyze") => analyze::run(&args[1..]),
+        Some("bench") => bench::run(&args[1..]),
         Some("simulate") => simulate::run(&args[1..]),
         Some("generate") => generate::run(&args[1..]),
         Some("view") => view::run(&args[1..]),
         Some("render") => render::run(&args[1..]),
+        Some("converge") => converge::run(&args[1..]),
         Some("help" | "--help" | "-h") => {
             print!("{USAGE}");
             Ok(())

@@ -10,6 +10,7 @@
 //! median step time comes from a bounded sample.
 
 use super::args::Args;
+use super::convergence_flags;
 use super::limits::precompute;
 use super::timing::BoundedSample;
 use super::AppError;
@@ -30,6 +31,11 @@ struct Summary {
     precompute_s: f64,
     step_median_s: f64,
     backend: &'static str,
+    /// How each step was solved, and how well.
+    method: &'static str,
+    tolerance: Option<f64>,
+    iterations_median: f64,
+    relative_gradient_median: f64,
 }
 
 /// What to do besides stepping.
@@ -43,11 +49,9 @@ struct Run {
 }
 
 pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(
-        args,
-        &["steps", "every", "out"],
-        &["dense", "wind", "json", "force"],
-    )?;
+    let mut options = vec!["steps", "every", "out"];
+    options.extend(convergence_flags::OPTIONS);
+    let args = Args::parse(args, &options, &["dense", "wind", "json", "force"])?;
     let scene_path = PathBuf::from(args.single_positional("SCENE.json")?);
     let run = Run {
         steps: args.value_or("steps", 100usize)?,
@@ -67,10 +71,11 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
             refuse_earlier_frames(folder)?;
         }
     }
-    let options = SimulationOptions {
+    let mut options = SimulationOptions {
         wind: args.switch("wind"),
         ..SimulationOptions::default()
     };
+    convergence_flags::apply(&args, &mut options)?;
     let summary = if args.switch("dense") {
         simulate::<Dense>(&scene, &scene_path, options, &run)?
     } else {
@@ -102,13 +107,16 @@ fn simulate<B: LinearAlgebra>(
         write_frame(folder, 0, scene, simulation.positions())?;
     }
     let mut step_times = BoundedSample::new();
+    let (mut iterations, mut gradients) = (BoundedSample::new(), BoundedSample::new());
     let mut last_report = Instant::now();
     for step in 1..=run.steps {
         let t = Instant::now();
-        simulation
+        let report = simulation
             .step()
             .map_err(|e| AppError::Failed(format!("step {step}: {e}")))?;
         step_times.push(t.elapsed().as_secs_f64());
+        iterations.push(report.iterations as f64);
+        gradients.push(report.relative_gradient);
         if let Some(folder) = &run.out {
             if step.is_multiple_of(run.every) {
                 write_frame(folder, step, scene, simulation.positions())?;
@@ -130,6 +138,10 @@ fn simulate<B: LinearAlgebra>(
         precompute_s,
         step_median_s: step_times.median(),
         backend: B::NAME,
+        method: options.method.name(),
+        tolerance: options.tolerance,
+        iterations_median: iterations.median(),
+        relative_gradient_median: gradients.median(),
     })
 }
 
@@ -237,4 +249,11 @@ fn print_summary(scene_path: &Path, s: &Summary) {
     println!("precomputation   {:.6} s", s.precompute_s);
     println!("steps            {}", s.steps);
     println!("step (median)    {:.6} s", s.step_median_s);
+    let tolerance = s.tolerance.map_or("none".into(), |t| format!("{t:e}"));
+    println!("method           {} (tolerance {tolerance})", s.method);
+    println!("iterations       {} per step (median)", s.iterations_median);
+    println!(
+        "rel. gradient    {:.3e} at the end of a step (median)",
+        s.relative_gradient_median
+    );
 }

@@ -5,6 +5,8 @@
 //! | `signed_incidence_matrix_dense/_sparse` | [`signed_incidence`] |
 //! | `fast_mass_springs_precomputation_dense/_sparse` (r, M, A, C, Q, factor) | [`precomputation`] |
 //! | `fast_mass_springs_step_dense/_sparse` (y, d, b, solve) | [`step`], [`local_step`] |
+//! | the energy a step minimises, its gradient and Hessian | [`energy`], [`hessian`] |
+//! | "more advanced stopping criteria": tolerances and faster methods | [`methods`] |
 //! | gravity, wind | [`forces`] |
 //! | dense or sparse matrices | [`backend`] |
 //! | a running simulation (state, time, pins) | [`simulation`] |
@@ -13,14 +15,19 @@
 //! that computes it.
 
 pub mod backend;
+pub mod energy;
+pub mod exact_pins;
 pub mod forces;
+pub mod hessian;
 pub mod local_step;
+pub mod methods;
 pub mod precomputation;
 pub mod signed_incidence;
 pub mod simulation;
 pub mod step;
 
 pub use backend::{Dense, LinearAlgebra, Sparse};
+pub use methods::{StepControl, StepMethod, Stop};
 pub use precomputation::{MassSpringSystem, DELTA_T, PIN_WEIGHT};
 pub use simulation::Simulation;
 pub use step::{StepReport, ITERATIONS};
@@ -37,6 +44,9 @@ pub enum SimulationError {
     Linalg(LinalgError),
     /// A step produced NaN or infinity, first at this vertex (0-based).
     NotFinite { vertex: usize },
+    /// A step's energy or gradient overflowed (positions beyond what
+    /// `f64` can square).
+    EnergyNotFinite,
 }
 
 impl fmt::Display for SimulationError {
@@ -48,6 +58,10 @@ impl fmt::Display for SimulationError {
                 f,
                 "the step produced a non-finite position (vertex {}, 1-based); the simulation stopped",
                 vertex + 1
+            ),
+            SimulationError::EnergyNotFinite => write!(
+                f,
+                "the step's energy or gradient is not finite (positions too large to square in f64); the simulation stopped"
             ),
         }
     }

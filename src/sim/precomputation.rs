@@ -22,6 +22,8 @@
 //! Vertices" (`fast_mass_springs_precomputation_dense.cpp` / `_sparse.cpp`).
 
 use super::backend::{Dense, LinearAlgebra, Sparse};
+use super::exact_pins::ExactPins;
+use super::methods::MethodWorkspaces;
 use super::signed_incidence::signed_incidence_matrix;
 use super::SimulationError;
 
@@ -59,8 +61,15 @@ pub struct MassSpringSystem<B: LinearAlgebra> {
     pub w: f64,
     /// `w Cᵀ (C V)`: the pins' constant part of `b`.
     pub pin_rhs: Vec<[f64; 3]>,
-    /// Number of pins, the rows of `C`.
-    pin_count: usize,
+    /// The pinned vertices, in the order of `C`'s rows, and where each
+    /// is pinned (`C V` at rest; moved by dragging).
+    pub pinned: Vec<usize>,
+    pub pin_targets: Vec<[f64; 3]>,
+    /// `is_pinned[i]`: is vertex `i` one of `pinned`?
+    pub is_pinned: Vec<bool>,
+    /// The reduced system when pins are exact constraints
+    /// ([`MassSpringSystem::use_exact_pins`]); `None`: the penalty.
+    pub exact_pins: Option<ExactPins<B>>,
     /// Work arrays of the step, sized once.
     pub(crate) buffers: StepBuffers,
 }
@@ -76,8 +85,12 @@ pub(crate) struct StepBuffers {
     pub b: Vec<[f64; 3]>,
     /// The spring directions of the local step, one per spring.
     pub d: Vec<[f64; 3]>,
-    /// The iterate before the last one, for the relative change.
-    pub previous: Vec<[f64; 3]>,
+    /// `∇E` where the stopping rule needs it.
+    pub gradient: Vec<[f64; 3]>,
+    /// Each spring's length where the step starts.
+    pub start_lengths: Vec<f64>,
+    /// The accelerated methods' work arrays, made when first used.
+    pub methods: MethodWorkspaces,
 }
 
 impl<B: LinearAlgebra> MassSpringSystem<B> {
@@ -100,10 +113,24 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
         let n = self.n();
         check_pins(n, pinned, targets.len())?;
         self.C = selection_matrix::<B>(n, pinned);
-        self.pin_count = pinned.len();
+        self.set_pinned(pinned, targets);
         self.Q = assemble_q::<B>(&self.A, &self.m, &self.C, self.k, self.delta_t, self.w);
         B::refactor(&mut self.prefactorization, &self.Q)?;
         self.pin_rhs = pin_right_hand_side::<B>(&self.C, n, targets, self.w);
+        if self.exact_pins.is_some() {
+            self.use_exact_pins()?;
+        }
+        Ok(())
+    }
+
+    /// Holds the pins exactly instead of by the penalty (see
+    /// [`exact_pins`](super::exact_pins)): factors the free vertices'
+    /// `Q_ff`.
+    ///
+    /// # Errors
+    /// [`SimulationError::Linalg`] when `Q_ff` is not positive definite.
+    pub fn use_exact_pins(&mut self) -> Result<(), SimulationError> {
+        self.exact_pins = Some(ExactPins::new(self)?);
         Ok(())
     }
 
@@ -116,7 +143,7 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
     /// the number of pins.
     pub fn set_pin_targets(&mut self, targets: &[[f64; 3]]) -> Result<(), SimulationError> {
         let n = self.n();
-        let pins = self.pin_count;
+        let pins = self.pinned.len();
         if targets.len() != pins {
             return Err(SimulationError::InvalidInput(format!(
                 "{} targets for {pins} pinned vertices",
@@ -124,8 +151,28 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
             )));
         }
         self.pin_rhs = pin_right_hand_side::<B>(&self.C, n, targets, self.w);
+        self.pin_targets.copy_from_slice(targets);
+        if let Some(exact) = &mut self.exact_pins {
+            exact.set_targets(&self.A, self.springs.len(), self.k, &self.pinned, targets);
+        }
         Ok(())
     }
+
+    /// Records which vertices are pinned, and where.
+    fn set_pinned(&mut self, pinned: &[usize], targets: &[[f64; 3]]) {
+        self.pinned = pinned.to_vec();
+        self.pin_targets = targets.to_vec();
+        self.is_pinned = pinned_mask(self.n(), pinned);
+    }
+}
+
+/// `mask[i]`: is vertex `i` in `pinned`?
+fn pinned_mask(n: usize, pinned: &[usize]) -> Vec<bool> {
+    let mut mask = vec![false; n];
+    for &i in pinned {
+        mask[i] = true;
+    }
+    mask
 }
 
 /// The precomputation for rest positions `v`, springs `springs`, stiffness
@@ -166,13 +213,18 @@ pub fn fast_mass_springs_precomputation<B: LinearAlgebra>(
         delta_t,
         w: PIN_WEIGHT,
         pin_rhs,
-        pin_count: pinned.len(),
+        pinned: pinned.to_vec(),
+        pin_targets: pinned_rest,
+        is_pinned: pinned_mask(n, pinned),
+        exact_pins: None,
         buffers: StepBuffers {
             inertia: vec![[0.0; 3]; n],
             y: vec![[0.0; 3]; n],
             b: vec![[0.0; 3]; n],
             d: vec![[0.0; 3]; springs.len()],
-            previous: vec![[0.0; 3]; n],
+            gradient: vec![[0.0; 3]; n],
+            start_lengths: vec![0.0; springs.len()],
+            methods: MethodWorkspaces::default(),
         },
     })
 }

@@ -7,8 +7,9 @@
 
 use super::backend::LinearAlgebra;
 use super::forces::{bounding_box_diagonal, external_forces};
+use super::methods::{Observer, StepControl, StepMethod, DEFAULT_WINDOW};
 use super::precomputation::{fast_mass_springs_precomputation, MassSpringSystem, DELTA_T};
-use super::step::{fast_mass_springs_step, StepReport, ITERATIONS};
+use super::step::{solve_step, StepReport, ITERATIONS};
 use super::SimulationError;
 use crate::mesh::Scene;
 
@@ -17,10 +18,56 @@ use crate::mesh::Scene;
 pub struct SimulationOptions {
     /// Time step (the assignment: 1/30 s).
     pub delta_t: f64,
-    /// Local/global iterations per step (the assignment: 50).
+    /// Local/global iterations per step (the assignment: 50), or the most
+    /// a step may take when there is a tolerance.
     pub iterations: usize,
     /// Add the assignment viewer's wind to gravity.
     pub wind: bool,
+    /// How each step is solved (the assignment: plain local/global).
+    pub method: StepMethod,
+    /// Stop a step once its relative gradient is at most this.
+    pub tolerance: Option<f64>,
+    /// Chebyshev's spectral radius (estimated when `None`).
+    pub rho: Option<f64>,
+    /// Anderson's and L-BFGS's history window.
+    pub window: usize,
+    /// Pins by the assignment's penalty, or as exact constraints.
+    pub pins: Pins,
+}
+
+/// How pinned vertices are held.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Pins {
+    /// The assignment's penalty `½ w ‖p_c − t_c‖²`, `w = 1e10`.
+    #[default]
+    Penalty,
+    /// Removed from the unknowns ([`exact_pins`](super::exact_pins)).
+    Exact,
+}
+
+impl std::str::FromStr for Pins {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, String> {
+        match text {
+            "penalty" => Ok(Pins::Penalty),
+            "exact" => Ok(Pins::Exact),
+            _ => Err(format!("unknown pins '{text}' (expected penalty or exact)")),
+        }
+    }
+}
+
+impl SimulationOptions {
+    /// The method and stopping rule of each step.
+    pub fn step_control(&self) -> StepControl {
+        StepControl {
+            method: self.method,
+            iterations: self.iterations,
+            tolerance: self.tolerance,
+            rho: self.rho,
+            window: self.window,
+        }
+    }
 }
 
 impl Default for SimulationOptions {
@@ -29,6 +76,11 @@ impl Default for SimulationOptions {
             delta_t: DELTA_T,
             iterations: ITERATIONS,
             wind: false,
+            method: StepMethod::Plain,
+            tolerance: None,
+            rho: None,
+            window: DEFAULT_WINDOW,
+            pins: Pins::Penalty,
         }
     }
 }
@@ -64,7 +116,7 @@ impl<B: LinearAlgebra> Simulation<B> {
         pinned: &[usize],
         options: SimulationOptions,
     ) -> Result<Self, SimulationError> {
-        let system = fast_mass_springs_precomputation::<B>(
+        let mut system = fast_mass_springs_precomputation::<B>(
             vertices,
             springs,
             k,
@@ -72,6 +124,9 @@ impl<B: LinearAlgebra> Simulation<B> {
             pinned,
             options.delta_t,
         )?;
+        if options.pins == Pins::Exact {
+            system.use_exact_pins()?;
+        }
         let n = vertices.len();
         Ok(Simulation {
             system,
@@ -108,6 +163,20 @@ impl<B: LinearAlgebra> Simulation<B> {
     /// # Errors
     /// [`SimulationError::NotFinite`]; the state is then left as it was.
     pub fn step(&mut self) -> Result<StepReport, SimulationError> {
+        let control = self.options.step_control();
+        self.step_with(&control, None)
+    }
+
+    /// Advances one time step solved as `control` says, showing every
+    /// iterate to `observer` (as `masssprings converge` does).
+    ///
+    /// # Errors
+    /// As [`Simulation::step`].
+    pub fn step_with(
+        &mut self,
+        control: &StepControl,
+        observer: Option<Observer<'_>>,
+    ) -> Result<StepReport, SimulationError> {
         external_forces(
             &self.u_cur,
             self.time(),
@@ -115,13 +184,14 @@ impl<B: LinearAlgebra> Simulation<B> {
             self.scale,
             &mut self.f_ext,
         );
-        let report = fast_mass_springs_step(
+        let report = solve_step(
             &mut self.system,
-            self.options.iterations,
+            control,
             &self.f_ext,
             &self.u_prev,
             &self.u_cur,
             &mut self.u_next,
+            observer,
         )?;
         std::mem::swap(&mut self.u_prev, &mut self.u_cur); // U_prev ← U_cur
         std::mem::swap(&mut self.u_cur, &mut self.u_next); // U_cur ← U
@@ -169,6 +239,18 @@ impl<B: LinearAlgebra> Simulation<B> {
         self.options.wind = wind;
     }
 
+    /// The options the simulation runs with.
+    pub fn options(&self) -> &SimulationOptions {
+        &self.options
+    }
+
+    /// Solves later steps by `method`, with `tolerance` (nothing to
+    /// refactor: every method uses the same `Q`).
+    pub fn set_method(&mut self, method: StepMethod, tolerance: Option<f64>) {
+        self.options.method = method;
+        self.options.tolerance = tolerance;
+    }
+
     /// Back to rest, time 0, nothing dragged.
     ///
     /// # Errors
@@ -178,6 +260,33 @@ impl<B: LinearAlgebra> Simulation<B> {
         self.u_prev.copy_from_slice(&self.rest);
         self.u_cur.copy_from_slice(&self.rest);
         self.steps = 0;
+        Ok(())
+    }
+
+    /// Continues from a saved state: `U_prev`, `U_cur` and the number of
+    /// steps they are after the start (for the wind's clock).
+    ///
+    /// # Errors
+    /// [`SimulationError::InvalidInput`] when a state does not have one
+    /// finite row per vertex.
+    pub fn set_state(
+        &mut self,
+        u_prev: &[[f64; 3]],
+        u_cur: &[[f64; 3]],
+        steps: usize,
+    ) -> Result<(), SimulationError> {
+        let n = self.rest.len();
+        for state in [u_prev, u_cur] {
+            if state.len() != n || state.iter().flatten().any(|x| !x.is_finite()) {
+                return Err(SimulationError::InvalidInput(format!(
+                    "a state needs {n} finite positions, got {}",
+                    state.len()
+                )));
+            }
+        }
+        self.u_prev.copy_from_slice(u_prev);
+        self.u_cur.copy_from_slice(u_cur);
+        self.steps = steps;
         Ok(())
     }
 

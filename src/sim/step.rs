@@ -12,10 +12,14 @@
 //! ```
 //!
 //! starting from `p = U_cur`. The factorization of `Q` comes from the
-//! precomputation; the three columns x, y, z are solved together. The step
-//! allocates nothing and reports how many iterations it ran and how much the
-//! last one still changed the positions, so that stopping rules and
-//! accelerations can be plugged in.
+//! precomputation; the three columns x, y, z are solved together.
+//!
+//! That is the `plain` method of [`methods`](super::methods); the step can
+//! instead run an accelerated one, and stop at a tolerance on the relative
+//! gradient of the step's [`energy`](super::energy) instead of after a fixed
+//! count ([`StepControl`]). It reports the iterations it ran, the energy it
+//! took off and the relative gradient where it stopped. After a method's
+//! first step, a step allocates nothing.
 //!
 //! Cost per iteration: `O(m)` local step, `O(m + n)` for `b`,
 //! `O(nnz(L))` for the solve (sparse; `O(n²)` dense).
@@ -23,7 +27,11 @@
 //! (`fast_mass_springs_step_dense.cpp` / `_sparse.cpp`, "Step 1–3").
 
 use super::backend::{Dense, LinearAlgebra, Sparse};
-use super::local_step::project_springs;
+use super::energy::{free_norm, start_lengths, StepEnergy};
+use super::methods::{
+    anderson, chebyshev, lbfgs, newton, plain, GlobalStep, Monitor, Observer, Outcome, StepContext,
+    StepControl, StepMethod, Stop,
+};
 use super::precomputation::MassSpringSystem;
 use super::SimulationError;
 
@@ -33,20 +41,25 @@ pub const ITERATIONS: usize = 50;
 /// What a step did.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StepReport {
-    /// Local/global iterations run.
+    /// The method that solved it.
+    pub method: StepMethod,
+    /// Iterations run.
     pub iterations: usize,
-    /// `‖p_last − p_before‖ / ‖p_last‖` over the final iteration: how far
-    /// from converged the step stopped.
-    pub relative_change: f64,
+    /// Why it stopped.
+    pub stop: Stop,
+    /// `E(p⁰) − E(p)`: how much energy the step took off (≥ 0 for every
+    /// method, since none accepts a rise).
+    pub energy_decrease: f64,
+    /// `‖∇E(p)‖ / ‖∇E(p⁰)‖` over the free vertices where it stopped: how
+    /// far from the minimiser.
+    pub relative_gradient: f64,
 }
 
 /// Computes `u_next` from `u_cur` and `u_prev` under the forces `f_ext`,
-/// with `iterations` local/global iterations.
+/// with the assignment's plain iteration run `iterations` times.
 ///
 /// # Errors
-/// [`SimulationError::NotFinite`] when the new positions hold NaN or
-/// infinity (reported, not propagated: `u_next` is then not a state to
-/// continue from).
+/// As [`solve_step`].
 ///
 /// # Panics
 /// When a slice does not have one row per vertex.
@@ -58,30 +71,179 @@ pub fn fast_mass_springs_step<B: LinearAlgebra>(
     u_cur: &[[f64; 3]],
     u_next: &mut [[f64; 3]],
 ) -> Result<StepReport, SimulationError> {
+    let control = StepControl {
+        iterations,
+        ..StepControl::default()
+    };
+    solve_step(system, &control, f_ext, u_prev, u_cur, u_next, None)
+}
+
+/// Computes `u_next` from `u_cur` and `u_prev` under the forces `f_ext`, by
+/// the method and stopping rule of `control`; `observer`, if any, sees
+/// every iterate (iteration 0 is `u_cur`).
+///
+/// # Errors
+/// [`SimulationError::NotFinite`] when the new positions hold NaN or
+/// infinity, [`SimulationError::EnergyNotFinite`] when the energy or
+/// gradient there does (reported, not propagated: `u_next` is then not a
+/// state to continue from); an error of Newton's first factorization.
+///
+/// # Panics
+/// When a slice does not have one row per vertex.
+pub fn solve_step<B: LinearAlgebra>(
+    system: &mut MassSpringSystem<B>,
+    control: &StepControl,
+    f_ext: &[[f64; 3]],
+    u_prev: &[[f64; 3]],
+    u_cur: &[[f64; 3]],
+    u_next: &mut [[f64; 3]],
+    observer: Option<Observer<'_>>,
+) -> Result<StepReport, SimulationError> {
     let n = system.n();
     assert!(f_ext.len() == n && u_prev.len() == n && u_cur.len() == n && u_next.len() == n);
+    prepare_workspace(system, control)?;
     inertial_term(system, f_ext, u_prev, u_cur);
     u_next.copy_from_slice(u_cur);
-    for iteration in 0..iterations {
-        let buffers = &mut system.buffers;
-        project_springs(&system.springs, &system.r, u_next, &mut buffers.d);
-        B::transpose_mul_points(&system.A, &buffers.d, &mut buffers.b);
-        for ((b, y), pin) in buffers.b.iter_mut().zip(&buffers.y).zip(&system.pin_rhs) {
-            *b = std::array::from_fn(|c| system.k * b[c] + y[c] + pin[c]);
+    let MassSpringSystem {
+        r,
+        m,
+        A,
+        Q,
+        prefactorization,
+        springs,
+        k,
+        delta_t,
+        w,
+        pin_rhs,
+        pinned,
+        pin_targets,
+        is_pinned,
+        buffers,
+        exact_pins,
+        ..
+    } = system;
+    start_lengths(springs, u_cur, &mut buffers.start_lengths);
+    let energy = StepEnergy {
+        springs,
+        r,
+        k: *k,
+        m,
+        delta_t: *delta_t,
+        w: if exact_pins.is_some() { 0.0 } else { *w },
+        pinned,
+        pin_targets,
+        inertial_target: &buffers.inertia,
+        f_ext,
+        start: u_cur,
+        start_lengths: &buffers.start_lengths,
+    };
+    energy.gradient(u_cur, &mut buffers.gradient);
+    let initial_gradient = free_norm(&buffers.gradient, is_pinned);
+    let mut context = StepContext {
+        energy,
+        pinned: is_pinned,
+        global: GlobalStep::<B> {
+            springs,
+            r,
+            k: *k,
+            A,
+            Q,
+            y: &buffers.y,
+            pin_rhs,
+            factorization: prefactorization,
+            exact_pins: exact_pins.as_mut(),
+            pinned,
+            pin_targets,
+            d: &mut buffers.d,
+            b: &mut buffers.b,
+        },
+    };
+    let mut monitor = Monitor::new(
+        control.tolerance,
+        initial_gradient,
+        &mut buffers.gradient,
+        observer,
+    );
+    context.global.hold_pins(u_next); // exact pins start at their (maybe moved) targets
+    monitor.after(0, &context, u_next, None);
+    let workspaces = &mut buffers.methods;
+    let outcome: Outcome = match control.method {
+        StepMethod::Plain => plain::solve(&mut context, control, u_next, &mut monitor),
+        StepMethod::Chebyshev => {
+            let work = workspaces.chebyshev.as_mut().expect("prepared");
+            chebyshev::solve(&mut context, control, work, u_next, &mut monitor)
         }
-        if iteration + 1 == iterations {
-            buffers.previous.copy_from_slice(u_next);
+        StepMethod::Anderson => {
+            let work = workspaces.anderson.as_mut().expect("prepared");
+            anderson::solve(&mut context, control, work, u_next, &mut monitor)
         }
-        B::solve_points(&mut system.prefactorization, &mut buffers.b);
-        u_next.copy_from_slice(&buffers.b);
-    }
+        StepMethod::Lbfgs => {
+            let work = workspaces.lbfgs.as_mut().expect("prepared");
+            lbfgs::solve(&mut context, control, work, u_next, &mut monitor)
+        }
+        StepMethod::Newton => {
+            let work = workspaces.newton.as_mut().expect("prepared");
+            newton::solve(&mut context, control, work, u_next, &mut monitor)
+        }
+    };
     if let Some(vertex) = u_next.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
         return Err(SimulationError::NotFinite { vertex });
     }
+    let relative_gradient =
+        monitor.final_relative_gradient(&context.energy, context.pinned, u_next);
+    let energy_decrease = -context.energy.change(u_next).total();
+    if !(energy_decrease.is_finite() && relative_gradient.is_finite()) {
+        return Err(SimulationError::EnergyNotFinite);
+    }
     Ok(StepReport {
-        iterations,
-        relative_change: relative_change(&system.buffers.previous, u_next, iterations),
+        method: control.method,
+        iterations: outcome.iterations,
+        stop: outcome.stop,
+        energy_decrease,
+        relative_gradient,
     })
+}
+
+/// Makes the work arrays of `control`'s method the first time it runs (or
+/// when the history window changed).
+fn prepare_workspace<B: LinearAlgebra>(
+    system: &mut MassSpringSystem<B>,
+    control: &StepControl,
+) -> Result<(), SimulationError> {
+    let n = system.n();
+    let workspaces = &mut system.buffers.methods;
+    match control.method {
+        StepMethod::Plain => {}
+        StepMethod::Chebyshev => {
+            workspaces
+                .chebyshev
+                .get_or_insert_with(|| chebyshev::Workspace::new(n));
+        }
+        StepMethod::Anderson => {
+            if workspaces
+                .anderson
+                .as_ref()
+                .is_none_or(|w| w.window() != control.window.max(1))
+            {
+                workspaces.anderson = Some(anderson::Workspace::new(n, control.window));
+            }
+        }
+        StepMethod::Lbfgs => {
+            if workspaces
+                .lbfgs
+                .as_ref()
+                .is_none_or(|w| w.window() != control.window.max(1))
+            {
+                workspaces.lbfgs = Some(lbfgs::Workspace::new(n, control.window));
+            }
+        }
+        StepMethod::Newton => {
+            if workspaces.newton.is_none() {
+                workspaces.newton = Some(newton::Workspace::new(n, &system.springs)?);
+            }
+        }
+    }
+    Ok(())
 }
 
 /// `y = M (2 U_cur − U_prev) / Δt² + f_ext`, into the system's buffer.
@@ -99,25 +261,6 @@ fn inertial_term<B: LinearAlgebra>(
     let dt2 = system.delta_t * system.delta_t;
     for (y, f) in buffers.y.iter_mut().zip(f_ext) {
         *y = std::array::from_fn(|c| y[c] / dt2 + f[c]);
-    }
-}
-
-/// `‖now − before‖ / ‖now‖` (0 when no iteration ran or `now` is zero).
-fn relative_change(before: &[[f64; 3]], now: &[[f64; 3]], iterations: usize) -> f64 {
-    if iterations == 0 {
-        return 0.0;
-    }
-    let (mut change, mut size) = (0.0, 0.0);
-    for (b, p) in before.iter().zip(now) {
-        for c in 0..3 {
-            change += (p[c] - b[c]).powi(2);
-            size += p[c].powi(2);
-        }
-    }
-    if size > 0.0 {
-        (change / size).sqrt()
-    } else {
-        0.0
     }
 }
 

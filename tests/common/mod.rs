@@ -8,6 +8,10 @@ use nalgebra::DMatrix;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, FileFailurePersistence};
 
+pub mod network;
+#[allow(unused_imports)] // not every test binary uses the networks
+pub use network::*;
+
 /// Proptest settings shared by every property test: failing seeds are kept in
 /// a `.proptest-regressions` file beside the test source, committed with it.
 pub fn proptest_config(cases: u32) -> Config {

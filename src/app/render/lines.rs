@@ -87,6 +87,30 @@ pub fn draw_line(
     }
 }
 
+/// A point at depth 1 on the screen, for flat drawings (plots) on a canvas
+/// whose z-buffer is empty: every such mark is visible.
+pub fn flat_point(x: f32, y: f32) -> ScreenPoint {
+    ScreenPoint {
+        x,
+        y,
+        inv_depth: 1.0,
+    }
+}
+
+/// [`draw_line`] for a flat drawing: the segment `a → b` (sample
+/// coordinates) on a canvas whose z-buffer is empty.
+pub fn draw_line_2d(
+    canvas: &mut Canvas,
+    a: [f32; 2],
+    b: [f32; 2],
+    width: usize,
+    colour: Rgb,
+    opacity: f32,
+) {
+    let (a, b) = (flat_point(a[0], a[1]), flat_point(b[0], b[1]));
+    draw_line(canvas, a, b, width, colour, opacity);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

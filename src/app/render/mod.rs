@@ -28,6 +28,8 @@ mod lighting;
 mod lines;
 mod look;
 mod palette;
+pub(super) mod plot;
+mod text;
 mod texture;
 mod triangle;
 mod vector;
@@ -37,6 +39,7 @@ mod vector;
 mod tests_common;
 
 use super::args::Args;
+use super::convergence_flags;
 use super::limits::{check_frames, precompute};
 use super::timing::median;
 use super::AppError;
@@ -74,7 +77,8 @@ struct Request {
     width: usize,
     height: usize,
     dense: bool,
-    wind: bool,
+    /// How the simulation runs (wind, method, tolerance).
+    options: SimulationOptions,
     springs: bool,
 }
 
@@ -142,11 +146,14 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
         .iter()
         .map(|a| if a == "-o" { "--out".into() } else { a.clone() })
         .collect();
-    let args = Args::parse(
-        &args,
-        &["steps", "every", "size", "out"],
-        &["dense", "wind", "springs"],
-    )?;
+    let mut options = vec!["steps", "every", "size", "out"];
+    options.extend(convergence_flags::OPTIONS);
+    let args = Args::parse(&args, &options, &["dense", "wind", "springs"])?;
+    let mut simulation_options = SimulationOptions {
+        wind: args.switch("wind"),
+        ..SimulationOptions::default()
+    };
+    convergence_flags::apply(&args, &mut simulation_options)?;
     let scene = PathBuf::from(args.single_positional("SCENE.json")?);
     let out = PathBuf::from(args.value_or("out", String::new())?);
     if out.as_os_str().is_empty() {
@@ -167,7 +174,7 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
         width,
         height,
         dense: args.switch("dense"),
-        wind: args.switch("wind"),
+        options: simulation_options,
         springs: args.switch("springs"),
     })
 }
@@ -228,11 +235,7 @@ fn simulate<B: LinearAlgebra>(
     scene: &Scene,
     request: &Request,
 ) -> Result<Vec<Vec<[f64; 3]>>, AppError> {
-    let options = SimulationOptions {
-        wind: request.wind,
-        ..SimulationOptions::default()
-    };
-    let mut simulation = precompute::<B>(scene, &request.scene, options)?;
+    let mut simulation = precompute::<B>(scene, &request.scene, request.options)?;
     let keep = |step: usize| match request.format {
         Format::Gif => step.is_multiple_of(request.every),
         Format::Png => step == request.steps,

@@ -24,6 +24,7 @@ mod routes;
 mod simulation_thread;
 
 use super::args::Args;
+use super::convergence_flags;
 use super::limits::precompute;
 use super::AppError;
 use api::{Frame, Status};
@@ -51,7 +52,11 @@ const MAX_CONNECTIONS: usize = 64;
 const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
 
 pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(args, &["port", "address"], &["dense"])?;
+    let mut options = vec!["port", "address"];
+    options.extend(convergence_flags::OPTIONS);
+    let args = Args::parse(args, &options, &["dense"])?;
+    let mut simulation_options = SimulationOptions::default();
+    convergence_flags::apply(&args, &mut simulation_options)?;
     let scene_path = PathBuf::from(args.single_positional("SCENE.json")?);
     let port: u16 = args.value_or("port", DEFAULT_PORT)?;
     let ip: IpAddr = args.value_or("address", IpAddr::V4(Ipv4Addr::LOCALHOST))?;
@@ -59,10 +64,10 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let texture = read_texture(&scene);
     let address = SocketAddr::new(ip, port);
     if args.switch("dense") {
-        let simulation = precompute::<Dense>(&scene, &scene_path, SimulationOptions::default())?;
+        let simulation = precompute::<Dense>(&scene, &scene_path, simulation_options)?;
         serve(&scene, simulation, texture, address)
     } else {
-        let simulation = precompute::<Sparse>(&scene, &scene_path, SimulationOptions::default())?;
+        let simulation = precompute::<Sparse>(&scene, &scene_path, simulation_options)?;
         serve(&scene, simulation, texture, address)
     }
 }

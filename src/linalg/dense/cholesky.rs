@@ -90,6 +90,33 @@ impl DenseCholesky {
         Ok(DenseCholesky { l, l_transpose })
     }
 
+    /// Factors `a` again into the storage this factorization already has
+    /// (same size), allocating nothing: for small systems solved over and
+    /// over, such as the least-squares problem of Anderson acceleration.
+    ///
+    /// # Errors
+    /// As [`DenseCholesky::factor`], plus [`LinalgError::DimensionMismatch`]
+    /// (operation `"cholesky refactor"`) when `a` is not `n × n`. After an
+    /// error the factorization is not usable until a refactor succeeds.
+    pub fn refactor(&mut self, a: &DenseMatrix) -> Result<(), LinalgError> {
+        self.check_rows("cholesky refactor", (a.nrows(), a.ncols()))?;
+        if !a.is_square() {
+            return Err(LinalgError::NotSquare {
+                nrows: a.nrows(),
+                ncols: a.ncols(),
+            });
+        }
+        for i in 0..a.nrows() {
+            factor_row(a, &mut self.l, i)?;
+        }
+        for i in 0..a.nrows() {
+            for j in 0..=i {
+                self.l_transpose[(j, i)] = self.l[(i, j)];
+            }
+        }
+        Ok(())
+    }
+
     /// The lower-triangular factor `L` (zeros above the diagonal).
     pub fn l(&self) -> &DenseMatrix {
         &self.l

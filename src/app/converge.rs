@@ -1,0 +1,350 @@
+//! `masssprings converge SCENE.json`: one time step solved by every method,
+//! iteration by iteration.
+//!
+//! Runs the canonical simulation (plain, 50 iterations) up to step `K`,
+//! then solves step `K` again with each method, up to `N` iterations, and
+//! records per iteration the energy `E(p) − E(p⁰)` (cancellation-free, so it
+//! is ≤ 0 and falls), the relative gradient `‖∇E(p)‖ / ‖∇E(p⁰)‖` over the
+//! free vertices, and the wall time since the method began (the time spent
+//! recording is not counted). Prints, per method, the iterations and
+//! milliseconds it needed to reach the energy of 50 and of 200 plain
+//! iterations (plain is always run to 200 for that); writes the curves as
+//! CSV and as a two-panel plot.
+
+use super::args::Args;
+use super::convergence_flags;
+use super::convergence_plot::NamedCurve;
+use super::AppError;
+use masssprings::files::write_file;
+use masssprings::mesh::load_scene;
+use masssprings::sim::energy::free_norm;
+use masssprings::sim::methods::chebyshev::estimate_rho;
+use masssprings::sim::methods::Iterate;
+use masssprings::sim::simulation::SimulationOptions;
+use masssprings::sim::{Simulation, Sparse, StepControl, StepMethod, Stop};
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+/// One row of the CSV.
+#[derive(Debug, Clone, Copy)]
+struct Sample {
+    iteration: usize,
+    energy: f64,
+    relative_gradient: f64,
+    elapsed_ms: f64,
+    /// `‖pₖ − pₖ₋₁‖` (0 at iteration 0).
+    step_norm: f64,
+}
+
+/// One method's curve.
+struct Curve {
+    method: StepMethod,
+    samples: Vec<Sample>,
+    stop: Stop,
+}
+
+struct Request {
+    scene: PathBuf,
+    step: usize,
+    methods: Vec<StepMethod>,
+    control: StepControl,
+    csv: Option<PathBuf>,
+    plot: Option<PathBuf>,
+    /// `--steps S`: instead of one step, steps 1…S, medians only.
+    over_steps: Option<usize>,
+    /// The canonical simulation: plain, 50 iterations, the pins given.
+    canonical: SimulationOptions,
+}
+
+/// Plain iterations whose energies are the yardsticks.
+const YARDSTICKS: [usize; 2] = [50, 200];
+
+pub fn run(args: &[String]) -> Result<(), AppError> {
+    let request = parse(args)?;
+    if let Some(steps) = request.over_steps {
+        return run_over_steps(&request, steps);
+    }
+    let scene = load_scene(&request.scene)?;
+    let mut simulation = Simulation::<Sparse>::from_scene(&scene, request.canonical)?;
+    for step in 1..request.step {
+        simulation
+            .step()
+            .map_err(|e| AppError::Failed(format!("step {step}: {e}")))?;
+    }
+    let plain_reference = trace(
+        &simulation,
+        &request.control,
+        StepMethod::Plain,
+        YARDSTICKS[1],
+    )?;
+    let yardsticks = YARDSTICKS.map(|i| plain_reference.samples.get(i).map(|s| s.energy));
+    let mut control = request.control;
+    if control.rho.is_none() {
+        // what Chebyshev's first step would measure, from this step's plain run
+        let norms: Vec<f64> = plain_reference.samples[1..]
+            .iter()
+            .map(|s| s.step_norm)
+            .collect();
+        control.rho = Some(estimate_rho(&norms));
+        eprintln!(
+            "converge: ρ = {:.4} (estimated from the plain iteration)",
+            control.rho.unwrap_or(0.0)
+        );
+    }
+    let mut curves = Vec::new();
+    for &method in &request.methods {
+        eprintln!("converge: {method} …");
+        curves.push(trace(&simulation, &control, method, control.iterations)?);
+    }
+    print_table(&request, &curves, yardsticks);
+    if let Some(path) = &request.csv {
+        write_file(path, |out| write_csv(out, &curves))?;
+    }
+    if let Some(path) = &request.plot {
+        super::convergence_plot::draw(path, &scene.name, request.step, &curves_for_plot(&curves))?;
+    }
+    Ok(())
+}
+
+fn parse(args: &[String]) -> Result<Request, AppError> {
+    let mut options = vec!["step", "steps", "methods", "csv", "plot"];
+    options.extend(
+        convergence_flags::OPTIONS
+            .iter()
+            .filter(|&&o| o != "method" && o != "tolerance"),
+    );
+    let args = Args::parse(args, &options, &[])?;
+    let scene = PathBuf::from(args.single_positional("SCENE.json")?);
+    let step: usize = args.value_or("step", 1)?;
+    if step == 0 {
+        return Err(AppError::Usage(
+            "--step counts from 1 (the first step from rest)".into(),
+        ));
+    }
+    let methods = match args.value_or("methods", String::new())? {
+        list if list.is_empty() => StepMethod::ALL.to_vec(),
+        list => list
+            .split(',')
+            .map(|m| m.trim().parse::<StepMethod>().map_err(AppError::Usage))
+            .collect::<Result<_, _>>()?,
+    };
+    let mut sim_options = SimulationOptions {
+        iterations: 200,
+        ..SimulationOptions::default()
+    };
+    convergence_flags::apply(&args, &mut sim_options)?;
+    let path = |name: &str| -> Result<Option<PathBuf>, AppError> {
+        Ok(Some(args.value_or(name, String::new())?)
+            .filter(|s| !s.is_empty())
+            .map(PathBuf::from))
+    };
+    Ok(Request {
+        scene,
+        step,
+        methods,
+        control: sim_options.step_control(),
+        csv: path("csv")?,
+        plot: path("plot")?,
+        canonical: SimulationOptions {
+            pins: sim_options.pins,
+            ..SimulationOptions::default()
+        },
+        over_steps: match args.value_or("steps", 0usize)? {
+            0 => None,
+            steps => Some(steps),
+        },
+    })
+}
+
+/// Step `simulation`'s next step by `method` for up to `iterations`,
+/// recording every iterate (on a copy: `simulation` does not move).
+fn trace(
+    simulation: &Simulation<Sparse>,
+    control: &StepControl,
+    method: StepMethod,
+    iterations: usize,
+) -> Result<Curve, AppError> {
+    let mut copy = simulation.clone();
+    let control = StepControl {
+        method,
+        iterations,
+        tolerance: None,
+        ..*control
+    };
+    let mut samples = Vec::with_capacity(iterations + 1);
+    let mut gradient = vec![[0.0; 3]; copy.positions().len()];
+    let mut previous = copy.positions().to_vec();
+    let mut initial_gradient = 0.0;
+    let mut started = Instant::now();
+    let mut not_counted = Duration::ZERO;
+    let mut record = |iterate: &Iterate<'_>| {
+        let now = Instant::now();
+        if iterate.iteration == 0 {
+            started = now;
+        }
+        let elapsed = now - started - not_counted;
+        iterate.energy.gradient(iterate.positions, &mut gradient);
+        let norm = free_norm(&gradient, iterate.pinned);
+        if iterate.iteration == 0 {
+            initial_gradient = norm;
+        }
+        samples.push(Sample {
+            iteration: iterate.iteration,
+            energy: iterate.energy.change(iterate.positions).total(),
+            relative_gradient: if initial_gradient > 0.0 {
+                norm / initial_gradient
+            } else {
+                0.0
+            },
+            elapsed_ms: 1e3 * elapsed.as_secs_f64(),
+            step_norm: distance(iterate.positions, &previous),
+        });
+        previous.copy_from_slice(iterate.positions);
+        not_counted += now.elapsed();
+    };
+    let report = copy
+        .step_with(&control, Some(&mut record))
+        .map_err(|e| AppError::Failed(format!("{method}: {e}")))?;
+    Ok(Curve {
+        method,
+        samples,
+        stop: report.stop,
+    })
+}
+
+/// `‖a − b‖` over all coordinates.
+fn distance(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| (0..3).map(|c| (p[c] - q[c]).powi(2)).sum::<f64>())
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// The first sample at or below `energy` (with a relative slack of 1e-12
+/// for rounding).
+fn first_reaching(curve: &Curve, energy: f64) -> Option<&Sample> {
+    let slack = 1e-12 * energy.abs();
+    curve.samples.iter().find(|s| s.energy <= energy + slack)
+}
+
+fn print_table(request: &Request, curves: &[Curve], yardsticks: [Option<f64>; 2]) {
+    println!(
+        "step {} of {}; energies relative to the step's start; plain-50 {}, plain-200 {}",
+        request.step,
+        request.scene.display(),
+        yardsticks[0].map_or("-".into(), |e| format!("{e:.6e}")),
+        yardsticks[1].map_or("-".into(), |e| format!("{e:.6e}")),
+    );
+    println!(
+        "{:<10} {:>6} {:>14} {:>10} {:>20} {:>20}  stop",
+        "method", "iters", "energy", "rel.grad", "to plain-50 (it, ms)", "to plain-200 (it, ms)"
+    );
+    for curve in curves {
+        let last = curve
+            .samples
+            .last()
+            .expect("iteration 0 is always recorded");
+        let reach = |target: Option<f64>| match target.and_then(|e| first_reaching(curve, e)) {
+            Some(s) => format!("{}, {:.2}", s.iteration, s.elapsed_ms),
+            None => "not reached".into(),
+        };
+        println!(
+            "{:<10} {:>6} {:>14.6e} {:>10.2e} {:>20} {:>20}  {:?}",
+            curve.method.name(),
+            last.iteration,
+            last.energy,
+            last.relative_gradient,
+            reach(yardsticks[0]),
+            reach(yardsticks[1]),
+            curve.stop
+        );
+    }
+}
+
+fn write_csv(out: &mut dyn Write, curves: &[Curve]) -> std::io::Result<()> {
+    writeln!(out, "method,iteration,energy,relative_gradient,elapsed_ms")?;
+    for curve in curves {
+        for s in &curve.samples {
+            writeln!(
+                out,
+                "{},{},{:e},{:e},{:.4}",
+                curve.method.name(),
+                s.iteration,
+                s.energy,
+                s.relative_gradient,
+                s.elapsed_ms
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// Each curve as (name, [(iteration, energy, ms)]), for the plot.
+fn curves_for_plot(curves: &[Curve]) -> Vec<NamedCurve> {
+    curves
+        .iter()
+        .map(|c| {
+            let points = c
+                .samples
+                .iter()
+                .map(|s| (s.iteration as f64, s.energy, s.elapsed_ms))
+                .collect();
+            (c.method.name().to_string(), points)
+        })
+        .collect()
+}
+
+/// `--steps S`: for each of the canonical steps 1…S, the milliseconds each
+/// method needs to reach the energy of 50 plain iterations of that step
+/// (the accuracy the assignment settles for); prints, per method, the
+/// median over the steps and its ratio to plain-50's median.
+fn run_over_steps(request: &Request, steps: usize) -> Result<(), AppError> {
+    let scene = load_scene(&request.scene)?;
+    let mut simulation = Simulation::<Sparse>::from_scene(&scene, request.canonical)?;
+    let mut control = request.control;
+    let mut times: Vec<Vec<f64>> = vec![Vec::new(); request.methods.len()];
+    let mut iterations: Vec<Vec<f64>> = vec![Vec::new(); request.methods.len()];
+    for step in 1..=steps {
+        let plain = trace(&simulation, &control, StepMethod::Plain, YARDSTICKS[0])?;
+        let target = plain.samples.last().map_or(0.0, |s| s.energy);
+        if control.rho.is_none() {
+            let norms: Vec<f64> = plain.samples[1..].iter().map(|s| s.step_norm).collect();
+            control.rho = Some(estimate_rho(&norms));
+        }
+        for (m, &method) in request.methods.iter().enumerate() {
+            let curve = trace(&simulation, &control, method, control.iterations)?;
+            let reached = first_reaching(&curve, target);
+            times[m].push(reached.map_or(f64::INFINITY, |s| s.elapsed_ms));
+            iterations[m].push(reached.map_or(f64::INFINITY, |s| s.iteration as f64));
+        }
+        simulation
+            .step()
+            .map_err(|e| AppError::Failed(format!("step {step}: {e}")))?;
+        eprint!("\rconverge: step {step}/{steps}");
+    }
+    eprintln!();
+    let plain_index = request.methods.iter().position(|&m| m == StepMethod::Plain);
+    println!(
+        "{} steps 1-{steps}: median over the steps of the time to reach plain-50's energy",
+        request.scene.display()
+    );
+    println!(
+        "{:<10} {:>12} {:>10} {:>14}",
+        "method", "iterations", "ms", "/ plain-50"
+    );
+    let plain_median = plain_index.map(|m| super::timing::median(&mut times[m].clone()));
+    for (m, method) in request.methods.iter().enumerate() {
+        let ms = super::timing::median(&mut times[m].clone());
+        let ratio = plain_median.map_or("-".into(), |p| format!("{:.3}", ms / p));
+        println!(
+            "{:<10} {:>12} {:>10.3} {:>14}",
+            method.name(),
+            super::timing::median(&mut iterations[m].clone()),
+            ms,
+            ratio
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,243 @@
+//! The energy a time step minimises, and its gradient.
+//!
+//! With `p⁰ = U_cur` (where the step starts), `ŷ = 2 U_cur − U_prev` (where
+//! inertia alone would carry each vertex) and the pins `t_c` of the pinned
+//! vertices `c`, the positions at `t + Δt` minimise (the handout's energy,
+//! plus the pinning penalty)
+//!
+//! ```text
+//! E(p) = Σₑ ½ k (‖pᵢ − pⱼ‖ − rₑ)²                  springs, e = (i, j)
+//!      + 1/(2Δt²) Σᵢ mᵢ ‖pᵢ − ŷᵢ‖²                  inertia: tr((p − ŷ)ᵀ M (p − ŷ)) / (2Δt²)
+//!      − Σᵢ pᵢ · fᵢ                                 external forces
+//!      + ½ w Σ_c ‖p_c − t_c‖²                       pins, w = 1e10
+//! ```
+//!
+//! and its gradient, one row per vertex,
+//!
+//! ```text
+//! ∇E(p)ᵢ = Σ_{e ∋ i} ± k (1 − rₑ/‖vₑ‖) vₑ   (vₑ = pᵢ − pⱼ; + at i, − at j)
+//!        + mᵢ (pᵢ − ŷᵢ) / Δt² − fᵢ  (+ w (pᵢ − tᵢ) when i is pinned).
+//! ```
+//!
+//! The gradient is `Q p − b(p)`, with `b(p)` the right-hand side the global
+//! step builds from the local step's `d(p)`: the plain local/global
+//! iteration is `p ← p − Q⁻¹ ∇E(p)`, a gradient step preconditioned by `Q`.
+//!
+//! **Differences, not values.** `E` itself is useless for telling iterates
+//! apart: the pin term alone is `½ w ‖drift‖²` with `w = 1e10`, and the
+//! inertia and gravity terms are large and nearly constant, so `E(p) −
+//! E(p⁰)` computed as a difference of two totals loses every digit that
+//! matters. Each term is instead written as a product of a small difference
+//! and a sum, which rounds to nearly full relative precision:
+//!
+//! ```text
+//! a² − b² = (a − b)(a + b)         for ‖p − ŷ‖², ‖p − t‖², (l − r)²
+//! l − l⁰ = (v − v⁰)·(v + v⁰) / (l + l⁰)     for the spring lengths l = ‖v‖
+//! ```
+//!
+//! so `E(p) − E(p⁰)` is `0` at `p⁰` exactly and negative where a method has
+//! made progress. The gradient needs no such care: its terms are computed
+//! from `p` directly, never as `Q p − b` (whose two parts are each ~1e10 at
+//! a pin).
+//!
+//! Both cost `O(m + n)` (a pass over the springs like the local step's, and
+//! one over the vertices) and allocate nothing.
+//!
+//! Source: the assignment's "Time integration" and "Pinned vertices"
+//! sections (the energy); Liu et al. 2013, §3–4 (the local/global iteration
+//! as block coordinate descent on it); Liu, Bouaziz & Kavan 2017, §3 (the
+//! same iteration as a quasi-Newton step with `Q` as the Hessian guess).
+
+/// Everything that fixes one step's energy: the network, the start of the
+/// step, inertia, forces and pins. Borrowed, so it costs nothing to make.
+#[derive(Debug, Clone, Copy)]
+pub struct StepEnergy<'a> {
+    /// The springs `(i, j)`.
+    pub springs: &'a [[usize; 2]],
+    /// Rest length of every spring.
+    pub r: &'a [f64],
+    /// Spring stiffness.
+    pub k: f64,
+    /// Mass of every vertex.
+    pub m: &'a [f64],
+    /// Time step.
+    pub delta_t: f64,
+    /// Pinning penalty weight (0 when pins are exact constraints).
+    pub w: f64,
+    /// The pinned vertices and their targets `t_c`.
+    pub pinned: &'a [usize],
+    pub pin_targets: &'a [[f64; 3]],
+    /// `ŷ = 2 U_cur − U_prev`.
+    pub inertial_target: &'a [[f64; 3]],
+    /// `f_ext`, one force per vertex.
+    pub f_ext: &'a [[f64; 3]],
+    /// `p⁰ = U_cur`, where the step starts.
+    pub start: &'a [[f64; 3]],
+    /// `l⁰ₑ = ‖p⁰ᵢ − p⁰ⱼ‖`, every spring's length at the start
+    /// ([`start_lengths`]), kept so that an evaluation takes one square
+    /// root per spring, not two.
+    pub start_lengths: &'a [f64],
+}
+
+/// `l⁰ₑ = ‖p⁰ᵢ − p⁰ⱼ‖` for every spring, into `lengths`.
+pub fn start_lengths(springs: &[[usize; 2]], start: &[[f64; 3]], lengths: &mut [f64]) {
+    for (l, &[i, j]) in lengths.iter_mut().zip(springs) {
+        *l = norm(difference(start[i], start[j]));
+    }
+}
+
+/// `E(p) − E(p⁰)`, term by term.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct EnergyChange {
+    pub springs: f64,
+    pub inertia: f64,
+    pub external: f64,
+    pub pins: f64,
+}
+
+impl EnergyChange {
+    /// The whole change `E(p) − E(p⁰)`.
+    pub fn total(&self) -> f64 {
+        self.springs + self.inertia + self.external + self.pins
+    }
+}
+
+impl StepEnergy<'_> {
+    /// `E(p) − E(p⁰)`, each term as a difference times a sum.
+    ///
+    /// # Panics
+    /// When `p` does not have one row per vertex.
+    pub fn change(&self, p: &[[f64; 3]]) -> EnergyChange {
+        assert_eq!(p.len(), self.start.len());
+        EnergyChange {
+            springs: self.spring_change(p),
+            inertia: self.inertia_change(p),
+            external: self.external_change(p),
+            pins: self.pin_change(p),
+        }
+    }
+
+    /// `Σₑ ½ k (l − l⁰) ((l − r) + (l⁰ − r))`.
+    fn spring_change(&self, p: &[[f64; 3]]) -> f64 {
+        let p0 = self.start;
+        let mut sum = 0.0;
+        for ((&[i, j], &rest), &l0) in self.springs.iter().zip(self.r).zip(self.start_lengths) {
+            let v = difference(p[i], p[j]);
+            let v0 = difference(p0[i], p0[j]);
+            let l = norm(v);
+            let dl = if l + l0 > 0.0 {
+                dot(difference(v, v0), sum3(v, v0)) / (l + l0)
+            } else {
+                0.0
+            };
+            sum += dl * ((l - rest) + (l0 - rest));
+        }
+        0.5 * self.k * sum
+    }
+
+    /// `Σᵢ mᵢ/(2Δt²) (pᵢ − p⁰ᵢ)·((pᵢ − ŷᵢ) + (p⁰ᵢ − ŷᵢ))`.
+    fn inertia_change(&self, p: &[[f64; 3]]) -> f64 {
+        let mut sum = 0.0;
+        for (((pi, p0), y), &mi) in p
+            .iter()
+            .zip(self.start)
+            .zip(self.inertial_target)
+            .zip(self.m)
+        {
+            sum += mi
+                * dot(
+                    difference(*pi, *p0),
+                    sum3(difference(*pi, *y), difference(*p0, *y)),
+                );
+        }
+        sum / (2.0 * self.delta_t * self.delta_t)
+    }
+
+    /// `−Σᵢ (pᵢ − p⁰ᵢ)·fᵢ`.
+    fn external_change(&self, p: &[[f64; 3]]) -> f64 {
+        let mut sum = 0.0;
+        for ((pi, p0), f) in p.iter().zip(self.start).zip(self.f_ext) {
+            sum += dot(difference(*pi, *p0), *f);
+        }
+        -sum
+    }
+
+    /// `½ w Σ_c (p_c − p⁰_c)·((p_c − t_c) + (p⁰_c − t_c))`.
+    fn pin_change(&self, p: &[[f64; 3]]) -> f64 {
+        let mut sum = 0.0;
+        for (&c, &t) in self.pinned.iter().zip(self.pin_targets) {
+            let (pc, p0) = (p[c], self.start[c]);
+            sum += dot(
+                difference(pc, p0),
+                sum3(difference(pc, t), difference(p0, t)),
+            );
+        }
+        0.5 * self.w * sum
+    }
+
+    /// `g = ∇E(p)`, one row per vertex.
+    ///
+    /// # Panics
+    /// When `p` or `g` does not have one row per vertex.
+    pub fn gradient(&self, p: &[[f64; 3]], g: &mut [[f64; 3]]) {
+        assert!(p.len() == self.start.len() && g.len() == p.len());
+        let inverse_dt2 = 1.0 / (self.delta_t * self.delta_t);
+        for (((gi, pi), y), (&mi, f)) in g
+            .iter_mut()
+            .zip(p)
+            .zip(self.inertial_target)
+            .zip(self.m.iter().zip(self.f_ext))
+        {
+            *gi = std::array::from_fn(|c| mi * (pi[c] - y[c]) * inverse_dt2 - f[c]);
+        }
+        for (&[i, j], &rest) in self.springs.iter().zip(self.r) {
+            let v = difference(p[i], p[j]);
+            let force = spring_gradient(self.k, rest, v);
+            g[i] = sum3(g[i], force);
+            g[j] = difference(g[j], force);
+        }
+        for (&c, t) in self.pinned.iter().zip(self.pin_targets) {
+            g[c] = std::array::from_fn(|x| g[c][x] + self.w * (p[c][x] - t[x]));
+        }
+    }
+}
+
+/// `k (1 − r/‖v‖) v`: the gradient of `½ k (‖v‖ − r)²` in `v` (zero for a
+/// spring of zero length, as the local step's `d`).
+pub fn spring_gradient(k: f64, rest: f64, v: [f64; 3]) -> [f64; 3] {
+    let length = norm(v);
+    if length > 0.0 {
+        v.map(|x| k * (x - rest * (x / length)))
+    } else {
+        [0.0; 3]
+    }
+}
+
+/// `√(Σᵢ ‖gᵢ‖²)` over the vertices that are not pinned (`pinned[i]` false):
+/// the norm the stopping rule measures (at a pin the gradient is the
+/// penalty's, `w` times a drift, and says nothing about the cloth).
+pub fn free_norm(g: &[[f64; 3]], pinned: &[bool]) -> f64 {
+    g.iter()
+        .zip(pinned)
+        .filter(|(_, &is_pinned)| !is_pinned)
+        .map(|(gi, _)| dot(*gi, *gi))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// `a − b`.
+pub(crate) fn difference(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn sum3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+pub(crate) fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}

@@ -1,0 +1,57 @@
+//! Vectors of the step's unknowns: `n × 3` blocks (one point per row) read
+//! as one vector of `3n` numbers.
+//!
+//! The accelerated methods combine whole iterates (`x ← x + α s`, `sᵀy`),
+//! which is ordinary vector algebra on `ℝ³ⁿ`: the Frobenius inner product
+//! `⟨X, Y⟩ = tr(XᵀY) = Σᵢ Σ_c X_ic Y_ic`. Each function is one loop, `O(n)`,
+//! and allocates nothing.
+
+/// `⟨x, y⟩ = Σ xᵢ·yᵢ`.
+pub fn dot(x: &[[f64; 3]], y: &[[f64; 3]]) -> f64 {
+    debug_assert_eq!(x.len(), y.len());
+    x.as_flattened()
+        .iter()
+        .zip(y.as_flattened())
+        .map(|(a, b)| a * b)
+        .sum()
+}
+
+/// `‖x‖ = √⟨x, x⟩`.
+pub fn norm(x: &[[f64; 3]]) -> f64 {
+    dot(x, x).sqrt()
+}
+
+/// `y ← y + α x`.
+pub fn add_scaled(y: &mut [[f64; 3]], alpha: f64, x: &[[f64; 3]]) {
+    debug_assert_eq!(x.len(), y.len());
+    for (a, b) in y.as_flattened_mut().iter_mut().zip(x.as_flattened()) {
+        *a += alpha * b;
+    }
+}
+
+/// `out ← x − y`.
+pub fn subtract(x: &[[f64; 3]], y: &[[f64; 3]], out: &mut [[f64; 3]]) {
+    debug_assert!(x.len() == y.len() && y.len() == out.len());
+    for ((o, a), b) in out.iter_mut().zip(x).zip(y) {
+        *o = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    }
+}
+
+/// `out ← x + α d`.
+pub fn moved(x: &[[f64; 3]], alpha: f64, d: &[[f64; 3]], out: &mut [[f64; 3]]) {
+    debug_assert!(x.len() == d.len() && d.len() == out.len());
+    for ((o, a), b) in out.iter_mut().zip(x).zip(d) {
+        *o = [
+            a[0] + alpha * b[0],
+            a[1] + alpha * b[1],
+            a[2] + alpha * b[2],
+        ];
+    }
+}
+
+/// `x ← α x`.
+pub fn scale(x: &mut [[f64; 3]], alpha: f64) {
+    for a in x.as_flattened_mut() {
+        *a *= alpha;
+    }
+}

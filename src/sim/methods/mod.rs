@@ -1,0 +1,370 @@
+//! Five ways to solve one time step, and what they share.
+//!
+//! A step minimises the energy `E` of [`energy`](super::energy). The
+//! assignment runs 50 local/global iterations and stops; each method here
+//! instead iterates until the relative gradient over the free vertices,
+//! `‖∇E(p)‖ / ‖∇E(p⁰)‖`, falls below a tolerance, or a budget of iterations
+//! is spent:
+//!
+//! | method | one iteration | file |
+//! |---|---|---|
+//! | `plain` | `p ← Q⁻¹ b(p)`, the assignment's local/global step | [`plain`] |
+//! | `chebyshev` | the same, extrapolated by Chebyshev weights `ω` | [`chebyshev`] |
+//! | `anderson` | the same, extrapolated from the last `m` iterates | [`anderson`] |
+//! | `lbfgs` | a quasi-Newton step with `Q` as the initial Hessian, line search | [`lbfgs`] |
+//! | `newton` | the exact Hessian, factored every iteration, line search | [`newton`] |
+//!
+//! All of them reuse the one factorization of `Q` from the precomputation
+//! (Newton factors its own Hessian). A method's work arrays are sized the
+//! first time it runs and reused after, so no step after a method's first
+//! allocates.
+//!
+//! The pieces every method uses are here: [`GlobalStep`] (the plain
+//! iteration and solves with `Q`) and [`Monitor`] (the stopping rule and the
+//! per-iteration observer that `masssprings converge` listens to).
+
+pub mod anderson;
+pub mod block_vector;
+pub mod chebyshev;
+pub mod lbfgs;
+pub mod line_search;
+pub mod newton;
+pub mod plain;
+
+use super::backend::LinearAlgebra;
+use super::energy::{free_norm, StepEnergy};
+use super::exact_pins::ExactPins;
+use super::local_step::project_springs;
+use std::fmt;
+use std::str::FromStr;
+
+/// How a step is solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
+pub enum StepMethod {
+    /// The assignment's local/global iteration.
+    #[default]
+    Plain,
+    /// Chebyshev semi-iteration on the local/global iterate (Wang 2015).
+    Chebyshev,
+    /// Anderson acceleration with an energy safeguard (Peng et al. 2018).
+    Anderson,
+    /// L-BFGS with `Q` as the initial Hessian (Liu, Bouaziz & Kavan 2017).
+    Lbfgs,
+    /// Newton's method on the exact Hessian, Levenberg–Marquardt damped.
+    Newton,
+}
+
+impl StepMethod {
+    /// Every method, in the order the docs present them.
+    pub const ALL: [StepMethod; 5] = [
+        StepMethod::Plain,
+        StepMethod::Chebyshev,
+        StepMethod::Anderson,
+        StepMethod::Lbfgs,
+        StepMethod::Newton,
+    ];
+
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            StepMethod::Plain => "plain",
+            StepMethod::Chebyshev => "chebyshev",
+            StepMethod::Anderson => "anderson",
+            StepMethod::Lbfgs => "lbfgs",
+            StepMethod::Newton => "newton",
+        }
+    }
+}
+
+impl fmt::Display for StepMethod {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for StepMethod {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, String> {
+        StepMethod::ALL
+            .into_iter()
+            .find(|m| m.name() == text)
+            .ok_or_else(|| {
+                format!("unknown method '{text}' (expected plain, chebyshev, anderson, lbfgs or newton)")
+            })
+    }
+}
+
+/// How one step is solved: the method and when to stop.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepControl {
+    /// The method.
+    pub method: StepMethod,
+    /// The most iterations a step may take (the assignment: 50).
+    pub iterations: usize,
+    /// Stop once `‖∇E(p)‖ / ‖∇E(p⁰)‖` over the free vertices is at most
+    /// this; `None` runs all `iterations`.
+    pub tolerance: Option<f64>,
+    /// Chebyshev's spectral radius `ρ`; `None` estimates it.
+    pub rho: Option<f64>,
+    /// Anderson's and L-BFGS's history: the last `window` iterates.
+    pub window: usize,
+}
+
+/// The history window of Anderson and L-BFGS when none is given.
+pub const DEFAULT_WINDOW: usize = 5;
+
+impl Default for StepControl {
+    fn default() -> Self {
+        StepControl {
+            method: StepMethod::Plain,
+            iterations: super::step::ITERATIONS,
+            tolerance: None,
+            rho: None,
+            window: DEFAULT_WINDOW,
+        }
+    }
+}
+
+/// Why a step stopped iterating.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stop {
+    /// It ran every iteration it was allowed.
+    Iterations,
+    /// The relative gradient reached the tolerance.
+    Tolerance,
+    /// The line search found no lower energy: the iterate is as good as
+    /// rounding lets this method make it.
+    Stalled,
+}
+
+/// What a method reports: iterations run and why it stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Outcome {
+    pub iterations: usize,
+    pub stop: Stop,
+}
+
+impl Outcome {
+    /// Stopped by `stop` after `iterations`.
+    pub fn new(iterations: usize, stop: Stop) -> Self {
+        Outcome { iterations, stop }
+    }
+}
+
+/// The state after one iteration, shown to an observer.
+pub struct Iterate<'a> {
+    /// 0 for the step's start, then 1, 2, …
+    pub iteration: usize,
+    /// The current positions.
+    pub positions: &'a [[f64; 3]],
+    /// The step's energy, to evaluate at `positions`.
+    pub energy: &'a StepEnergy<'a>,
+    /// Which vertices are pinned (left out of the gradient's norm).
+    pub pinned: &'a [bool],
+}
+
+/// Something that wants to see every iterate (`masssprings converge`).
+pub type Observer<'o> = &'o mut dyn FnMut(&Iterate<'_>);
+
+/// The global step: the plain iteration `p ← Q⁻¹ b(p)` and solves with the
+/// prefactored `Q`.
+#[allow(non_snake_case)] // the handout's A and Q
+pub(crate) struct GlobalStep<'a, B: LinearAlgebra> {
+    pub springs: &'a [[usize; 2]],
+    pub r: &'a [f64],
+    pub k: f64,
+    pub A: &'a B::Matrix,
+    pub Q: &'a B::Matrix,
+    /// `y = M ŷ / Δt² + f_ext`.
+    pub y: &'a [[f64; 3]],
+    /// `w CᵀC V`.
+    pub pin_rhs: &'a [[f64; 3]],
+    pub factorization: &'a mut B::Factorization,
+    /// The reduced system when pins are exact, and the pins.
+    pub exact_pins: Option<&'a mut ExactPins<B>>,
+    pub pinned: &'a [usize],
+    pub pin_targets: &'a [[f64; 3]],
+    /// The local step's `d`, one row per spring.
+    pub d: &'a mut [[f64; 3]],
+    /// `b`, then `Q⁻¹ b`.
+    pub b: &'a mut [[f64; 3]],
+}
+
+impl<B: LinearAlgebra> GlobalStep<'_, B> {
+    /// One local/global iteration, in place: `p ← Q⁻¹ (k Aᵀ d(p) + y + w CᵀC V)`
+    /// (with exact pins: the free rows from `Q_ff`, the pins at their targets).
+    pub fn iterate_in_place(&mut self, p: &mut [[f64; 3]]) {
+        project_springs(self.springs, self.r, p, self.d);
+        B::transpose_mul_points(self.A, self.d, self.b);
+        let pin_rhs = self
+            .exact_pins
+            .as_ref()
+            .map_or(self.pin_rhs, |e| &e.pin_rhs);
+        for ((b, y), pin) in self.b.iter_mut().zip(self.y).zip(pin_rhs) {
+            *b = std::array::from_fn(|c| self.k * b[c] + y[c] + pin[c]);
+        }
+        match self.exact_pins.as_mut() {
+            None => B::solve_points(self.factorization, self.b),
+            Some(exact) => {
+                exact.solve(self.b);
+                for (&c, &t) in self.pinned.iter().zip(self.pin_targets) {
+                    self.b[c] = t;
+                }
+            }
+        }
+        p.copy_from_slice(self.b);
+    }
+
+    /// `out ← G(p)`, one local/global iteration from `p` (which is kept).
+    pub fn iterate(&mut self, p: &[[f64; 3]], out: &mut [[f64; 3]]) {
+        out.copy_from_slice(p);
+        self.iterate_in_place(out);
+    }
+
+    /// `v ← Q⁻¹ v` (with exact pins: `Q_ff⁻¹` on the free rows, the pinned
+    /// rows 0, so that no direction moves a pin).
+    pub fn solve(&mut self, v: &mut [[f64; 3]]) {
+        match self.exact_pins.as_mut() {
+            None => B::solve_points(self.factorization, v),
+            Some(exact) => exact.solve(v),
+        }
+    }
+
+    /// `out ← Q x` (with exact pins: `(k AᵀA + M/Δt²) x`, pinned rows 0).
+    pub fn mul_q(&self, x: &[[f64; 3]], out: &mut [[f64; 3]]) {
+        match self.exact_pins.as_ref() {
+            None => B::mul_points(self.Q, x, out),
+            Some(exact) => {
+                B::mul_points(&exact.q_without_pins, x, out);
+                for &c in self.pinned {
+                    out[c] = [0.0; 3];
+                }
+            }
+        }
+    }
+
+    /// With exact pins, puts the pinned rows of `p` back at their targets
+    /// (an extrapolation `ω x̂ + (1 − ω) x` rounds them); nothing with the
+    /// penalty.
+    pub fn hold_pins(&self, p: &mut [[f64; 3]]) {
+        if self.exact() {
+            for (&c, &t) in self.pinned.iter().zip(self.pin_targets) {
+                p[c] = t;
+            }
+        }
+    }
+
+    /// Are the pins exact constraints?
+    pub fn exact(&self) -> bool {
+        self.exact_pins.is_some()
+    }
+}
+
+/// Everything a method works with during one step.
+pub(crate) struct StepContext<'a, B: LinearAlgebra> {
+    pub energy: StepEnergy<'a>,
+    /// `pinned[i]`: is vertex `i` pinned?
+    pub pinned: &'a [bool],
+    pub global: GlobalStep<'a, B>,
+}
+
+/// The stopping rule and the observer, consulted after every iteration.
+pub(crate) struct Monitor<'a, 'o> {
+    tolerance: Option<f64>,
+    /// `‖∇E(p⁰)‖` over the free vertices.
+    initial_gradient: f64,
+    /// Room for a gradient, when the method did not compute one.
+    gradient: &'a mut [[f64; 3]],
+    observer: Option<Observer<'o>>,
+    /// The relative gradient at the last iterate recorded, when known.
+    pub relative_gradient: Option<f64>,
+}
+
+impl<'a, 'o> Monitor<'a, 'o> {
+    pub fn new(
+        tolerance: Option<f64>,
+        initial_gradient: f64,
+        gradient: &'a mut [[f64; 3]],
+        observer: Option<Observer<'o>>,
+    ) -> Self {
+        Monitor {
+            tolerance,
+            initial_gradient,
+            gradient,
+            observer,
+            relative_gradient: None,
+        }
+    }
+
+    /// After iteration `iteration` reached `p`: shows it to the observer,
+    /// and says whether the tolerance is met. `gradient` is `∇E(p)` when the
+    /// method has it; otherwise it is computed, only if there is a
+    /// tolerance to test.
+    pub fn after<B: LinearAlgebra>(
+        &mut self,
+        iteration: usize,
+        context: &StepContext<'_, B>,
+        p: &[[f64; 3]],
+        gradient: Option<&[[f64; 3]]>,
+    ) -> bool {
+        if let Some(observer) = self.observer.as_mut() {
+            observer(&Iterate {
+                iteration,
+                positions: p,
+                energy: &context.energy,
+                pinned: context.pinned,
+            });
+        }
+        self.relative_gradient = None;
+        let Some(tolerance) = self.tolerance else {
+            return false;
+        };
+        let norm = match gradient {
+            Some(g) => free_norm(g, context.pinned),
+            None => {
+                context.energy.gradient(p, self.gradient);
+                free_norm(self.gradient, context.pinned)
+            }
+        };
+        let relative = relative_gradient(norm, self.initial_gradient);
+        self.relative_gradient = Some(relative);
+        relative <= tolerance
+    }
+
+    /// The relative gradient at `p`, the last iterate (computed unless the
+    /// last [`Monitor::after`] already did).
+    pub fn final_relative_gradient(
+        &mut self,
+        energy: &StepEnergy<'_>,
+        pinned: &[bool],
+        p: &[[f64; 3]],
+    ) -> f64 {
+        if let Some(known) = self.relative_gradient {
+            return known;
+        }
+        energy.gradient(p, self.gradient);
+        relative_gradient(free_norm(self.gradient, pinned), self.initial_gradient)
+    }
+}
+
+/// `norm / initial`, 0 when both are 0 (a step that starts at rest at a
+/// minimiser has nothing to do).
+fn relative_gradient(norm: f64, initial: f64) -> f64 {
+    if initial > 0.0 {
+        norm / initial
+    } else if norm == 0.0 {
+        0.0
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The work arrays of each method, made the first time it runs.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct MethodWorkspaces {
+    pub chebyshev: Option<chebyshev::Workspace>,
+    pub anderson: Option<anderson::Workspace>,
+    pub lbfgs: Option<lbfgs::Workspace>,
+    pub newton: Option<newton::Workspace>,
+}
