@@ -3,17 +3,36 @@
 //!
 //! Every reader of the crate (Matrix Market matrices, OBJ + JSON scenes)
 //! reports bad input as a [`FileError`], displayed `path:line: problem`, so
-//! a user can go straight to the place. Every writer (matrices, frames,
-//! scenes, images) goes through [`write_file`]: the content is written to a
-//! temporary file beside the destination, flushed to disk and renamed into
-//! place, so a failure never leaves a half-written file behind.
+//! a user can go straight to the place. Every text reader gets its text from
+//! [`read_text`], which applies the same rules to all of them:
+//!
+//! * **size**: at most [`max_input_bytes`] (an eighth of the memory limit of
+//!   [`crate::memory`]: parsing holds the text and builds structures a few
+//!   times its size). A regular file is measured before it is opened for
+//!   reading; anything else (a pipe, `/dev/zero`) is read in chunks and
+//!   dropped as soon as it passes the limit, so nothing unbounded is
+//!   buffered.
+//! * **text**: UTF-8 (an invalid byte is reported with its line) without NUL
+//!   bytes (reported at once with their line: `/dev/zero` fails on its first
+//!   chunk).
+//! * **byte-order mark**: a UTF-8 BOM (`EF BB BF`) at the very start is
+//!   skipped (editors on Windows write one), so the first line reads as
+//!   written in every format.
+//!
+//! Every writer (matrices, frames, scenes, images) goes through
+//! [`write_file`]: the content is written to a temporary file beside the
+//! destination, flushed to disk and renamed into place, so a failure never
+//! leaves a half-written file behind. The temporary is removed on every
+//! error; a process killed while writing leaves it, named
+//! `.NAME.PID-COUNTER.tmp`, and [`remove_stale_temporaries`] (run by the
+//! commands before they write into a folder) removes it later.
 //!
 //! This module sits below every layer and knows nothing about what the
 //! files contain.
 
 use std::fmt;
 use std::fs;
-use std::io::{self, BufWriter, Write};
+use std::io::{self, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -114,12 +133,107 @@ impl std::error::Error for FileError {
     }
 }
 
-/// The text of the file at `path`.
+/// The largest file the readers read: an eighth of the memory limit
+/// ([`crate::memory::limit`]), because a reader holds the whole text while
+/// it builds structures several times its size.
+pub fn max_input_bytes() -> u64 {
+    crate::memory::limit().bytes / 8
+}
+
+/// The UTF-8 byte-order mark, skipped at the start of every text file.
+const BYTE_ORDER_MARK: char = '\u{feff}';
+
+/// The text of the file at `path`, checked as described in the module
+/// header: at most [`max_input_bytes`], UTF-8, no NUL byte, a leading
+/// byte-order mark removed.
 ///
 /// # Errors
-/// [`FileError`] naming the path when the file cannot be read or is not UTF-8.
+/// [`FileError`] naming the path (and the line, for a NUL or a byte that is
+/// not UTF-8) when the file cannot be read, is too large, or is not text.
 pub fn read_text(path: &Path) -> Result<String, FileError> {
-    fs::read_to_string(path).map_err(|error| FileError::unreadable(path, error))
+    let bytes = read_limited(path, true)?;
+    let text = String::from_utf8(bytes).map_err(|error| {
+        let bytes = error.as_bytes();
+        let valid = error.utf8_error().valid_up_to();
+        FileError::invalid(format!(
+            "the file is not UTF-8 text: byte {:#04x} at byte offset {valid} is not valid UTF-8",
+            bytes[valid]
+        ))
+        .at_line(line_of_offset(bytes, valid))
+        .in_file(path)
+    })?;
+    match text.strip_prefix(BYTE_ORDER_MARK) {
+        Some(rest) => Ok(rest.to_owned()),
+        None => Ok(text),
+    }
+}
+
+/// The bytes of the file at `path`, at most [`max_input_bytes`].
+///
+/// # Errors
+/// [`FileError`] naming the path when the file cannot be read or is larger.
+pub fn read_bytes(path: &Path) -> Result<Vec<u8>, FileError> {
+    read_limited(path, false)
+}
+
+/// The file's bytes, refusing it once it passes the limit (and, for text,
+/// at its first NUL byte) without reading further.
+fn read_limited(path: &Path, text: bool) -> Result<Vec<u8>, FileError> {
+    let unreadable = |error| FileError::unreadable(path, error);
+    let max = max_input_bytes();
+    let too_large = || {
+        FileError::invalid(format!(
+            "the file is larger than {max} bytes, the most read here (an eighth of the memory \
+             limit, see docs/reliability.md)"
+        ))
+        .in_file(path)
+    };
+    let file = fs::File::open(path).map_err(unreadable)?;
+    let metadata = file.metadata().map_err(unreadable)?;
+    if metadata.is_dir() {
+        return Err(unreadable(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            "this is a folder, not a file",
+        )));
+    }
+    if metadata.is_file() && metadata.len() > max {
+        return Err(too_large());
+    }
+    let mut reader = file.take(max.saturating_add(1));
+    let mut bytes = Vec::new();
+    let mut chunk = vec![0u8; 64 * 1024];
+    loop {
+        let count = match reader.read(&mut chunk) {
+            Ok(0) => break,
+            Ok(count) => count,
+            Err(error) if error.kind() == io::ErrorKind::Interrupted => continue,
+            Err(error) => return Err(unreadable(error)),
+        };
+        if text {
+            if let Some(position) = chunk[..count].iter().position(|&byte| byte == 0) {
+                let offset = bytes.len() + position;
+                bytes.extend_from_slice(&chunk[..position]);
+                return Err(FileError::invalid(format!(
+                    "a NUL byte at byte offset {offset}: this is not a text file"
+                ))
+                .at_line(line_of_offset(&bytes, offset))
+                .in_file(path));
+            }
+        }
+        bytes.extend_from_slice(&chunk[..count]);
+        if bytes.len() as u64 > max {
+            return Err(too_large());
+        }
+    }
+    Ok(bytes)
+}
+
+/// The 1-based line of the byte at `offset`.
+fn line_of_offset(bytes: &[u8], offset: usize) -> usize {
+    1 + bytes[..offset.min(bytes.len())]
+        .iter()
+        .filter(|&&byte| byte == b'\n')
+        .count()
 }
 
 /// Creates (or replaces) the file at `path` with what `write` produces, all
@@ -185,4 +299,71 @@ fn temporary_path(path: &Path) -> io::Result<PathBuf> {
         std::process::id()
     );
     Ok(path.with_file_name(temporary))
+}
+
+/// Removes the temporaries [`write_file`] left in `folder` when its process
+/// was killed (`.NAME.PID-COUNTER.tmp` whose process no longer runs);
+/// returns how many were removed. Temporaries of running processes, and
+/// every other file, are left alone. Where the running processes cannot be
+/// listed (no `/proc`), nothing is removed.
+///
+/// # Errors
+/// [`FileError`] naming the folder when it cannot be listed; a temporary
+/// that cannot be removed is skipped.
+pub fn remove_stale_temporaries(folder: &Path) -> Result<usize, FileError> {
+    if !Path::new("/proc/self").exists() {
+        return Ok(0);
+    }
+    let entries = fs::read_dir(folder).map_err(|e| FileError::unreadable(folder, e))?;
+    let mut removed = 0;
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(pid) = name.to_str().and_then(temporary_owner) else {
+            continue;
+        };
+        let running = Path::new("/proc").join(pid.to_string()).exists();
+        if !running && fs::remove_file(entry.path()).is_ok() {
+            removed += 1;
+        }
+    }
+    Ok(removed)
+}
+
+/// The process id in a temporary's name `.NAME.PID-COUNTER.tmp`, if `name`
+/// is one.
+fn temporary_owner(name: &str) -> Option<u32> {
+    let stem = name.strip_prefix('.')?.strip_suffix(".tmp")?;
+    let (_, unique) = stem.rsplit_once('.')?;
+    let (pid, counter) = unique.split_once('-')?;
+    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    (digits(pid) && digits(counter)).then(|| pid.parse().ok())?
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn temporaries_are_recognised_by_their_name_only() {
+        assert_eq!(temporary_owner(".frame-000001.obj.4242-7.tmp"), Some(4242));
+        assert_eq!(temporary_owner(".a.1-0.tmp"), Some(1));
+        for other in [
+            "frame-000001.obj",
+            ".frame.obj.tmp",
+            ".x.12-.tmp",
+            ".x.-3.tmp",
+            ".x.1a-3.tmp",
+            "x.1-3.tmp",
+            ".x.1-3.tmpx",
+        ] {
+            assert_eq!(temporary_owner(other), None, "{other}");
+        }
+    }
+
+    #[test]
+    fn line_of_offset_counts_line_breaks_before_it() {
+        assert_eq!(line_of_offset(b"ab\ncd\n", 0), 1);
+        assert_eq!(line_of_offset(b"ab\ncd\n", 3), 2);
+        assert_eq!(line_of_offset(b"ab\ncd\n", 99), 3);
+    }
 }

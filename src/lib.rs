@@ -19,5 +19,6 @@
 
 pub mod files;
 pub mod linalg;
+pub mod memory;
 pub mod mesh;
 pub mod sim;

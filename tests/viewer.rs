@@ -745,6 +745,50 @@ fn an_unfinished_request_times_out_without_blocking_others() {
 }
 
 #[test]
+fn five_hundred_idle_connections_and_a_client_reopening_them_do_not_starve_the_status() {
+    use std::collections::VecDeque;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    let viewer = Viewer::start("net.json");
+    // 500 connections that say nothing (the pool holds 64: the server
+    // closes the oldest waiting one for each new one).
+    let mut idle: VecDeque<TcpStream> = (0..500).map(|_| viewer.connect()).collect();
+    // A client that keeps reopening them, one a millisecond, for 4 s at most.
+    let stop = Arc::new(AtomicBool::new(false));
+    let reopener = {
+        let (address, stop) = (viewer.address, Arc::clone(&stop));
+        thread::spawn(move || {
+            let deadline = Instant::now() + Duration::from_secs(4);
+            let mut reopened = 0;
+            while Instant::now() < deadline && !stop.load(Ordering::SeqCst) {
+                idle.pop_front();
+                if let Ok(stream) = TcpStream::connect_timeout(&address, Duration::from_secs(1)) {
+                    idle.push_back(stream);
+                    reopened += 1;
+                }
+                thread::sleep(Duration::from_millis(1));
+            }
+            reopened
+        })
+    };
+    thread::sleep(Duration::from_millis(200));
+    for _ in 0..10 {
+        let asked = Instant::now();
+        let response = viewer.get("/api/status");
+        let waited = asked.elapsed();
+        assert_eq!(response.status, 200);
+        assert!(waited < Duration::from_secs(1), "answered after {waited:?}");
+        thread::sleep(Duration::from_millis(150));
+    }
+    stop.store(true, Ordering::SeqCst);
+    let reopened = reopener.join().unwrap();
+    assert!(
+        reopened > 100,
+        "the hostile client reopened only {reopened}"
+    );
+}
+
+#[test]
 fn two_clients_on_kept_alive_connections_both_get_frames() {
     let viewer = Viewer::start("net.json");
     viewer.command("toggle_animation"); // it starts paused

@@ -109,23 +109,10 @@ fn parse_method(args: &Args) -> Result<Method, AppError> {
     }
 }
 
-/// The lower triangle of the square sparse matrix in `path`.
+/// The lower triangle of the symmetric sparse matrix in `path` (a `general`
+/// file is checked for symmetry, see `matrix_market::read_symmetric`).
 pub(super) fn read_symmetric_lower(path: &Path) -> Result<CscMatrix, AppError> {
-    match matrix_market::read(path)? {
-        MatrixMarket::Sparse(file) if file.matrix.nrows() == file.matrix.ncols() => {
-            Ok(file.matrix.triangle(Triangle::Lower))
-        }
-        MatrixMarket::Sparse(file) => Err(AppError::Failed(format!(
-            "{}: the matrix must be square, it is {}×{}",
-            path.display(),
-            file.matrix.nrows(),
-            file.matrix.ncols()
-        ))),
-        MatrixMarket::Dense(_) => Err(AppError::Failed(format!(
-            "{}: expected a sparse (coordinate) matrix, found an array",
-            path.display()
-        ))),
-    }
+    Ok(matrix_market::read_symmetric(path)?.triangle(Triangle::Lower))
 }
 
 /// `MATRIX.b.mtx` next to `MATRIX.mtx` when it exists (an n×3 array), else

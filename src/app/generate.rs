@@ -5,10 +5,11 @@
 //! renamed into place once complete (`masssprings::files::write_file`).
 
 use super::args::{Args, CommandSpec, Flag};
+use super::limits::check_grid;
 use super::render::encode::write_png;
 use super::suggest::nearest;
 use super::AppError;
-use masssprings::files::write_file;
+use masssprings::files::{remove_stale_temporaries, write_file};
 use masssprings::mesh::procedural::{self, GeneratedScene};
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -35,7 +36,11 @@ horizontal-chain, net, flag, skirt) and their PNG textures, as in data/.",
 pub fn run(args: &[String]) -> Result<(), AppError> {
     let options = Args::parse(args, &COMMAND)?;
     let scenes = match options.positionals() {
-        [what, n] if what == "grid" => vec![procedural::grid(grid_size(n)?)],
+        [what, n] if what == "grid" => {
+            let n = grid_size(n)?;
+            check_grid(n)?;
+            vec![procedural::grid(n)]
+        }
         [what] if what == "grid" => {
             return Err(AppError::Usage(
                 "generate grid needs N, the grid's side".into(),
@@ -62,6 +67,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let folder = PathBuf::from(options.text("out").unwrap_or("."));
     fs::create_dir_all(&folder)
         .map_err(|e| AppError::Failed(format!("{}: {e}", folder.display())))?;
+    remove_stale_temporaries(&folder)?;
     for scene in &scenes {
         write_scene(scene, &folder)?;
     }

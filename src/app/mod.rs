@@ -12,6 +12,7 @@ mod export_q;
 mod factorization_flags;
 mod generate;
 mod progress;
+mod limits;
 mod render;
 mod simulate;
 mod spy;

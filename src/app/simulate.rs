@@ -1,16 +1,25 @@
 //! `masssprings simulate SCENE.json`: run the simulation headless, write
 //! OBJ frames, report timings.
+//!
+//! `--out DIR` refuses a folder that already holds frames (`frame-*.obj`,
+//! from another run: mixing the two would be wrong without a warning)
+//! unless `--force` is given, which removes those frames first. Each frame
+//! is written all or nothing; the temporaries of a run that was killed are
+//! removed by the next run into the same folder. Nothing is written before
+//! the precomputation succeeds. Memory does not grow with `--steps`: the
+//! median step time comes from a bounded sample.
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{self, ITERATIONS, METHOD, PINS, RHO, TOLERANCE, WINDOW};
 use super::factorization_flags::{self, FACTORIZATION, ORDERING};
+use super::limits::precompute;
 use super::progress::{duration, Progress};
-use super::timing::median;
+use super::timing::BoundedSample;
 use super::{load_scene, AppError};
-use masssprings::files::write_file;
+use masssprings::files::{remove_stale_temporaries, write_file};
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::{Dense, LinearAlgebra, Simulation, Sparse};
+use masssprings::sim::{Dense, LinearAlgebra, Sparse};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -41,6 +50,8 @@ struct Run {
     /// Digits after the decimal point in frame files; `None`: the shortest
     /// form that reads back to the same `f64`.
     precision: Option<usize>,
+    /// Remove the frames already in `out` instead of refusing.
+    force: bool,
     progress: bool,
 }
 
@@ -71,6 +82,11 @@ time and the total time.",
         ),
         Flag::switch("wind", "Add the assignment viewer's wind to gravity."),
         Flag::switch(
+            "force",
+            "With --out: remove the frames of an earlier run there first (otherwise such a \
+             folder is refused).",
+        ),
+        Flag::switch(
             "json",
             "Print one JSON object instead of the table (no progress).",
         ),
@@ -99,9 +115,15 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         every: args.count("every", 1, 1)?,
         out: args.text("out").map(PathBuf::from),
         precision,
+        force: args.switch("force"),
         progress: !args.switch("json"),
     };
     let scene = load_scene(&scene_path)?;
+    if let Some(folder) = &run.out {
+        if !run.force {
+            refuse_earlier_frames(folder)?;
+        }
+    }
     let mut options = SimulationOptions {
         wind: args.switch("wind"),
         ..SimulationOptions::default()
@@ -109,9 +131,9 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     convergence_flags::apply(&args, &mut options)?;
     factorization_flags::apply(&args, &mut options)?;
     let summary = if args.switch("dense") {
-        simulate::<Dense>(&scene, options, &run)?
+        simulate::<Dense>(&scene, &scene_path, options, &run)?
     } else {
-        simulate::<Sparse>(&scene, options, &run)?
+        simulate::<Sparse>(&scene, &scene_path, options, &run)?
     };
     if args.switch("json") {
         println!(
@@ -127,16 +149,16 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
 /// Precompute, then step, writing frames and reporting progress.
 fn simulate<B: LinearAlgebra>(
     scene: &Scene,
+    scene_path: &Path,
     options: SimulationOptions,
     run: &Run,
 ) -> Result<Summary, AppError> {
     let started = Instant::now();
-    let mut simulation = Simulation::<B>::from_scene(scene, options)?;
+    let mut simulation = precompute::<B>(scene, scene_path, options)?;
     let precompute_s = started.elapsed().as_secs_f64();
     let material = match &run.out {
         Some(folder) => {
-            std::fs::create_dir_all(folder)
-                .map_err(|e| AppError::Failed(format!("{}: {e}", folder.display())))?;
+            prepare_out_folder(folder)?;
             let material = write_material(folder, scene)?;
             write_frame(
                 folder,
@@ -150,8 +172,8 @@ fn simulate<B: LinearAlgebra>(
         }
         None => None,
     };
-    let mut step_times = Vec::with_capacity(run.steps);
-    let (mut iterations, mut gradients) = (Vec::new(), Vec::new());
+    let mut step_times = BoundedSample::new();
+    let (mut iterations, mut gradients) = (BoundedSample::new(), BoundedSample::new());
     let mut progress = Progress::new(run.steps, run.progress);
     for step in 1..=run.steps {
         let t = Instant::now();
@@ -175,13 +197,13 @@ fn simulate<B: LinearAlgebra>(
         springs: scene.springs.len(),
         steps: run.steps,
         precompute_s,
-        step_median_s: median(&mut step_times),
+        step_median_s: step_times.median(),
         total_s: started.elapsed().as_secs_f64(),
         backend: B::NAME,
         method: options.method.name(),
         tolerance: options.tolerance,
-        iterations_median: median(&mut iterations),
-        relative_gradient_median: median(&mut gradients),
+        iterations_median: iterations.median(),
+        relative_gradient_median: gradients.median(),
     })
 }
 
@@ -210,6 +232,58 @@ fn write_material(folder: &Path, scene: &Scene) -> Result<Option<String>, AppErr
         writeln!(out, "map_Kd {}", texture_name.to_string_lossy())
     })?;
     Ok(Some(name))
+}
+
+/// Is `name` a frame of [`write_frame`], `frame-NNNNNN.obj` (6 digits or more)?
+fn is_frame_name(name: &str) -> bool {
+    name.strip_prefix("frame-")
+        .and_then(|rest| rest.strip_suffix(".obj"))
+        .is_some_and(|digits| digits.len() >= 6 && digits.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// The frames already in `folder` (none when it does not exist), sorted.
+fn earlier_frames(folder: &Path) -> Result<Vec<PathBuf>, AppError> {
+    let entries = match std::fs::read_dir(folder) {
+        Ok(entries) => entries,
+        Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(error) => return Err(AppError::Failed(format!("{}: {error}", folder.display()))),
+    };
+    let mut frames: Vec<PathBuf> = entries
+        .flatten()
+        .filter(|entry| entry.file_name().to_str().is_some_and(is_frame_name))
+        .map(|entry| entry.path())
+        .collect();
+    frames.sort();
+    Ok(frames)
+}
+
+/// Refuses an `--out` folder holding frames of another run (before any
+/// work is done).
+fn refuse_earlier_frames(folder: &Path) -> Result<(), AppError> {
+    let frames = earlier_frames(folder)?;
+    match frames.first() {
+        None => Ok(()),
+        Some(first) => Err(AppError::Failed(format!(
+            "--out {}: the folder already holds {} frame(s) of another run ({}, ...); \
+             give --force to remove them first, or choose another folder",
+            folder.display(),
+            frames.len(),
+            first.file_name().unwrap_or_default().to_string_lossy()
+        ))),
+    }
+}
+
+/// Creates the `--out` folder, removes the temporaries of killed runs and
+/// the frames of an earlier run (with `--force`; without it they were
+/// refused already).
+fn prepare_out_folder(folder: &Path) -> Result<(), AppError> {
+    let failed = |e: &dyn std::fmt::Display| AppError::Failed(format!("{}: {e}", folder.display()));
+    std::fs::create_dir_all(folder).map_err(|e| failed(&e))?;
+    remove_stale_temporaries(folder)?;
+    for frame in earlier_frames(folder)? {
+        std::fs::remove_file(&frame).map_err(|e| failed(&e))?;
+    }
+    Ok(())
 }
 
 /// `folder/frame-NNNNNN.obj`: the positions and the scene's faces, written

@@ -47,3 +47,84 @@ pub fn median(values: &mut [f64]) -> f64 {
         0.5 * (values[n / 2 - 1] + values[n / 2])
     }
 }
+
+/// At most [`BoundedSample::CAPACITY`] values spread evenly over a run of
+/// any length (a step time per step of `--steps 10¹²` would be 8 TB): when
+/// the sample is full, every other value is dropped and from then on only
+/// every `stride`-th value is kept, the stride doubling each time.
+#[derive(Debug, Clone)]
+pub struct BoundedSample {
+    values: Vec<f64>,
+    stride: u64,
+    seen: u64,
+    last: Option<f64>,
+}
+
+impl BoundedSample {
+    /// The most values kept.
+    pub const CAPACITY: usize = 4096;
+
+    pub fn new() -> Self {
+        BoundedSample {
+            values: Vec::new(),
+            stride: 1,
+            seen: 0,
+            last: None,
+        }
+    }
+
+    /// Offers one value to the sample.
+    pub fn push(&mut self, value: f64) {
+        if self.seen.is_multiple_of(self.stride) {
+            if self.values.len() == Self::CAPACITY {
+                let mut index = 0;
+                self.values.retain(|_| {
+                    index += 1;
+                    index % 2 == 1
+                });
+                self.stride = self.stride.saturating_mul(2);
+            }
+            if self.seen.is_multiple_of(self.stride) {
+                self.values.push(value);
+            }
+        }
+        self.seen = self.seen.saturating_add(1);
+        self.last = Some(value);
+    }
+
+    /// The last value offered.
+    pub fn last(&self) -> Option<f64> {
+        self.last
+    }
+
+    /// The median of the values kept (NaN when there are none).
+    pub fn median(&mut self) -> f64 {
+        median(&mut self.values)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_bounded_sample_stays_bounded_and_keeps_every_stride_th_value() {
+        let mut sample = BoundedSample::new();
+        for i in 0..100_000u32 {
+            sample.push(f64::from(i));
+        }
+        assert!(sample.values.len() <= BoundedSample::CAPACITY);
+        assert_eq!(sample.last(), Some(99_999.0));
+        assert!(sample
+            .values
+            .iter()
+            .all(|&v| (v as u64).is_multiple_of(sample.stride)));
+        let median = sample.median();
+        assert!((median - 50_000.0).abs() < 100.0, "{median}");
+        let mut few = BoundedSample::new();
+        for v in [3.0, 1.0, 2.0] {
+            few.push(v);
+        }
+        assert_eq!(few.median(), 2.0);
+    }
+}

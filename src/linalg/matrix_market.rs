@@ -38,6 +38,25 @@
 //! Every error names the file (when there is one), the 1-based line and the
 //! problem, e.g. `Q.mtx:7: row index 0 is out of range 1..=3200`.
 //!
+//! **Sizes are checked before anything is allocated for them.** The size
+//! line is compared with the file: the entries it declares (`rows × columns`
+//! values for an array) must fit in the bytes that follow (each takes a line
+//! of at least 2 bytes), and the memory of the matrix to build (the column
+//! pointers and the counting-sort workspace grow with `rows + columns`, see
+//! [`coordinate_bytes`]) must fit in the limit of [`crate::memory`]. So a
+//! 60-byte file that declares 2³¹ rows or 10⁸ entries is refused at its size
+//! line, without allocating.
+//!
+//! **A symmetric positive definite matrix** (what `analyze` factors) is read
+//! with [`read_symmetric`]: `symmetric` files as above; a `general` file must
+//! then be square, list a diagonal entry for every column (so at least `n`
+//! entries), and be symmetric: every entry must match its mirror to a
+//! relative tolerance of [`SYMMETRY_TOLERANCE`],
+//! `|a_ij − a_ji| ≤ 1e-12 · max(|a_ij|, |a_ji|)`, (an entry whose mirror is
+//! missing is a mismatch). A `general` file that is not symmetric is refused
+//! with the line of the first mismatched entry, never read as its lower
+//! triangle.
+//!
 //! The writers print values with 17 significant digits, enough for every
 //! `f64` to read back bit for bit. [`write_file`](crate::files::write_file) writes through a temporary
 //! file in the destination's folder and renames it into place, so a failed
@@ -49,6 +68,7 @@ use std::path::Path;
 use crate::files::{read_text, FileError};
 use crate::linalg::dense::DenseMatrix;
 use crate::linalg::sparse::{CscMatrix, Triangle, TripletMatrix};
+use crate::memory;
 
 /// Which part of the matrix a file stores.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -100,6 +120,120 @@ pub fn read(path: &Path) -> Result<MatrixMarket, MatrixMarketError> {
     parse(&text).map_err(|e| e.in_file(path))
 }
 
+/// Reads the square symmetric matrix at `path` (both triangles stored), as a
+/// factorization needs it: see the module header for what is checked.
+///
+/// # Errors
+/// As [`read`]; and an array file, a matrix that is not square, a size line
+/// declaring fewer entries than columns, or a `general` file that is not
+/// symmetric (the line of the first entry that differs from its mirror).
+pub fn read_symmetric(path: &Path) -> Result<CscMatrix, MatrixMarketError> {
+    let text = read_text(path)?;
+    parse_symmetric(&text).map_err(|e| e.in_file(path))
+}
+
+/// [`read_symmetric`] on a text.
+///
+/// # Errors
+/// As [`read_symmetric`], without a file name.
+pub fn parse_symmetric(text: &str) -> Result<CscMatrix, MatrixMarketError> {
+    match parse_checked(text, Expect::SymmetricSquare)? {
+        MatrixMarket::Sparse(file) => {
+            if file.symmetry == Symmetry::General {
+                check_symmetric(&file.matrix, text)?;
+            }
+            Ok(file.matrix)
+        }
+        MatrixMarket::Dense(_) => Err(at_line(
+            1,
+            "expected a sparse (coordinate) matrix, found an array".into(),
+        )),
+    }
+}
+
+/// The relative tolerance of the symmetry check of a `general` file read by
+/// [`read_symmetric`]: `|a_ij − a_ji| ≤ SYMMETRY_TOLERANCE · max(|a_ij|, |a_ji|)`.
+/// A matrix computed in floating point as a sum of symmetric products is
+/// symmetric to the last bit; this leaves room for a file written by a
+/// program that rounded the two triangles separately.
+pub const SYMMETRY_TOLERANCE: f64 = 1e-12;
+
+/// What the caller needs of the matrix, checked at the size line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Expect {
+    /// Any matrix.
+    Any,
+    /// A square matrix with a diagonal entry in every column.
+    SymmetricSquare,
+}
+
+/// Refuses a `general` matrix that differs from its transpose (beyond
+/// [`SYMMETRY_TOLERANCE`]), on the line of the first such entry.
+fn check_symmetric(a: &CscMatrix, text: &str) -> ParseResult<()> {
+    let transposed = a.transpose();
+    for j in 0..a.ncols() {
+        let (rows, values) = a.column(j);
+        let (mirror_rows, mirror_values) = transposed.column(j);
+        let value_at = |rows: &[usize], values: &[f64], i: usize| {
+            rows.binary_search(&i).map_or(0.0, |p| values[p])
+        };
+        for &i in rows.iter().chain(mirror_rows) {
+            let a_ij = value_at(rows, values, i);
+            let a_ji = value_at(mirror_rows, mirror_values, i);
+            if (a_ij - a_ji).abs() > SYMMETRY_TOLERANCE * a_ij.abs().max(a_ji.abs()) {
+                // Name the larger entry first: the one the file lists.
+                let ((r, c, x), (_, _, y)) = if a_ij.abs() >= a_ji.abs() {
+                    ((i, j, a_ij), (j, i, a_ji))
+                } else {
+                    ((j, i, a_ji), (i, j, a_ij))
+                };
+                return Err(at_line(
+                    line_of_entry(text, i, j),
+                    format!(
+                        "the matrix is declared `general` but is not symmetric: entry ({}, {}) = {x} \
+                         but its mirror ({}, {}) = {y}, beyond the relative tolerance \
+                         {SYMMETRY_TOLERANCE:e}; a symmetric matrix is needed here (or write the \
+                         file `symmetric`, lower triangle only)",
+                        r + 1,
+                        c + 1,
+                        c + 1,
+                        r + 1
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The line of the first entry at `(i, j)` or `(j, i)` (0-based); the size
+/// line is skipped because it has three integers too.
+fn line_of_entry(text: &str, i: usize, j: usize) -> usize {
+    let mut lines = DataLines::new(text);
+    lines.banner();
+    let size_line = lines.next();
+    let wanted = [(i + 1, j + 1), (j + 1, i + 1)];
+    lines
+        .find(|(_, line)| {
+            let mut words = line.split_ascii_whitespace().map(str::parse::<usize>);
+            let position = (words.next(), words.next());
+            matches!(position, (Some(Ok(r)), Some(Ok(c))) if wanted.contains(&(r, c)))
+        })
+        .or(size_line)
+        .map_or(1, |(line, _)| line)
+}
+
+/// The bytes a coordinate matrix costs while it is built: the triplets, the
+/// counting sorts (three arrays of `rows + 1` and of `columns + 1` indices,
+/// then the column pointers of the result) and the result's row indices and
+/// values, `64` bytes per entry in all.
+pub fn coordinate_bytes(nrows: usize, ncols: usize, entries: usize) -> u64 {
+    let indices = (nrows as u64)
+        .saturating_add(ncols as u64)
+        .saturating_add(2);
+    memory::bytes_for(indices, 4 * 8).saturating_add(memory::bytes_for(entries as u64, 64))
+}
+
 /// Parses the text of a Matrix Market file.
 ///
 /// A `coordinate` file gives [`MatrixMarket::Sparse`], with repeated
@@ -115,13 +249,19 @@ pub fn read(path: &Path) -> Result<MatrixMarket, MatrixMarketError> {
 /// the diagonal in a symmetric file, and fewer or more entries than the size
 /// line declares.
 pub fn parse(text: &str) -> Result<MatrixMarket, MatrixMarketError> {
+    parse_checked(text, Expect::Any)
+}
+
+fn parse_checked(text: &str, expect: Expect) -> ParseResult<MatrixMarket> {
     if text.trim().is_empty() {
         return Err(at_line(1, "the file is empty".into()));
     }
     let mut lines = DataLines::new(text);
     let header = Header::parse(lines.banner())?;
     match header.format {
-        Format::Coordinate => parse_coordinate(&header, &mut lines).map(MatrixMarket::Sparse),
+        Format::Coordinate => {
+            parse_coordinate(&header, &mut lines, expect).map(MatrixMarket::Sparse)
+        }
         Format::Array => parse_array(&mut lines).map(MatrixMarket::Dense),
     }
 }
@@ -147,10 +287,26 @@ impl<'a> DataLines<'a> {
     }
 
     /// An upper bound on the entries the text can hold (each takes at least
-    /// a character and a line break): the most worth reserving, whatever a
-    /// size line claims.
+    /// a character and a line break): a size line declaring more is refused.
     fn max_entries(&self) -> usize {
         self.text_len / 2 + 1
+    }
+
+    /// Refuses a size line (on `line`) declaring more `declared` entries
+    /// than the text can hold.
+    fn check_declared(&self, line: usize, declared: usize, what: &str) -> ParseResult<()> {
+        if declared <= self.max_entries() {
+            return Ok(());
+        }
+        Err(at_line(
+            line,
+            format!(
+                "the size line declares {declared} {what}, but a file of {} bytes can hold at \
+                 most {} (each takes a line of at least 2 bytes)",
+                self.text_len,
+                self.max_entries()
+            ),
+        ))
     }
 
     /// The first line, whatever it holds.
@@ -365,16 +521,33 @@ fn parse_entry(
     Ok((row, col, value))
 }
 
-fn parse_coordinate(header: &Header, lines: &mut DataLines) -> ParseResult<SparseFile> {
+fn parse_coordinate(
+    header: &Header,
+    lines: &mut DataLines,
+    expect: Expect,
+) -> ParseResult<SparseFile> {
     let (size_line, [nrows, ncols, declared]) = parse_size_line(lines)?;
     let symmetric = header.symmetry == Symmetry::Symmetric;
-    if symmetric && nrows != ncols {
-        return Err(at_line(
-            size_line,
-            format!("a symmetric matrix must be square, the size line says {nrows}×{ncols}"),
-        ));
+    let at_size_line = |message: String| at_line(size_line, message);
+    if (symmetric || expect == Expect::SymmetricSquare) && nrows != ncols {
+        return Err(at_size_line(format!(
+            "a symmetric matrix must be square, the size line says {nrows}×{ncols}"
+        )));
     }
-    let capacity = declared.min(lines.max_entries()) * if symmetric { 2 } else { 1 };
+    if expect == Expect::SymmetricSquare && declared < ncols {
+        return Err(at_size_line(format!(
+            "a symmetric positive definite matrix has a diagonal entry in every column: \
+             n = {ncols} needs at least {ncols} entries, the size line declares {declared}"
+        )));
+    }
+    lines.check_declared(size_line, declared, "entries")?;
+    let capacity = declared * if symmetric { 2 } else { 1 };
+    memory::check(
+        coordinate_bytes(nrows, ncols, capacity),
+        || format!("a {nrows}×{ncols} sparse matrix with {declared} entries"),
+        "",
+    )
+    .map_err(|e| at_size_line(e.to_string()))?;
     let mut triplets = TripletMatrix::with_capacity(nrows, ncols, capacity);
     let mut count = 0;
     for numbered_line in lines.by_ref() {
@@ -436,7 +609,8 @@ fn parse_array(lines: &mut DataLines) -> ParseResult<DenseMatrix> {
     let declared = nrows
         .checked_mul(ncols)
         .ok_or_else(|| at_line(size_line, format!("a {nrows}×{ncols} array is too large")))?;
-    let mut column_major = Vec::with_capacity(declared.min(lines.max_entries()));
+    lines.check_declared(size_line, declared, "values (rows × columns)")?;
+    let mut column_major = Vec::with_capacity(declared);
     for (line, text) in lines.by_ref() {
         if column_major.len() == declared {
             return Err(too_many_entries(line, declared, size_line));

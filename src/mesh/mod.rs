@@ -94,6 +94,7 @@ pub fn load_scene(json_path: &Path) -> Result<Scene, SceneError> {
     let folder = json_path.parent().unwrap_or(Path::new(""));
     let obj_path = folder.join(&settings.obj);
     let mesh = obj::read_obj(&obj_path)?;
+    springs::check_spring_memory(&mesh.faces).map_err(|e| e.in_file(&obj_path))?;
     let springs = springs::springs_from_faces(&mesh.faces).map_err(|e| e.in_file(&obj_path))?;
     let masses = masses(&settings, &mesh, json_path, &obj_path)?;
     let pinned =

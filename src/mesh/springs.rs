@@ -23,10 +23,62 @@
 //! Cost: `O(p log p)` for the `p = F · c(c−1)/2` corner pairs of `F` faces
 //! of `c` corners (one sort); `O(F)` for 2-corner faces.
 //!
+//! **Memory.** A `c`-gon gives `c(c−1)/2` springs, so one face of 20,000
+//! corners would give 2×10⁸ of them. [`check_spring_memory`] counts the
+//! corner pairs (an upper bound on the springs) before any is made and
+//! refuses a mesh whose springs would need more than the memory limit of
+//! [`crate::memory`], at [`BYTES_PER_SPRING`] each.
+//!
 //! Source: the assignment's `read_json` (2-corner faces as edges, otherwise
 //! `igl::edges`); `../shared/design/scene-format.md`.
 
 use super::SceneError;
+use crate::memory;
+
+/// What one spring costs, from the faces to the factorized system: the
+/// corner pair sorted here (16 bytes) and the spring itself (16), two
+/// entries of the incidence matrix `A` and its transpose (64), four
+/// triplets of `k AᵀA` (96), its rest length and direction `r`, `d` (32),
+/// with room for the fill of the factor: a deliberately generous 256 bytes.
+pub const BYTES_PER_SPRING: u64 = 256;
+
+/// At most how many springs `faces` give: one per 2-corner face, else
+/// `c(c−1)/2` per `c`-gon (pairs shared by two faces counted twice),
+/// saturating.
+pub fn corner_pairs(faces: &[Vec<usize>]) -> u64 {
+    let corners = faces.first().map_or(0, Vec::len) as u64;
+    let per_face = if corners == 2 {
+        1
+    } else {
+        corners.saturating_mul(corners.saturating_sub(1)) / 2
+    };
+    (faces.len() as u64).saturating_mul(per_face)
+}
+
+/// Refuses faces whose springs would not fit in memory (see the module
+/// header), before any spring is made.
+///
+/// # Errors
+/// A [`SceneError`] (without a file; the caller adds it) with the estimate,
+/// the limit and the advice to split large polygons.
+pub fn check_spring_memory(faces: &[Vec<usize>]) -> Result<(), SceneError> {
+    let pairs = corner_pairs(faces);
+    let corners = faces.first().map_or(0, Vec::len);
+    memory::check(
+        memory::bytes_for(pairs, BYTES_PER_SPRING),
+        || {
+            format!(
+                "the {} face(s) of {} corners give up to {} springs (every pair of corners of a \
+                 polygon is joined), which",
+                memory::thousands(faces.len() as u64),
+                memory::thousands(corners as u64),
+                memory::thousands(pairs)
+            )
+        },
+        "split large polygons into triangles or quads",
+    )
+    .map_err(|too_large| SceneError::invalid(too_large.to_string()))
+}
 
 /// The springs `(i, j)` (0-based) of the faces, as described above.
 ///

@@ -41,6 +41,7 @@ mod tests_common;
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{self, ITERATIONS, METHOD, PINS, RHO, TOLERANCE, WINDOW};
+use super::limits::{check_frames, precompute};
 use super::timing::median;
 use super::{load_scene, AppError};
 use camera::{BoundingBox, Camera};
@@ -50,7 +51,7 @@ use masssprings::files::write_file;
 use masssprings::mesh::procedural::RgbImage;
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::{Dense, LinearAlgebra, Simulation, Sparse};
+use masssprings::sim::{Dense, LinearAlgebra, Sparse};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use texture::Texture;
@@ -122,6 +123,11 @@ point mass (always drawn for scenes made only of springs).",
 pub fn run(args: &[String]) -> Result<(), AppError> {
     let request = parse(args)?;
     let scene = load_scene(&request.scene)?;
+    check_frames(
+        request.kept_frames(),
+        frame_bytes(scene.vertices.len(), request.width, request.height),
+        "draw fewer frames (fewer --steps, a larger --every, or a .png of the last step)",
+    )?;
     let texture = match &scene.texture {
         Some(path) if !scene.face_texture_coords.is_empty() => {
             Some(Texture::read_png(path).map_err(AppError::Failed)?)
@@ -201,6 +207,24 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
     })
 }
 
+impl Request {
+    /// The frames kept for the whole run: step 0 and every `every`-th step
+    /// (GIF), or the last step (PNG).
+    fn kept_frames(&self) -> u64 {
+        match self.format {
+            Format::Gif => (self.steps / self.every) as u64 + 1,
+            Format::Png => 1,
+        }
+    }
+}
+
+/// The bytes one kept frame costs: its positions (24 bytes a vertex) and its
+/// picture (3 bytes a pixel, and as much again for the palette indices and
+/// the encoder).
+fn frame_bytes(n: usize, width: usize, height: usize) -> u64 {
+    (n as u64).saturating_mul(24) + (width * height * 6) as u64
+}
+
 /// GIF or PNG, from the output file's extension.
 fn output_format(out: &Path) -> Result<Format, AppError> {
     let extension = out
@@ -239,7 +263,7 @@ fn simulate<B: LinearAlgebra>(
     scene: &Scene,
     request: &Request,
 ) -> Result<Vec<Vec<[f64; 3]>>, AppError> {
-    let mut simulation = Simulation::<B>::from_scene(scene, request.options)?;
+    let mut simulation = precompute::<B>(scene, &request.scene, request.options)?;
     let keep = |step: usize| match request.format {
         Format::Gif => step.is_multiple_of(request.every),
         Format::Png => step == request.steps,

@@ -16,11 +16,22 @@
 //! Source: Marschner & Shirley, *Fundamentals of Computer Graphics*, 4th ed.
 //! (2016), ch. 11 (texture lookups, bilinear interpolation). Decoding is
 //! the `png` crate's.
+//!
+//! **Hostile files.** The size in the PNG header is checked against the
+//! memory limit (`masssprings::memory`, [`TEXEL_BYTES`] a pixel) before the
+//! image is decoded, and the decoder's own allocations are capped at the
+//! same limit, so a 100-byte file claiming 100000×100000 pixels is refused
+//! with the estimate instead of aborting the process.
 
 use super::look::Rgb;
+use masssprings::memory;
 use std::fs::File;
-use std::io::BufReader;
+use std::io::{BufRead, BufReader, Seek};
 use std::path::Path;
+
+/// What one pixel costs while decoding: up to 4 bytes of the decoded frame
+/// and the 12 bytes of its [`Rgb`] texel.
+pub const TEXEL_BYTES: u64 = 16;
 
 /// A decoded image, rows from the top.
 #[derive(Debug, Clone, PartialEq)]
@@ -48,12 +59,39 @@ impl Texture {
     /// bit depth; alpha is ignored).
     ///
     /// # Errors
-    /// A message naming the file for an unreadable or invalid PNG.
+    /// A message naming the file for an unreadable or invalid PNG, or one
+    /// whose pixels would not fit in memory.
     pub fn read_png(path: &Path) -> Result<Texture, String> {
-        let failed = |e: &dyn std::fmt::Display| format!("texture {}: {e}", path.display());
-        let file = File::open(path).map_err(|e| failed(&e))?;
-        let mut decoder = png::Decoder::new(BufReader::new(file));
+        let file = File::open(path).map_err(|e| format!("texture {}: {e}", path.display()))?;
+        Texture::decode_png(BufReader::new(file), memory::limit())
+            .map_err(|problem| format!("texture {}: {problem}", path.display()))
+    }
+
+    /// Decodes a PNG from `input`, as [`Texture::read_png`] does, within
+    /// the memory `limit`.
+    ///
+    /// # Errors
+    /// The problem (without a file name) for an invalid PNG, or one whose
+    /// pixels would not fit in memory.
+    pub fn decode_png(input: impl BufRead + Seek, limit: memory::Limit) -> Result<Texture, String> {
+        let failed = |e: &dyn std::fmt::Display| e.to_string();
+        let mut decoder = png::Decoder::new_with_limits(
+            input,
+            png::Limits {
+                bytes: usize::try_from(limit.bytes).unwrap_or(usize::MAX),
+            },
+        );
         decoder.set_transformations(png::Transformations::normalize_to_color8());
+        let header = decoder.read_header_info().map_err(|e| failed(&e))?;
+        let (width, height) = (header.width, header.height);
+        let pixels = u64::from(width) * u64::from(height);
+        memory::check_against(
+            limit,
+            memory::bytes_for(pixels, TEXEL_BYTES),
+            || format!("a {width}×{height} texture"),
+            "use a smaller image",
+        )
+        .map_err(|e| failed(&e))?;
         let mut reader = decoder.read_info().map_err(|e| failed(&e))?;
         let size = reader
             .output_buffer_size()
@@ -70,6 +108,9 @@ impl Texture {
         let (width, height) = (info.width as usize, info.height as usize);
         if width == 0 || height == 0 {
             return Err(failed(&"empty image"));
+        }
+        if bytes.len() < width * height * channels {
+            return Err(failed(&"the frame is larger than the decoded image"));
         }
         let texels = (0..width * height)
             .map(|i| {
@@ -103,6 +144,7 @@ impl Texture {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mutate;
 
     /// 2 × 2: red, green on the top row; blue, white below.
     fn checker() -> Texture {
@@ -140,5 +182,51 @@ mod tests {
         let texture = Texture::read_png(&path).unwrap();
         assert_eq!((texture.width, texture.height), (320, 160));
         assert!(Texture::read_png(Path::new("no-such.png")).is_err());
+    }
+
+    /// A small limit for the tests: no mutated header can make them
+    /// allocate much.
+    const TEST_LIMIT: memory::Limit = memory::Limit {
+        bytes: 64 << 20,
+        source: "the tests' limit",
+    };
+
+    fn corpus(name: &str) -> Vec<u8> {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        std::fs::read(root.join(name)).unwrap()
+    }
+
+    #[test]
+    fn a_header_claiming_100000_by_100000_pixels_is_refused_before_decoding() {
+        let bytes = corpus("tests/hostile/huge-header.png");
+        let problem = Texture::decode_png(std::io::Cursor::new(bytes), TEST_LIMIT).unwrap_err();
+        assert!(
+            problem.starts_with(
+                "a 100000×100000 texture would need 160 GB; the limit here is 0.067 GB"
+            ),
+            "{problem}"
+        );
+    }
+
+    #[test]
+    fn mutated_pngs_decode_or_fail_cleanly() {
+        let seeds = [
+            corpus("data/flag.png"),
+            corpus("data/tartan.png"),
+            corpus("tests/hostile/huge-header.png"),
+        ];
+        let mut rng = mutate::Rng::new(2013);
+        let mut decoded = 0;
+        for case in 0..3000 {
+            let input = mutate::mutate(&seeds[case % seeds.len()], &mut rng);
+            match Texture::decode_png(std::io::Cursor::new(&input), TEST_LIMIT) {
+                Ok(texture) => {
+                    assert_eq!(texture.texels.len(), texture.width * texture.height);
+                    decoded += 1;
+                }
+                Err(problem) => assert!(!problem.is_empty()),
+            }
+        }
+        assert!(decoded > 0, "no mutation kept a decodable image");
     }
 }

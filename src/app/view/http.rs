@@ -262,7 +262,7 @@ fn unfinished(error: io::Error) -> ReadError {
 }
 
 /// The length of the head (through `\r\n\r\n`), if the buffer holds it all.
-fn find_head_end(buffer: &[u8]) -> Option<usize> {
+pub(crate) fn find_head_end(buffer: &[u8]) -> Option<usize> {
     buffer
         .windows(4)
         .position(|window| window == b"\r\n\r\n")
@@ -271,7 +271,7 @@ fn find_head_end(buffer: &[u8]) -> Option<usize> {
 
 /// The parts of a head that matter here.
 #[derive(Debug)]
-struct Head {
+pub(crate) struct Head {
     method: Method,
     path: String,
     query: Option<String>,
@@ -281,7 +281,7 @@ struct Head {
 }
 
 /// Parses the request line and headers (`head` ends with the blank line).
-fn parse_head(head: &[u8]) -> Result<Head, Response> {
+pub(crate) fn parse_head(head: &[u8]) -> Result<Head, Response> {
     if !head.iter().all(|&byte| is_head_byte(byte)) {
         return Err(Response::error(400, "the head must be printable ASCII"));
     }
@@ -430,6 +430,7 @@ pub fn reason_phrase(status: u16) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mutate;
 
     fn status_of(head: &str) -> u16 {
         match parse_head(head.as_bytes()) {
@@ -475,5 +476,51 @@ mod tests {
         assert_eq!(status_of(chunked), 501);
         let two = "POST / HTTP/1.1\r\nHost: x\r\nContent-Length: 1\r\nContent-Length: 2\r\n\r\n";
         assert_eq!(status_of(two), 400);
+    }
+
+    /// The raw requests of `tests/hostile/requests/`.
+    fn request_corpus() -> Vec<Vec<u8>> {
+        let folder =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/hostile/requests");
+        let mut requests: Vec<Vec<u8>> = std::fs::read_dir(folder)
+            .unwrap()
+            .map(|entry| std::fs::read(entry.unwrap().path()).unwrap())
+            .collect();
+        requests.sort();
+        assert!(requests.len() >= 5);
+        requests
+    }
+
+    #[test]
+    fn mutated_requests_parse_or_get_a_4xx_or_5xx() {
+        let seeds = request_corpus();
+        let mut rng = mutate::Rng::new(1996);
+        let (mut parsed, mut refused) = (0, 0);
+        for case in 0..20_000 {
+            let input = mutate::mutate(&seeds[case % seeds.len()], &mut rng);
+            let Some(end) = find_head_end(&input) else {
+                continue;
+            };
+            match parse_head(&input[..end]) {
+                Ok(head) => {
+                    assert!(head.path.starts_with('/'));
+                    assert!(head.content_length <= MAX_BODY_BYTES);
+                    parsed += 1;
+                }
+                Err(response) => {
+                    assert!(
+                        (400..=505).contains(&response.status),
+                        "{}",
+                        response.status
+                    );
+                    assert!(!response.body.is_empty());
+                    refused += 1;
+                }
+            }
+        }
+        assert!(
+            parsed > 1000 && refused > 1000,
+            "{parsed} parsed, {refused} refused"
+        );
     }
 }

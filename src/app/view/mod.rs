@@ -7,8 +7,9 @@
 //!   steps it in real time (Δt = 1/30 s) while animating, applies commands,
 //!   and publishes the positions and the status;
 //! * the **acceptor** (this file) takes connections and gives each its own
-//!   **connection thread** (at most [`MAX_CONNECTIONS`] at once), which
-//!   reads requests with [`http`] and answers them with [`routes`];
+//!   **connection thread** (at most [`MAX_CONNECTIONS`] at once: when full,
+//!   the connection waiting longest is closed to make room, see [`pool`]),
+//!   which reads requests with [`http`] and answers them with [`routes`];
 //! * the **main thread** waits for Ctrl-C (SIGINT, or SIGTERM), then stops
 //!   the other two and returns, so the program exits with status 0.
 //!
@@ -18,6 +19,7 @@
 mod api;
 mod display_mesh;
 mod http;
+mod pool;
 mod routes;
 mod simulation_thread;
 mod watchers;
@@ -25,12 +27,14 @@ mod watchers;
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{self, ITERATIONS, METHOD, PINS, RHO, TOLERANCE, WINDOW};
 use super::factorization_flags::{self, FACTORIZATION, ORDERING};
+use super::limits::precompute;
 use super::{load_scene, AppError};
 use api::{Frame, Status};
 use http::{Connection, Method, ReadError};
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Dense, LinearAlgebra, Simulation, Sparse};
+use pool::{Member, Pool};
 use routes::Routes;
 use simulation_thread::{Message, SceneAssets, Shared, SimulationThread};
 use std::io::Write;
@@ -44,8 +48,8 @@ use watchers::Watchers;
 
 /// The port when `--port` is not given.
 const DEFAULT_PORT: u16 = 8080;
-/// Connections served at once; more are closed at once (a few tabs need a
-/// handful each).
+/// Connections served at once (a few tabs need a handful each); a new one
+/// beyond closes the one waiting longest ([`pool`]).
 const MAX_CONNECTIONS: usize = 64;
 /// Scenes listed in the page's picker at most.
 const MAX_SCENES: usize = 32;
@@ -141,7 +145,7 @@ fn scene_list(given: &Path) -> Vec<PathBuf> {
 /// (with a warning) when it cannot be read or is not a PNG.
 fn read_texture(scene: &Scene) -> Option<Vec<u8>> {
     let path = scene.texture.as_ref()?;
-    match std::fs::read(path) {
+    match masssprings::files::read_bytes(path) {
         Ok(bytes) if bytes.starts_with(PNG_SIGNATURE) => Some(bytes),
         Ok(_) => {
             eprintln!(
@@ -151,10 +155,7 @@ fn read_texture(scene: &Scene) -> Option<Vec<u8>> {
             None
         }
         Err(error) => {
-            eprintln!(
-                "masssprings: warning: {}: {error}; drawing without texture",
-                path.display()
-            );
+            eprintln!("masssprings: warning: {error}; drawing without texture");
             None
         }
     }
@@ -165,13 +166,12 @@ fn serve<B>(
     scene: &Scene,
     scenes: Vec<PathBuf>,
     address: SocketAddr,
-    options: SimulationOptions,
 ) -> Result<(), AppError>
 where
     B: LinearAlgebra + 'static,
     Simulation<B>: Send,
 {
-    let simulation = Simulation::<B>::from_scene(scene, options)?;
+    let simulation = precompute::<B>(scene, &scenes[0], options)?;
     let listener = TcpListener::bind(address).map_err(|e| bind_error(address, &e))?;
     let local = listener.local_addr()?;
     let stop_requested = stop_signal()?;
@@ -269,9 +269,11 @@ fn allowed_hosts(local: SocketAddr) -> Option<Vec<String>> {
     Some(hosts)
 }
 
-/// Accepts connections until `stopping`, one thread each.
+/// Accepts connections until `stopping`, one thread each, at most
+/// [`MAX_CONNECTIONS`] (the pool closes the one waiting longest for a new
+/// one).
 fn accept_connections(listener: TcpListener, routes: Arc<Routes>, stopping: &AtomicBool) {
-    let active = Arc::new(AtomicUsize::new(0));
+    let pool = Pool::new(MAX_CONNECTIONS);
     for stream in listener.incoming() {
         if stopping.load(Ordering::SeqCst) {
             return;
@@ -285,47 +287,31 @@ fn accept_connections(listener: TcpListener, routes: Arc<Routes>, stopping: &Ato
                 continue;
             }
         };
-        if active.load(Ordering::SeqCst) >= MAX_CONNECTIONS {
-            continue; // dropping the stream closes it
-        }
+        let Some(member) = pool.admit(&stream) else {
+            continue; // every connection is being answered: dropping closes it
+        };
         let routes = Arc::clone(&routes);
-        let count = ActiveConnection::new(Arc::clone(&active));
         let spawned = thread::Builder::new()
             .name("connection".into())
-            .spawn(move || {
-                let _count = count;
-                serve_connection(stream, &routes);
-            });
+            .spawn(move || serve_connection(stream, &routes, &member));
         if let Err(error) = spawned {
             eprintln!("masssprings: cannot start a connection thread: {error}");
         }
     }
 }
 
-/// Counts a connection as active while it lives.
-struct ActiveConnection(Arc<AtomicUsize>);
-
-impl ActiveConnection {
-    fn new(active: Arc<AtomicUsize>) -> Self {
-        active.fetch_add(1, Ordering::SeqCst);
-        ActiveConnection(active)
-    }
-}
-
-impl Drop for ActiveConnection {
-    fn drop(&mut self) {
-        self.0.fetch_sub(1, Ordering::SeqCst);
-    }
-}
-
 /// Answers requests on one connection until it closes, times out, asks to
-/// close, or sends something malformed (answered with a 4xx, then closed).
-fn serve_connection(stream: TcpStream, routes: &Routes) {
+/// close, is evicted from the pool, or sends something malformed (answered
+/// with a 4xx, then closed).
+fn serve_connection(stream: TcpStream, routes: &Routes, member: &Member) {
     let Ok(mut connection) = Connection::new(stream) else {
         return;
     };
     loop {
-        match connection.read_request() {
+        member.waiting();
+        let request = connection.read_request();
+        member.answering();
+        match request {
             Ok(request) => {
                 let response = routes.respond(&request);
                 let head_only = request.method == Method::Head;

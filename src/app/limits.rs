@@ -1,0 +1,127 @@
+//! The memory estimates of the commands, checked before the work starts
+//! (`masssprings::memory` holds the limit and the message): the dense path,
+//! the frames `render` keeps, the `generate grid N` mesh. And the one way
+//! the commands precompute a simulation, so that a failure (a `Q` that is
+//! not positive definite, say) names the scene file.
+
+use super::AppError;
+use masssprings::memory::{self, bytes_for, thousands};
+use masssprings::mesh::Scene;
+use masssprings::sim::simulation::SimulationOptions;
+use masssprings::sim::{Dense, LinearAlgebra, Simulation};
+use std::path::Path;
+
+/// Precomputes the simulation of `scene` (read from `scene_path`): refuses
+/// a dense system that would not fit in memory first, and names the scene
+/// file when the precomputation fails.
+///
+/// # Errors
+/// The memory refusal, or the precomputation's error after the scene's path.
+pub fn precompute<B: LinearAlgebra>(
+    scene: &Scene,
+    scene_path: &Path,
+    options: SimulationOptions,
+) -> Result<Simulation<B>, AppError> {
+    if B::NAME == Dense::NAME {
+        check_dense(scene)?;
+    }
+    Simulation::<B>::from_scene(scene, options).map_err(|error| {
+        AppError::Failed(format!(
+            "{}: the precomputation failed: {error}",
+            scene_path.display()
+        ))
+    })
+}
+
+/// The bytes of the dense path: `A` (springs × n), `C` (pins × n) and five
+/// `n × n` matrices (`Q`, its factor, and the terms `AᵀA`, `M`, `CᵀC` while
+/// `Q` is assembled), 8 bytes an entry.
+pub fn dense_bytes(n: usize, springs: usize, pins: usize) -> u64 {
+    let n = n as u64;
+    let rows = (springs as u64).saturating_add(pins as u64);
+    let entries = rows
+        .saturating_mul(n)
+        .saturating_add(5u64.saturating_mul(n.saturating_mul(n)));
+    bytes_for(entries, 8)
+}
+
+/// Refuses `--dense` for a scene whose dense matrices would not fit.
+///
+/// # Errors
+/// A failure with the estimate, the limit and the advice to use the sparse
+/// path.
+pub fn check_dense(scene: &Scene) -> Result<(), AppError> {
+    let n = scene.vertices.len();
+    memory::check(
+        dense_bytes(n, scene.springs.len(), scene.pinned.len()),
+        || {
+            format!(
+                "the dense path for n = {} ({} springs; five n × n matrices of f64)",
+                thousands(n as u64),
+                thousands(scene.springs.len() as u64)
+            )
+        },
+        "use the sparse path (without --dense)",
+    )?;
+    Ok(())
+}
+
+/// Refuses to keep `frames` frames of `bytes_per_frame` each (positions or
+/// pictures kept for the whole run).
+///
+/// # Errors
+/// A failure with the estimate, the limit and `advice`.
+pub fn check_frames(frames: u64, bytes_per_frame: u64, advice: &str) -> Result<(), AppError> {
+    memory::check(
+        bytes_for(frames, bytes_per_frame),
+        || {
+            format!(
+                "keeping {} frames of {} bytes each",
+                thousands(frames),
+                thousands(bytes_per_frame)
+            )
+        },
+        advice,
+    )?;
+    Ok(())
+}
+
+/// The bytes of the `grid N` mesh: `N²` vertices (24 bytes) and `(N−1)²`
+/// quads (4 indices of 8 bytes), saturating.
+pub fn grid_bytes(n: usize) -> u64 {
+    let n = n as u64;
+    let cells = n.saturating_sub(1).saturating_mul(n.saturating_sub(1));
+    bytes_for(n.saturating_mul(n), 24).saturating_add(bytes_for(cells, 32))
+}
+
+/// Refuses `generate grid N` when its mesh would not fit.
+///
+/// # Errors
+/// A failure with the estimate and the limit.
+pub fn check_grid(n: usize) -> Result<(), AppError> {
+    memory::check(
+        grid_bytes(n),
+        || {
+            format!(
+                "grid {n} ({} vertices)",
+                thousands((n as u64).saturating_mul(n as u64))
+            )
+        },
+        "choose a smaller N",
+    )?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn estimates_grow_as_the_structures_and_saturate() {
+        assert_eq!(dense_bytes(300_000, 0, 0), 5 * 300_000 * 300_000 * 8);
+        assert_eq!(dense_bytes(2, 1, 1), (2 * 2 + 5 * 4) * 8);
+        assert_eq!(dense_bytes(usize::MAX, usize::MAX, usize::MAX), u64::MAX);
+        assert_eq!(grid_bytes(2), 4 * 24 + 32);
+        assert_eq!(grid_bytes(usize::MAX), u64::MAX);
+    }
+}
