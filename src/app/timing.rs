@@ -57,7 +57,6 @@ pub struct BoundedSample {
     values: Vec<f64>,
     stride: u64,
     seen: u64,
-    last: Option<f64>,
 }
 
 impl BoundedSample {
@@ -69,7 +68,6 @@ impl BoundedSample {
             values: Vec::new(),
             stride: 1,
             seen: 0,
-            last: None,
         }
     }
 
@@ -89,12 +87,6 @@ impl BoundedSample {
             }
         }
         self.seen = self.seen.saturating_add(1);
-        self.last = Some(value);
-    }
-
-    /// The last value offered.
-    pub fn last(&self) -> Option<f64> {
-        self.last
     }
 
     /// The median of the values kept (NaN when there are none).
@@ -114,7 +106,6 @@ mod tests {
             sample.push(f64::from(i));
         }
         assert!(sample.values.len() <= BoundedSample::CAPACITY);
-        assert_eq!(sample.last(), Some(99_999.0));
         assert!(sample
             .values
             .iter()

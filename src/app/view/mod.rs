@@ -40,7 +40,7 @@ use simulation_thread::{Message, SceneAssets, Shared, SimulationThread};
 use std::io::Write;
 use std::net::{IpAddr, Ipv4Addr, Ipv6Addr, SocketAddr, TcpListener, TcpStream};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc, Mutex};
 use std::thread;
 use std::time::Duration;
@@ -166,6 +166,7 @@ fn serve<B>(
     scene: &Scene,
     scenes: Vec<PathBuf>,
     address: SocketAddr,
+    options: SimulationOptions,
 ) -> Result<(), AppError>
 where
     B: LinearAlgebra + 'static,
