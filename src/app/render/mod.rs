@@ -79,6 +79,24 @@ struct Request {
     /// How the simulation runs (wind, method, tolerance).
     options: SimulationOptions,
     springs: bool,
+    /// Which positions the camera frames: `rest`, `last` or `all`.
+    fit: &'static str,
+    json: bool,
+}
+
+/// What `render --json` prints.
+#[derive(Debug, serde::Serialize)]
+struct Summary {
+    out: String,
+    frames: usize,
+    width: usize,
+    height: usize,
+    steps: usize,
+    bytes: u64,
+    simulation_s: f64,
+    render_frame_median_s: f64,
+    encode_s: f64,
+    fit: &'static str,
 }
 
 /// `render`'s operands and flags.
@@ -107,6 +125,13 @@ point mass (always drawn for scenes made only of springs).",
         Flag::switch("dense", "Dense matrices and Cholesky."),
         Flag::switch("wind", "Add the assignment viewer's wind to gravity."),
         Flag::switch("springs", "Draw every spring and point mass too."),
+        Flag::value(
+            "fit",
+            "rest|last|all",
+            "What the camera frames: the rest shape, the last step drawn, or the rest shape \
+             and every step drawn (default all).",
+        ),
+        Flag::switch("json", "Print one JSON object instead of the two lines."),
         METHOD,
         TOLERANCE,
         ITERATIONS,
@@ -135,9 +160,17 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let simulation_s = started.elapsed().as_secs_f64();
 
     let mut bounds = BoundingBox::empty();
-    bounds.include(&scene.vertices);
-    for positions in &frames {
-        bounds.include(positions);
+    if request.fit != "last" {
+        bounds.include(&scene.vertices);
+    }
+    match request.fit {
+        "rest" => {}
+        "last" => bounds.include(frames.last().expect("at least one frame")),
+        _ => {
+            for positions in &frames {
+                bounds.include(positions);
+            }
+        }
     }
     let (width, height) = (request.width, request.height);
     let camera = Camera::framing(&bounds, SUPERSAMPLING * width, SUPERSAMPLING * height);
@@ -154,6 +187,26 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let started = Instant::now();
     write(&request, &images)?;
     let bytes = std::fs::metadata(&request.out).map_or(0, |m| m.len());
+    let render_frame_median_s = median(&mut frame_times);
+    if request.json {
+        let summary = Summary {
+            out: request.out.display().to_string(),
+            frames: images.len(),
+            width,
+            height,
+            steps: request.steps,
+            bytes,
+            simulation_s,
+            render_frame_median_s,
+            encode_s: started.elapsed().as_secs_f64(),
+            fit: request.fit,
+        };
+        println!(
+            "{}",
+            serde_json::to_string(&summary).expect("plain numbers serialise")
+        );
+        return Ok(());
+    }
     println!(
         "wrote {} ({} frame{} of {width}×{height}, {:.0} KiB)",
         request.out.display(),
@@ -163,7 +216,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     );
     println!(
         "simulation {simulation_s:.2} s, rendering {:.1} ms/frame (median), encoding {:.2} s",
-        1e3 * median(&mut frame_times),
+        1e3 * render_frame_median_s,
         started.elapsed().as_secs_f64()
     );
     Ok(())
@@ -196,6 +249,8 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
         dense: args.switch("dense"),
         options: simulation_options,
         springs: args.switch("springs"),
+        fit: args.choice("fit", "all", &["rest", "last", "all"])?,
+        json: args.switch("json"),
     })
 }
 
