@@ -40,6 +40,7 @@ mod tests_common;
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{self, ITERATIONS, METHOD, RHO, TOLERANCE, WINDOW};
+use super::progress::Progress;
 use super::timing::median;
 use super::{load_scene, AppError};
 use camera::{BoundingBox, Camera};
@@ -298,7 +299,7 @@ fn simulate<B: LinearAlgebra>(
         Format::Png => step == request.steps,
     };
     let mut frames = Vec::new();
-    let mut last_report = Instant::now();
+    let mut progress = Progress::new(request.steps, !request.json);
     for step in 0..=request.steps {
         if step > 0 {
             simulation
@@ -308,11 +309,11 @@ fn simulate<B: LinearAlgebra>(
         if keep(step) {
             frames.push(simulation.positions().to_vec());
         }
-        if last_report.elapsed().as_secs_f64() > 1.0 {
-            eprintln!("step {step}/{}", request.steps);
-            last_report = Instant::now();
+        if step > 0 {
+            progress.step_done(step);
         }
     }
+    progress.finish();
     Ok(frames)
 }
 
