@@ -241,3 +241,52 @@ fn progress_is_plain_lines_off_a_terminal_and_absent_with_json() {
     let summary: serde_json::Value = serde_json::from_str(stdout(&output).trim()).unwrap();
     assert!(summary["total_s"].as_f64().unwrap() > 0.0);
 }
+
+#[test]
+fn render_frames_what_fit_asks_and_reports_json() {
+    let folder = temp_folder("render-fit");
+    let mut sizes = Vec::new();
+    for fit in ["rest", "last", "all"] {
+        let out = folder.join(format!("{fit}.png"));
+        let output = masssprings(&[
+            "render",
+            &data("net.json"),
+            "-o",
+            out.to_str().unwrap(),
+            "--steps",
+            "20",
+            "--size",
+            "64x48",
+            "--fit",
+            fit,
+            "--json",
+        ]);
+        assert!(output.status.success(), "{}", stderr(&output));
+        let summary: serde_json::Value = serde_json::from_str(stdout(&output).trim()).unwrap();
+        assert_eq!(summary["fit"], fit);
+        assert_eq!(
+            (summary["frames"].clone(), summary["steps"].clone()),
+            (1.into(), 20.into())
+        );
+        assert_eq!(
+            summary["bytes"].as_u64().unwrap(),
+            std::fs::metadata(&out).unwrap().len()
+        );
+        sizes.push(std::fs::read(&out).unwrap());
+    }
+    assert_ne!(
+        sizes[0], sizes[1],
+        "framing the rest shape or the last step differs"
+    );
+    usage_error(
+        &[
+            "render",
+            &data("net.json"),
+            "-o",
+            "x.png",
+            "--fit",
+            "everything",
+        ],
+        "--fit expects rest, last or all, got 'everything'",
+    );
+}

@@ -42,6 +42,7 @@ mod tests_common;
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{self, ITERATIONS, METHOD, PINS, RHO, TOLERANCE, WINDOW};
 use super::limits::{check_frames, precompute};
+use super::progress::Progress;
 use super::timing::median;
 use super::{load_scene, AppError};
 use camera::{BoundingBox, Camera};
@@ -81,6 +82,24 @@ struct Request {
     /// How the simulation runs (wind, method, tolerance).
     options: SimulationOptions,
     springs: bool,
+    /// Which positions the camera frames: `rest`, `last` or `all`.
+    fit: &'static str,
+    json: bool,
+}
+
+/// What `render --json` prints.
+#[derive(Debug, serde::Serialize)]
+struct Summary {
+    out: String,
+    frames: usize,
+    width: usize,
+    height: usize,
+    steps: usize,
+    bytes: u64,
+    simulation_s: f64,
+    render_frame_median_s: f64,
+    encode_s: f64,
+    fit: &'static str,
 }
 
 /// `render`'s operands and flags.
@@ -109,6 +128,13 @@ point mass (always drawn for scenes made only of springs).",
         Flag::switch("dense", "Dense matrices and Cholesky."),
         Flag::switch("wind", "Add the assignment viewer's wind to gravity."),
         Flag::switch("springs", "Draw every spring and point mass too."),
+        Flag::value(
+            "fit",
+            "rest|last|all",
+            "What the camera frames: the rest shape, the last step drawn, or the rest shape \
+             and every step drawn (default all).",
+        ),
+        Flag::switch("json", "Print one JSON object instead of the two lines."),
         METHOD,
         TOLERANCE,
         ITERATIONS,
@@ -143,9 +169,17 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let simulation_s = started.elapsed().as_secs_f64();
 
     let mut bounds = BoundingBox::empty();
-    bounds.include(&scene.vertices);
-    for positions in &frames {
-        bounds.include(positions);
+    if request.fit != "last" {
+        bounds.include(&scene.vertices);
+    }
+    match request.fit {
+        "rest" => {}
+        "last" => bounds.include(frames.last().expect("at least one frame")),
+        _ => {
+            for positions in &frames {
+                bounds.include(positions);
+            }
+        }
     }
     let (width, height) = (request.width, request.height);
     let camera = Camera::framing(&bounds, SUPERSAMPLING * width, SUPERSAMPLING * height);
@@ -162,6 +196,26 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let started = Instant::now();
     write(&request, &images)?;
     let bytes = std::fs::metadata(&request.out).map_or(0, |m| m.len());
+    let render_frame_median_s = median(&mut frame_times);
+    if request.json {
+        let summary = Summary {
+            out: request.out.display().to_string(),
+            frames: images.len(),
+            width,
+            height,
+            steps: request.steps,
+            bytes,
+            simulation_s,
+            render_frame_median_s,
+            encode_s: started.elapsed().as_secs_f64(),
+            fit: request.fit,
+        };
+        println!(
+            "{}",
+            serde_json::to_string(&summary).expect("plain numbers serialise")
+        );
+        return Ok(());
+    }
     println!(
         "wrote {} ({} frame{} of {width}×{height}, {:.0} KiB)",
         request.out.display(),
@@ -171,7 +225,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     );
     println!(
         "simulation {simulation_s:.2} s, rendering {:.1} ms/frame (median), encoding {:.2} s",
-        1e3 * median(&mut frame_times),
+        1e3 * render_frame_median_s,
         started.elapsed().as_secs_f64()
     );
     Ok(())
@@ -204,6 +258,8 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
         dense: args.switch("dense"),
         options: simulation_options,
         springs: args.switch("springs"),
+        fit: args.choice("fit", "all", &["rest", "last", "all"])?,
+        json: args.switch("json"),
     })
 }
 
@@ -269,7 +325,7 @@ fn simulate<B: LinearAlgebra>(
         Format::Png => step == request.steps,
     };
     let mut frames = Vec::new();
-    let mut last_report = Instant::now();
+    let mut progress = Progress::new(request.steps, !request.json);
     for step in 0..=request.steps {
         if step > 0 {
             simulation
@@ -279,11 +335,11 @@ fn simulate<B: LinearAlgebra>(
         if keep(step) {
             frames.push(simulation.positions().to_vec());
         }
-        if last_report.elapsed().as_secs_f64() > 1.0 {
-            eprintln!("step {step}/{}", request.steps);
-            last_report = Instant::now();
+        if step > 0 {
+            progress.step_done(step);
         }
     }
+    progress.finish();
     Ok(frames)
 }
 

@@ -63,8 +63,11 @@ pub static COMMAND: CommandSpec = CommandSpec {
     summary: "Serve an interactive viewer of the scene to a web browser.",
     details: "\
 Serves an interactive viewer on http://127.0.0.1:P/ and prints its URL. The
-simulation runs here; the page draws it with WebGL. Keys: space step,
-A animate, L springs, R reset, W wind; drag to orbit, wheel to zoom,
+simulation runs here, starting paused at rest, and steps only while playing
+and a page shows it; the page draws it with WebGL, with buttons, a scene
+picker, sliders for k, Δt, mass scale and iterations, a method picker and a
+convergence plot. Keys: space step, A play, L springs, R reset, W wind,
+F fit, M method, ? help; drag to orbit, right-drag to pan, wheel to zoom,
 shift-drag to pull a vertex. Ctrl-C stops it.",
     flags: &[
         Flag::value(

@@ -375,10 +375,10 @@ impl<B: LinearAlgebra> SimulationThread<B> {
             tolerance: current.tolerance,
             ..SimulationOptions::default()
         };
-        let started = Instant::now();
         let simulation = Simulation::<B>::from_scene(&scene, options)
             .map_err(|e| format!("{}: {e}", path.display()))?;
-        self.refactor = Some(started.elapsed());
+        // A new scene is a new precomputation, not a refactorization.
+        self.refactor = None;
         let assets = SceneAssets::of(&scene, B::NAME);
         let bounds = BoundingBox::of(&scene.vertices);
         self.center = bounds.centre();

@@ -771,7 +771,7 @@ function updateOverlay() {
     `${s.scene} · ${s.backend} · n ${s.n} · springs ${s.springs}`,
     `k ${formatNumber(s.k)} · Δt ${s.delta_t.toFixed(4)} s · mass ×${formatNumber(s.mass_scale)}`,
     `${s.method} · ≤ ${s.iterations} iterations · ${tolerance}`,
-    s.refactor_ms === null ? 'Q factored once at start'
+    s.refactor_ms === null ? 'Q factored once, when the scene loaded'
       : `Q rebuilt and refactored in ${s.refactor_ms.toFixed(1)} ms`,
     `${s.ms_per_step.toFixed(2)} ms/step · ${s.steps_per_second.toFixed(1)} steps/s`,
     `step ${s.steps} · t ${s.time.toFixed(2)} s · wind ${s.wind ? 'on' : 'off'}`,
