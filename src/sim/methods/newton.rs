@@ -176,7 +176,8 @@ pub(crate) fn solve<B: LinearAlgebra>(
             .solve_in_place(work.direction.as_flattened_mut());
         scale(&mut work.direction, -1.0);
         let slope = dot(&work.gradient, &work.direction);
-        if !(slope < 0.0) {
+        // not a descent direction (or NaN): stop
+        if slope.partial_cmp(&0.0) != Some(std::cmp::Ordering::Less) {
             return Outcome::new(iteration - 1, Stop::Stalled);
         }
         let Some((t, new_energy)) = line_search(
