@@ -287,3 +287,76 @@ fn a_step_that_blows_up_is_reported_and_leaves_only_whole_frames() {
         "only the whole frame of step 0, no temporary"
     );
 }
+
+/// Least-squares slope of `ln y` on `ln x`.
+fn log_log_slope(points: &[(f64, f64)]) -> f64 {
+    let logs: Vec<(f64, f64)> = points.iter().map(|&(x, y)| (x.ln(), y.ln())).collect();
+    let count = logs.len() as f64;
+    let mean_x = logs.iter().map(|p| p.0).sum::<f64>() / count;
+    let mean_y = logs.iter().map(|p| p.1).sum::<f64>() / count;
+    let sxy: f64 = logs.iter().map(|p| (p.0 - mean_x) * (p.1 - mean_y)).sum();
+    let sxx: f64 = logs.iter().map(|p| (p.0 - mean_x).powi(2)).sum();
+    sxy / sxx
+}
+
+#[test]
+fn bench_reports_every_key_and_slopes_fitted_to_its_own_figures() {
+    let folder = temp_folder("bench");
+    let csv = folder.join("bench.csv");
+    let plot = folder.join("bench.png");
+    let report = json(&masssprings(&[
+        "bench",
+        "--sizes",
+        "4,6,9",
+        "--steps",
+        "2",
+        "--json",
+        "--csv",
+        csv.to_str().unwrap(),
+        "--plot",
+        plot.to_str().unwrap(),
+    ]));
+    let png = std::fs::read(&plot).unwrap();
+    assert!(png.starts_with(b"\x89PNG"), "not a PNG");
+    assert!(report["triad_gbps"].as_f64().unwrap() > 0.0, "{report}");
+    let sizes = report["sizes"].as_array().expect("sizes");
+    assert_eq!(sizes.len(), 3);
+    let times = ["ordering_s", "symbolic_s", "numeric_s", "solve_s", "step_s"];
+    for (size, side) in sizes.iter().zip([4, 6, 9]) {
+        assert_eq!(size["n"], side * side, "{size}");
+        for key in ["nnz_q", "nnz_l", "flops", "peak_bytes", "solve_gbps"] {
+            assert!(size[key].as_f64().unwrap() > 0.0, "{key} in {size}");
+        }
+        for key in times {
+            assert!(size[key].as_f64().unwrap() > 0.0, "{key} in {size}");
+        }
+        assert!(size["nnz_l"].as_u64() <= size["nnz_l_stored"].as_u64());
+        assert!(size["residual"].as_f64().unwrap() < 1e-12, "{size}");
+    }
+    for key in times.iter().chain(&["peak_bytes"]) {
+        let points: Vec<(f64, f64)> = sizes
+            .iter()
+            .map(|s| (s["n"].as_f64().unwrap(), s[*key].as_f64().unwrap()))
+            .collect();
+        let printed = report["slopes"][*key].as_f64().expect(key);
+        let fitted = log_log_slope(&points);
+        assert!(
+            (printed - fitted).abs() <= 1e-9 * (1.0 + fitted.abs()),
+            "{key}: printed {printed}, fitted from the printed sizes {fitted}"
+        );
+    }
+    let table = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(table.lines().count(), 4, "{table}");
+    assert!(table.starts_with("side,n,nnz_q,nnz_l,"), "{table}");
+}
+
+#[test]
+fn bench_rejects_a_grid_side_below_two() {
+    let output = masssprings(&["bench", "--sizes", "32,1"]);
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("'1' is not a grid side"),
+        "{}",
+        stderr(&output)
+    );
+}

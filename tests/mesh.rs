@@ -849,3 +849,15 @@ fn bundled_data_is_what_the_generator_writes() {
         );
     }
 }
+
+#[test]
+fn a_generated_scene_in_memory_is_the_scene_its_files_load_as() {
+    let mut scenes = vec![procedural::grid(2), procedural::grid(7)];
+    scenes.extend(procedural::examples());
+    for generated in scenes {
+        let mut from_files = write_and_load(&generated);
+        let in_memory = generated.to_scene().unwrap();
+        from_files.texture = None; // nothing was written for it to name
+        assert_eq!(in_memory, from_files, "{}", generated.name);
+    }
+}

@@ -5,7 +5,8 @@ mod common;
 
 use common::*;
 use masssprings::linalg::sparse::{
-    CscMatrix, Method, Permutation, SparseCholesky, SymbolicCholesky, Triangle,
+    CscMatrix, Method, Ordering, Permutation, Relaxation, SparseCholesky, SymbolicCholesky,
+    Triangle,
 };
 use masssprings::linalg::LinalgError;
 use nalgebra::DMatrix;
@@ -139,6 +140,59 @@ proptest! {
     }
 
     #[test]
+    fn relaxed_supernodes_hold_the_exact_pattern_and_stay_nested((a, p) in spd_and_permutation(30, 80)) {
+        let exact = SymbolicCholesky::with_permutation(&a, &p).unwrap();
+        let relaxed = exact.clone().relaxed(&Relaxation::CHOLMOD);
+        let rows = |s: &SymbolicCholesky, j: usize| s.row_idx()[s.col_ptr()[j]..s.col_ptr()[j + 1]].to_vec();
+        // the relaxed pattern stores every exact entry, plus the zeros it counts
+        for j in 0..a.ncols() {
+            let wide = rows(&relaxed, j);
+            prop_assert!(rows(&exact, j).iter().all(|i| wide.contains(i)));
+            prop_assert_eq!(wide[0] as usize, j);
+            prop_assert!(wide.windows(2).all(|w| w[0] < w[1]));
+            prop_assert_eq!(relaxed.column_counts()[j], wide.len());
+        }
+        prop_assert_eq!(relaxed.nnz_l() - relaxed.explicit_zeros(), exact.nnz_l());
+        // each relaxed supernode is one dense trapezoid, no wider than needed
+        let supernodes = relaxed.supernodes();
+        prop_assert!(supernodes.len() <= exact.supernodes().len());
+        let mut covered = 0;
+        for s in 0..supernodes.len() {
+            let columns = supernodes.columns(s);
+            prop_assert_eq!(columns.start, covered);
+            covered = columns.end;
+            for j in columns.start + 1..columns.end {
+                prop_assert_eq!(rows(&relaxed, j), rows(&relaxed, j - 1)[1..].to_vec());
+                prop_assert_eq!(supernodes.of_column(j), s);
+            }
+        }
+        prop_assert_eq!(covered, a.ncols());
+        // relaxing twice changes nothing; no relaxation is the exact analysis
+        let twice = relaxed.clone().relaxed(&Relaxation::NONE);
+        prop_assert_eq!(twice.row_idx(), relaxed.row_idx());
+        let none = exact.clone().relaxed(&Relaxation::NONE);
+        prop_assert_eq!(none.row_idx(), exact.row_idx());
+        prop_assert_eq!(none.supernodes(), exact.supernodes());
+    }
+
+    #[test]
+    fn relaxed_factor_equals_nalgebra_cholesky((a, p) in spd_and_permutation(30, 80)) {
+        let symbolic = SymbolicCholesky::with_permutation(&a, &p).unwrap().relaxed(&Relaxation::CHOLMOD);
+        let cholesky = SparseCholesky::factor(symbolic, &a, Method::Supernodal).unwrap();
+        let c = permuted_dense(&a, cholesky.symbolic().permutation());
+        let oracle = nalgebra::Cholesky::new(c).expect("SPD").l();
+        assert_close(&csc_to_nalgebra(&cholesky.l()), &oracle, 1e-10);
+    }
+
+    #[test]
+    fn fundamental_and_relaxed_supernodal_factors_agree((a, p) in spd_and_permutation(40, 150)) {
+        let exact = SymbolicCholesky::with_permutation(&a, &p).unwrap();
+        let fundamental = SparseCholesky::factor(exact.clone().relaxed(&Relaxation::NONE), &a, Method::Supernodal).unwrap();
+        let relaxed = SparseCholesky::factor(exact.relaxed(&Relaxation::CHOLMOD), &a, Method::Supernodal).unwrap();
+        assert_close(&csc_to_nalgebra(&relaxed.l()), &csc_to_nalgebra(&fundamental.l()), 1e-12);
+    }
+
+    #[test]
     fn factor_times_transpose_reproduces_the_permuted_matrix((a, p) in spd_and_permutation(30, 80), method in any_method()) {
         let cholesky = factor(&a, &p, method);
         let l = csc_to_nalgebra(&cholesky.l());
@@ -200,6 +254,53 @@ proptest! {
         cholesky.refactor(&changed).unwrap();
         let fresh = factor(&changed, &p, method);
         assert_close(&csc_to_nalgebra(&cholesky.l()), &csc_to_nalgebra(&fresh.l()), 1e-14);
+    }
+}
+
+#[test]
+fn the_simplicial_method_refuses_a_relaxed_pattern() {
+    let a = grid_matrix(8);
+    let relaxed = SymbolicCholesky::analyze(&a, Ordering::Amd)
+        .unwrap()
+        .relaxed(&Relaxation::CHOLMOD);
+    assert!(relaxed.explicit_zeros() > 0);
+    let error = SparseCholesky::factor(relaxed, &a, Method::Simplicial).unwrap_err();
+    assert!(matches!(error, LinalgError::InvalidStructure(_)), "{error}");
+}
+
+#[test]
+fn relaxed_grid_solves_have_small_residuals() {
+    let a = grid_matrix(100);
+    let n = a.ncols();
+    // the right-hand side of a smooth displacement of the cloth, as in a
+    // time step (a random one would weigh the near-null modes of the
+    // springs, where no solver gets a small relative residual)
+    let side = 100;
+    let smooth: Vec<[f64; 3]> = (0..n)
+        .map(|v| {
+            let (i, j) = ((v % side) as f64 / 99.0, (v / side) as f64 / 99.0);
+            [i, 1.0 - j, 0.1 * (3.0 * i).sin() * j]
+        })
+        .collect();
+    let mut b = vec![[0.0; 3]; n];
+    a.mul_points(&smooth, &mut b).unwrap();
+    for rule in [Relaxation::NONE, Relaxation::CHOLMOD] {
+        let symbolic = SymbolicCholesky::analyze(&a, Ordering::Amd)
+            .unwrap()
+            .relaxed(&rule);
+        let mut cholesky = SparseCholesky::factor(symbolic, &a, Method::Supernodal).unwrap();
+        let mut x = b.clone();
+        cholesky.solve_points_in_place(&mut x);
+        let (mut ax, mut error, mut norm) = (vec![[0.0; 3]; n], 0.0, 0.0);
+        a.mul_points(&x, &mut ax).unwrap();
+        for i in 0..n {
+            for c in 0..3 {
+                error += (ax[i][c] - b[i][c]).powi(2);
+                norm += b[i][c].powi(2);
+            }
+        }
+        let residual = (error / norm).sqrt();
+        assert!(residual < 1e-12, "{rule:?}: relative residual {residual:e}");
     }
 }
 
@@ -334,4 +435,28 @@ fn an_empty_matrix_factors_and_solves_to_nothing() {
     let mut cholesky = factor(&a, &Permutation::identity(0), Method::Supernodal);
     cholesky.solve_points_in_place(&mut []);
     assert_eq!(cholesky.symbolic().nnz_l(), 0);
+}
+
+#[test]
+fn grid_316_analysis_and_factor_stay_within_their_memory_budget() {
+    // Counted from the structures' lengths (`SparseCholesky::bytes`), not
+    // from the process. docs/performance.md itemises the figure.
+    // nnz(L) = 4,364,229 values (8 bytes) and 32-bit rows (4): 52.4 MB;
+    // the slots of Q's 497,386 lower entries in L (two u32 each), 4.8 MB
+    // (the permuted copy of Q it replaced took 12.7 MB); the analysis'
+    // n-arrays (permutation, tree, counts, pointers, supernodes), the work
+    // arrays and the solve's buffer: 12 MB. Was 77.2 MB.
+    const BUDGET: usize = 69_300_000;
+    let a = grid_matrix(316);
+    let symbolic = SymbolicCholesky::analyze(&a, Ordering::Amd).unwrap();
+    let cholesky = SparseCholesky::factor(symbolic, &a, Method::Supernodal).unwrap();
+    let bytes = cholesky.bytes();
+    eprintln!(
+        "grid-316: {bytes} bytes, nnz(L) stored {}",
+        cholesky.symbolic().nnz_l()
+    );
+    assert!(
+        bytes <= BUDGET,
+        "grid-316 holds {bytes} bytes, budget {BUDGET}"
+    );
 }

@@ -6,11 +6,15 @@
 #
 # Needs: ../shared (the assignment's scenes and tools/eigen-ref), g++ with
 # Eigen 3.4 (apt-get install -y libeigen3-dev), SuiteSparse
-# (apt-get install -y libsuitesparse-dev), python3. Each round runs, for each
-# matrix, our `masssprings analyze` then `cholmod_peer`, and for each scene
-# our `masssprings simulate` then `eigen-ref bench`, so that every pair is
-# measured seconds apart; the summary gives the median over rounds of each
-# figure and the ratio ours / peer. Set LARGE=1 to add grid-1000 (minutes).
+# (apt-get install -y libsuitesparse-dev), python3, and cargo for the faer
+# peer (benches/peers/faer_peer, its own crate: faer is fetched there, never
+# a dependency of masssprings). Each round runs, for each matrix, our
+# `masssprings analyze`, then `cholmod_peer`, then `faer_peer`, and for each
+# scene our `masssprings simulate` then `eigen-ref bench`, so that every
+# pair is measured seconds apart; the summary gives the median over rounds
+# of each figure and the ratio ours / peer. The grids are the scaling sizes
+# of `masssprings bench` (32, 100, 316); LARGE=1 adds grid-1000 (minutes),
+# SIDES="..." replaces the list. Set NO_FAER=1 to skip faer.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
@@ -23,6 +27,8 @@ mkdir -p "$work"
 (cd "$root" && cargo build --release --quiet)
 ours="$root/target/release/masssprings"
 [ -x "$here/cholmod_peer" ] || "$here/build.sh" >/dev/null
+faer="$here/faer_peer/target/release/faer_peer"
+[ "${NO_FAER:-0}" = 1 ] || (cd "$here/faer_peer" && cargo build --release --quiet)
 if [ ! -x "$work/eigen-ref/ref" ]; then
     rm -rf "$work/eigen-ref" && cp -r "$shared/tools/eigen-ref" "$work/eigen-ref"
     chmod -R u+w "$work/eigen-ref" && (cd "$work/eigen-ref" && ./build.sh >/dev/null)
@@ -34,8 +40,8 @@ serial_blas=/usr/lib/x86_64-linux-gnu/openblas-serial
 [ -d "$serial_blas" ] && export LD_LIBRARY_PATH="$serial_blas${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 
 # --- the matrices and scenes ------------------------------------------------
-sides="316"
-[ "${LARGE:-0}" = 1 ] && sides="316 1000"
+sides="${SIDES:-32 100 316}"
+[ "${LARGE:-0}" = 1 ] && sides="$sides 1000"
 scenes=""
 for name in flag skirt; do
     cp "$shared/original-data/$name".* "$work/" 2>/dev/null || true
@@ -61,6 +67,9 @@ for round in $(seq "$rounds"); do
         echo "round $round/$rounds: $name" >&2
         echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"ours\",\"data\":$("$ours" analyze "$base.mtx" --json)}" >>"$out"
         echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"cholmod\",\"data\":$("$here/cholmod_peer" "$base.mtx" 11 --json)}" >>"$out"
+        if [ "${NO_FAER:-0}" != 1 ]; then
+            echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"faer\",\"data\":$("$faer" "$base.mtx" 11 --json)}" >>"$out"
+        fi
         steps=30
         [ "$name" = grid-1000 ] && steps=3
         echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"ours-step\",\"data\":$("$ours" simulate "$scene" --steps "$steps" --json)}" >>"$out"

@@ -3,7 +3,7 @@
 
 Each line of the input is one measurement: {"round", "matrix", "tool",
 "data"}, where tool is ours (masssprings analyze --json), cholmod
-(cholmod_peer --json), ours-step (masssprings simulate --json) or eigen
+(cholmod_peer --json), faer (faer_peer --json), ours-step (masssprings simulate --json) or eigen
 (eigen-ref bench, its CSV line). Prints Markdown tables.
 """
 import json
@@ -68,6 +68,19 @@ def main():
         ours, ei = m(x, "ours", "numeric_s"), m(x, "eigen", "numeric_s")
         cs, cn = m(x, "cholmod", "simplicial_numeric_s"), m(x, "cholmod", "supernodal_numeric_s")
         print(f"| {x} | {ms(ours)} | {ms(ei)} | {ours / ei:.2f} | {ms(cs)} | {ms(cn)} | {ours / cn:.2f} |")
+
+    if any(tool == "faer" for (_, tool, _) in values):
+        print("\n| matrix | numeric ours | faer supernodal | ratio (target ≤ 0.85, grid-1000 ≤ 1.0) "
+              "| solve ours | faer simplicial | faer supernodal | best peer (faer, CHOLMOD) | ratio (target ≤ 0.8) |")
+        print("|---|---|---|---|---|---|---|---|---|")
+        for x in order:
+            ours_n, faer_n = m(x, "ours", "numeric_s"), m(x, "faer", "supernodal_numeric_s")
+            ours_s = m(x, "ours", "solve_s")
+            peers = [m(x, "faer", "simplicial_solve_s"), m(x, "faer", "supernodal_solve_s"),
+                     m(x, "cholmod", "simplicial_solve_s"), m(x, "cholmod", "supernodal_solve_s")]
+            best = min(p for p in peers if p == p)
+            print(f"| {x} | {ms(ours_n)} | {ms(faer_n)} | {ours_n / faer_n:.2f} | {ms(ours_s)} | "
+                  f"{ms(peers[0])} | {ms(peers[1])} | {ms(best)} | {ours_s / best:.2f} |")
 
     print("\n| scene | step ours (50 iterations) | Eigen (the assignment's solver) | ratio |")
     print("|---|---|---|---|")

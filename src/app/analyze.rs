@@ -6,23 +6,26 @@ use super::timing::{median_seconds, Repeats};
 use super::AppError;
 use masssprings::linalg::matrix_market::{self, MatrixMarket};
 use masssprings::linalg::sparse::{
-    CscMatrix, Method, Ordering, SparseCholesky, SymbolicCholesky, Triangle,
+    CscMatrix, Method, Ordering, Relaxation, SparseCholesky, SymbolicCholesky, Triangle,
 };
 use std::path::{Path, PathBuf};
 
 /// What `analyze` measured (the keys of its `--json` output).
 #[derive(Debug, serde::Serialize)]
-struct Analysis {
-    n: usize,
+pub(super) struct Analysis {
+    pub n: usize,
     /// Entries of the lower triangle of `A`, diagonal included.
-    nnz_a: usize,
-    nnz_l: usize,
-    flops: f64,
-    ordering_s: f64,
-    symbolic_s: f64,
-    numeric_s: f64,
-    solve_s: f64,
-    residual: f64,
+    pub nnz_a: usize,
+    /// Nonzeros of the exact `L`, diagonal included.
+    pub nnz_l: usize,
+    /// Entries stored, explicit zeros of relaxed supernodes included.
+    pub nnz_l_stored: usize,
+    pub flops: f64,
+    pub ordering_s: f64,
+    pub symbolic_s: f64,
+    pub numeric_s: f64,
+    pub solve_s: f64,
+    pub residual: f64,
     ordering: &'static str,
     method: &'static str,
     /// Runs behind each median: ordering, symbolic, numeric, solve.
@@ -30,17 +33,26 @@ struct Analysis {
 }
 
 pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(args, &["ordering", "method", "repeats"], &["json"])?;
+    let args = Args::parse(args, &["ordering", "method", "relax", "repeats"], &["json"])?;
     let path = PathBuf::from(args.single_positional("MATRIX.mtx")?);
     let ordering: Ordering = args.value_or("ordering", Ordering::Amd)?;
     let method = parse_method(&args)?;
+    let relaxation = match args.value_or("relax", "none".to_string())?.as_str() {
+        "cholmod" => Relaxation::CHOLMOD,
+        "none" => Relaxation::NONE,
+        other => {
+            return Err(AppError::Usage(format!(
+                "--relax {other}: expected cholmod or none"
+            )))
+        }
+    };
     let repeats = match args.value_or("repeats", 0usize)? {
         0 => Repeats::Adaptive,
         count => Repeats::Exactly(count),
     };
     let lower = read_symmetric_lower(&path)?;
     let rhs = read_or_make_rhs(&path, lower.ncols())?;
-    let analysis = analyze(&lower, &rhs, ordering, method, repeats)
+    let analysis = analyze(&lower, &rhs, ordering, method, relaxation, repeats)
         .map_err(|e| AppError::Failed(format!("{}: {e}", path.display())))?;
     if args.switch("json") {
         println!(
@@ -87,16 +99,7 @@ pub(super) fn read_symmetric_lower(path: &Path) -> Result<CscMatrix, AppError> {
 fn read_or_make_rhs(path: &Path, n: usize) -> Result<Vec<[f64; 3]>, AppError> {
     let rhs_path = path.with_extension("b.mtx");
     if !rhs_path.exists() {
-        return Ok((0..n)
-            .map(|i| {
-                let t = i as f64;
-                [
-                    1.0 + (t * 0.37).sin(),
-                    (t * 0.11).cos(),
-                    0.5 - (t * 0.23).sin(),
-                ]
-            })
-            .collect());
+        return Ok(varied_rhs(n));
     }
     match matrix_market::read(&rhs_path)? {
         MatrixMarket::Dense(b) if b.nrows() == n && b.ncols() == 3 => {
@@ -109,23 +112,49 @@ fn read_or_make_rhs(path: &Path, n: usize) -> Result<Vec<[f64; 3]>, AppError> {
     }
 }
 
-/// Times each step of the pipeline and checks the solution.
-fn analyze(
+/// A fixed, varied n×3 right-hand side.
+pub(super) fn varied_rhs(n: usize) -> Vec<[f64; 3]> {
+    (0..n)
+        .map(|i| {
+            let t = i as f64;
+            [
+                1.0 + (t * 0.37).sin(),
+                (t * 0.11).cos(),
+                0.5 - (t * 0.23).sin(),
+            ]
+        })
+        .collect()
+}
+
+/// Times each step of the pipeline on the lower triangle `lower` and
+/// checks the solution.
+pub(super) fn analyze(
     lower: &CscMatrix,
     rhs: &[[f64; 3]],
     ordering: Ordering,
     method: Method,
+    relaxation: Relaxation,
     repeats: Repeats,
 ) -> Result<Analysis, masssprings::linalg::LinalgError> {
     let perm = ordering.permutation(lower)?;
     let (ordering_s, ordering_runs) = median_seconds(repeats, || {
         ordering.permutation(lower).expect("ordered once already");
     });
-    let symbolic = SymbolicCholesky::with_permutation(lower, &perm)?;
+    // the supernodal method relaxes its supernodes: part of the analysis
+    let symbolic_for = |method: Method| {
+        let exact = SymbolicCholesky::with_permutation(lower, &perm)?;
+        Ok::<_, masssprings::linalg::LinalgError>(match method {
+            Method::Supernodal => exact.relaxed(&relaxation),
+            Method::Simplicial => exact,
+        })
+    };
+    let symbolic = symbolic_for(method)?;
     let (symbolic_s, symbolic_runs) = median_seconds(repeats, || {
-        SymbolicCholesky::with_permutation(lower, &perm).expect("analysed once already");
+        symbolic_for(method).expect("analysed once already");
     });
-    let (nnz_l, flops) = (symbolic.nnz_l(), symbolic.flops());
+    let nnz_l_stored = symbolic.nnz_l();
+    let nnz_l = nnz_l_stored - symbolic.explicit_zeros();
+    let flops = symbolic.flops();
     let mut cholesky = SparseCholesky::factor(symbolic, lower, method)?;
     let (numeric_s, numeric_runs) = median_seconds(repeats, || {
         cholesky.refactor(lower).expect("factored once already");
@@ -139,6 +168,7 @@ fn analyze(
         n: lower.ncols(),
         nnz_a: lower.nnz(),
         nnz_l,
+        nnz_l_stored,
         flops,
         ordering_s,
         symbolic_s,
@@ -181,9 +211,10 @@ fn print_table(path: &Path, a: &Analysis) {
         (
             "nnz(L)",
             format!(
-                "{}  (fill ratio {:.2})",
+                "{}  (fill ratio {:.2}; {} stored)",
                 a.nnz_l,
-                a.nnz_l as f64 / a.nnz_a as f64
+                a.nnz_l as f64 / a.nnz_a as f64,
+                a.nnz_l_stored
             ),
         ),
         ("flops", format!("{:.4e}", a.flops)),

@@ -59,6 +59,11 @@ impl Args {
         }
     }
 
+    /// The positional arguments, in order.
+    pub fn positional(&self) -> &[String] {
+        &self.positional
+    }
+
     /// Was `--name` given?
     pub fn switch(&self, name: &str) -> bool {
         self.switches.iter().any(|s| s == name)

@@ -13,6 +13,7 @@
 
 use super::args::Args;
 use super::convergence_flags;
+use super::convergence_plot::NamedCurve;
 use super::AppError;
 use masssprings::files::write_file;
 use masssprings::mesh::load_scene;
@@ -52,6 +53,8 @@ struct Request {
     plot: Option<PathBuf>,
     /// `--steps S`: instead of one step, steps 1…S, medians only.
     over_steps: Option<usize>,
+    /// The canonical simulation: plain, 50 iterations, the pins given.
+    canonical: SimulationOptions,
 }
 
 /// Plain iterations whose energies are the yardsticks.
@@ -63,7 +66,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         return run_over_steps(&request, steps);
     }
     let scene = load_scene(&request.scene)?;
-    let mut simulation = Simulation::<Sparse>::from_scene(&scene, SimulationOptions::default())?;
+    let mut simulation = Simulation::<Sparse>::from_scene(&scene, request.canonical)?;
     for step in 1..request.step {
         simulation
             .step()
@@ -143,6 +146,10 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
         control: sim_options.step_control(),
         csv: path("csv")?,
         plot: path("plot")?,
+        canonical: SimulationOptions {
+            pins: sim_options.pins,
+            ..SimulationOptions::default()
+        },
         over_steps: match args.value_or("steps", 0usize)? {
             0 => None,
             steps => Some(steps),
@@ -275,7 +282,7 @@ fn write_csv(out: &mut dyn Write, curves: &[Curve]) -> std::io::Result<()> {
 }
 
 /// Each curve as (name, [(iteration, energy, ms)]), for the plot.
-fn curves_for_plot(curves: &[Curve]) -> Vec<(String, Vec<(f64, f64, f64)>)> {
+fn curves_for_plot(curves: &[Curve]) -> Vec<NamedCurve> {
     curves
         .iter()
         .map(|c| {
@@ -295,7 +302,7 @@ fn curves_for_plot(curves: &[Curve]) -> Vec<(String, Vec<(f64, f64, f64)>)> {
 /// median over the steps and its ratio to plain-50's median.
 fn run_over_steps(request: &Request, steps: usize) -> Result<(), AppError> {
     let scene = load_scene(&request.scene)?;
-    let mut simulation = Simulation::<Sparse>::from_scene(&scene, SimulationOptions::default())?;
+    let mut simulation = Simulation::<Sparse>::from_scene(&scene, request.canonical)?;
     let mut control = request.control;
     let mut times: Vec<Vec<f64>> = vec![Vec::new(); request.methods.len()];
     let mut iterations: Vec<Vec<f64>> = vec![Vec::new(); request.methods.len()];

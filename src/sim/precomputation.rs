@@ -22,6 +22,7 @@
 //! Vertices" (`fast_mass_springs_precomputation_dense.cpp` / `_sparse.cpp`).
 
 use super::backend::{Dense, LinearAlgebra, Sparse, SparseFactorization};
+use super::exact_pins::ExactPins;
 use super::methods::MethodWorkspaces;
 use super::signed_incidence::signed_incidence_matrix;
 use super::SimulationError;
@@ -66,6 +67,9 @@ pub struct MassSpringSystem<B: LinearAlgebra> {
     pub pin_targets: Vec<[f64; 3]>,
     /// `is_pinned[i]`: is vertex `i` one of `pinned`?
     pub is_pinned: Vec<bool>,
+    /// The reduced system when pins are exact constraints
+    /// ([`MassSpringSystem::use_exact_pins`]); `None`: the penalty.
+    pub exact_pins: Option<ExactPins<B>>,
     /// Work arrays of the step, sized once.
     pub(crate) buffers: StepBuffers,
 }
@@ -113,6 +117,20 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
         self.Q = assemble_q::<B>(&self.A, &self.M, &self.C, self.k, self.delta_t, self.w);
         B::refactor(&mut self.prefactorization, &self.Q)?;
         self.pin_rhs = pin_right_hand_side::<B>(&self.C, n, targets, self.w);
+        if self.exact_pins.is_some() {
+            self.use_exact_pins()?;
+        }
+        Ok(())
+    }
+
+    /// Holds the pins exactly instead of by the penalty (see
+    /// [`exact_pins`](super::exact_pins)): factors the free vertices'
+    /// `Q_ff`.
+    ///
+    /// # Errors
+    /// [`SimulationError::Linalg`] when `Q_ff` is not positive definite.
+    pub fn use_exact_pins(&mut self) -> Result<(), SimulationError> {
+        self.exact_pins = Some(ExactPins::new(self)?);
         Ok(())
     }
 
@@ -134,6 +152,9 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
         }
         self.pin_rhs = pin_right_hand_side::<B>(&self.C, n, targets, self.w);
         self.pin_targets.copy_from_slice(targets);
+        if let Some(exact) = &mut self.exact_pins {
+            exact.set_targets(&self.A, self.springs.len(), self.k, &self.pinned, targets);
+        }
         Ok(())
     }
 
@@ -215,6 +236,7 @@ pub fn fast_mass_springs_precomputation_with<B: LinearAlgebra>(
         pinned: pinned.to_vec(),
         pin_targets: pinned_rest,
         is_pinned: pinned_mask(n, pinned),
+        exact_pins: None,
         buffers: StepBuffers {
             inertia: vec![[0.0; 3]; n],
             y: vec![[0.0; 3]; n],

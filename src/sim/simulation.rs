@@ -32,12 +32,36 @@ pub struct SimulationOptions {
     pub rho: Option<f64>,
     /// Anderson's and L-BFGS's history window.
     pub window: usize,
+    /// Pins by the assignment's penalty, or as exact constraints.
+    pub pins: Pins,
     /// The sparse backend's fill-reducing ordering (AMD, or the natural
     /// order of the textbook path).
     pub ordering: Ordering,
     /// The sparse backend's numeric factorization and solves (supernodal,
     /// or the textbook simplicial method).
     pub factorization: Method,
+}
+
+/// How pinned vertices are held.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Pins {
+    /// The assignment's penalty `½ w ‖p_c − t_c‖²`, `w = 1e10`.
+    #[default]
+    Penalty,
+    /// Removed from the unknowns ([`exact_pins`](super::exact_pins)).
+    Exact,
+}
+
+impl std::str::FromStr for Pins {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, String> {
+        match text {
+            "penalty" => Ok(Pins::Penalty),
+            "exact" => Ok(Pins::Exact),
+            _ => Err(format!("unknown pins '{text}' (expected penalty or exact)")),
+        }
+    }
 }
 
 impl SimulationOptions {
@@ -63,6 +87,7 @@ impl Default for SimulationOptions {
             tolerance: None,
             rho: None,
             window: DEFAULT_WINDOW,
+            pins: Pins::Penalty,
             ordering: Ordering::default(),
             factorization: Method::default(),
         }
@@ -131,7 +156,7 @@ impl<B: LinearAlgebra> Simulation<B> {
             ordering: options.ordering,
             method: options.factorization,
         };
-        let system = fast_mass_springs_precomputation_with::<B>(
+        let mut system = fast_mass_springs_precomputation_with::<B>(
             vertices,
             springs,
             k,
@@ -140,6 +165,9 @@ impl<B: LinearAlgebra> Simulation<B> {
             options.delta_t,
             how,
         )?;
+        if options.pins == Pins::Exact {
+            system.use_exact_pins()?;
+        }
         let n = vertices.len();
         Ok(Simulation {
             system,

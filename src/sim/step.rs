@@ -119,6 +119,7 @@ pub fn solve_step<B: LinearAlgebra>(
         pin_targets,
         is_pinned,
         buffers,
+        exact_pins,
         ..
     } = system;
     start_lengths(springs, u_cur, &mut buffers.start_lengths);
@@ -128,7 +129,7 @@ pub fn solve_step<B: LinearAlgebra>(
         k: *k,
         m,
         delta_t: *delta_t,
-        w: *w,
+        w: if exact_pins.is_some() { 0.0 } else { *w },
         pinned,
         pin_targets,
         inertial_target: &buffers.inertia,
@@ -150,6 +151,9 @@ pub fn solve_step<B: LinearAlgebra>(
             y: &buffers.y,
             pin_rhs,
             factorization: prefactorization,
+            exact_pins: exact_pins.as_mut(),
+            pinned,
+            pin_targets,
             d: &mut buffers.d,
             b: &mut buffers.b,
         },
@@ -160,6 +164,7 @@ pub fn solve_step<B: LinearAlgebra>(
         &mut buffers.gradient,
         observer,
     );
+    context.global.hold_pins(u_next); // exact pins start at their (maybe moved) targets
     monitor.after(0, &context, u_next, None);
     let workspaces = &mut buffers.methods;
     let outcome: Outcome = match control.method {

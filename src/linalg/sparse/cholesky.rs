@@ -20,6 +20,7 @@
 //! Source: Davis 2006, ch. 4 and §8.1 (`cs_cholsol`).
 
 use super::csc::{CscMatrix, Triangle};
+use super::factor_loading::FactorLoading;
 use super::permute::PermutedTriangle;
 use super::supernodal::{factor_supernodal, SupernodalWorkspace};
 use super::supernodal_solve;
@@ -63,11 +64,14 @@ impl std::str::FromStr for Method {
     }
 }
 
-/// The work arrays of whichever method is in use.
+/// The work arrays of whichever method is in use, and how it reads `A`:
+/// the up-looking method reads `C = P A Pᵀ` by its upper triangle (kept,
+/// refilled with each matrix factored); the supernodal one loads its blocks
+/// straight from `A` through [`FactorLoading`], with no copy of `C`.
 #[derive(Debug, Clone)]
 enum Workspace {
-    Simplicial(UpLookingWorkspace),
-    Supernodal(SupernodalWorkspace),
+    Simplicial(UpLookingWorkspace, PermutedTriangle),
+    Supernodal(SupernodalWorkspace, FactorLoading),
 }
 
 /// A numeric sparse Cholesky factorization, ready to solve.
@@ -105,10 +109,6 @@ enum Workspace {
 #[derive(Debug, Clone)]
 pub struct SparseCholesky {
     symbolic: SymbolicCholesky,
-    /// `C = P A Pᵀ`, the triangle the method reads (upper for the
-    /// up-looking method, lower for the supernodal one), refilled with the
-    /// values of each matrix factored.
-    permuted: PermutedTriangle,
     /// Values of `L`, laid out as `symbolic.col_ptr()` / `row_idx()`.
     values: Vec<f64>,
     workspace: Workspace,
@@ -120,9 +120,15 @@ pub struct SparseCholesky {
 
 impl SparseCholesky {
     /// Factors `a` (the matrix analysed by `symbolic`, or one with the same
-    /// pattern and new values) with `method`.
+    /// pattern and new values) with `method`. The supernodal method uses
+    /// the supernodes of `symbolic` as they are: fundamental, or relaxed by
+    /// [`SymbolicCholesky::relaxed`] (not the default: on cloth matrices
+    /// the stored zeros slow the solve more than the wider blocks speed
+    /// the factorization, `docs/performance.md`).
     ///
     /// # Errors
+    /// [`LinalgError::InvalidStructure`] for the simplicial method with a
+    /// relaxed analysis that stores zeros;
     /// [`LinalgError::PatternMismatch`] when `a`'s pattern is not the one
     /// analysed; [`LinalgError::NotPositiveDefinite`] naming the column of
     /// `a` where a pivot was not positive.
@@ -131,20 +137,23 @@ impl SparseCholesky {
         a: &CscMatrix,
         method: Method,
     ) -> Result<Self, LinalgError> {
+        if method == Method::Simplicial && symbolic.explicit_zeros() > 0 {
+            return Err(LinalgError::InvalidStructure(
+                "the simplicial method needs the exact pattern of L, not a relaxed one".into(),
+            ));
+        }
         let n = symbolic.n();
-        let (workspace, triangle) = match method {
-            Method::Simplicial => (
-                Workspace::Simplicial(UpLookingWorkspace::new(n)),
-                Triangle::Upper,
+        let workspace = match method {
+            Method::Simplicial => Workspace::Simplicial(
+                UpLookingWorkspace::new(n),
+                PermutedTriangle::new(a, symbolic.permutation(), Triangle::Upper)?,
             ),
-            Method::Supernodal => (
-                Workspace::Supernodal(SupernodalWorkspace::new(&symbolic)),
-                Triangle::Lower,
+            Method::Supernodal => Workspace::Supernodal(
+                SupernodalWorkspace::new(&symbolic),
+                FactorLoading::new(a, &symbolic)?,
             ),
         };
-        let permuted = PermutedTriangle::new(a, symbolic.permutation(), triangle)?;
         let mut cholesky = SparseCholesky {
-            permuted,
             values: vec![0.0; symbolic.nnz_l()],
             symbolic,
             workspace,
@@ -163,14 +172,16 @@ impl SparseCholesky {
     /// cannot be used to solve until a refactorization succeeds.
     pub fn refactor(&mut self, a: &CscMatrix) -> Result<(), LinalgError> {
         self.factored = false;
-        self.permuted.refill(a)?;
-        let c = self.permuted.matrix();
         let outcome = match &mut self.workspace {
-            Workspace::Simplicial(work) => {
-                factor_up_looking(&self.symbolic, c, &mut self.values, work)
+            Workspace::Simplicial(work, permuted) => {
+                permuted.refill(a)?;
+                factor_up_looking(&self.symbolic, permuted.matrix(), &mut self.values, work)
             }
-            Workspace::Supernodal(work) => {
-                factor_supernodal(&self.symbolic, c, &mut self.values, work)
+            Workspace::Supernodal(work, loading) => {
+                if !loading.fits(a) {
+                    return Err(LinalgError::PatternMismatch);
+                }
+                factor_supernodal(&self.symbolic, a, loading, &mut self.values, work)
             }
         };
         outcome.map_err(|failed| self.not_positive_definite(failed))?;
@@ -183,11 +194,25 @@ impl SparseCholesky {
         &self.symbolic
     }
 
+    /// Bytes held (array lengths, not capacities): the analysis, the
+    /// values of `L`, the permuted `C`, the work arrays and the solve's
+    /// buffer, and how `A` is read. The memory figures of `docs/performance.md`.
+    pub fn bytes(&self) -> usize {
+        let workspace = match &self.workspace {
+            Workspace::Simplicial(work, permuted) => work.bytes() + permuted.bytes(),
+            Workspace::Supernodal(work, loading) => work.bytes() + loading.bytes(),
+        };
+        self.symbolic.bytes()
+            + std::mem::size_of_val(&self.values[..])
+            + workspace
+            + std::mem::size_of_val(&self.solve_buffer[..])
+    }
+
     /// The method in use.
     pub fn method(&self) -> Method {
         match self.workspace {
-            Workspace::Simplicial(_) => Method::Simplicial,
-            Workspace::Supernodal(_) => Method::Supernodal,
+            Workspace::Simplicial(..) => Method::Simplicial,
+            Workspace::Supernodal(..) => Method::Supernodal,
         }
     }
 
@@ -255,8 +280,8 @@ impl SparseCholesky {
         };
         match self.workspace {
             // L⁻ᵀ L⁻¹ P b, column by column or supernode by supernode
-            Workspace::Simplicial(_) => triangular_solve::solve_in_place(l, buffer),
-            Workspace::Supernodal(_) => {
+            Workspace::Simplicial(..) => triangular_solve::solve_in_place(l, buffer),
+            Workspace::Supernodal(..) => {
                 supernodal_solve::solve_in_place(l, self.symbolic.supernodes(), buffer)
             }
         }

@@ -17,19 +17,23 @@
 //! | column counts | [`column_counts`] |
 //! | pattern of a row of `L` | [`row_pattern`] |
 //! | supernodes | [`supernodes`] |
+//! | relaxed supernodes (amalgamation) | [`amalgamation`] |
 //! | symbolic analysis | [`symbolic`] |
 //! | numeric factorization, row by row | [`up_looking`] |
+//! | where `A`'s entries go in `L` | [`factor_loading`] |
 //! | numeric factorization, supernodal | [`supernodal`] |
 //! | forward and back substitution | [`triangular_solve`] |
 //! | the same, by supernodes | [`supernodal_solve`] |
 //! | all of it together | [`cholesky`] |
 
 pub mod add;
+pub mod amalgamation;
 pub mod amd;
 pub mod cholesky;
 pub mod column_counts;
 pub mod csc;
 pub mod etree;
+pub mod factor_loading;
 pub mod multiply;
 pub mod ordering;
 pub mod permutation;
@@ -46,6 +50,7 @@ pub mod triangular_solve;
 pub mod triplets;
 pub mod up_looking;
 
+pub use amalgamation::Relaxation;
 pub use cholesky::{Method, SparseCholesky};
 pub use csc::{CscMatrix, Triangle};
 pub use ordering::Ordering;

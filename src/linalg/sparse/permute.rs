@@ -66,6 +66,14 @@ impl PermutedTriangle {
         })
     }
 
+    /// Bytes held (array lengths): `C` and the source of each entry.
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of;
+        let c = &self.matrix;
+        (c.col_ptr().len() + c.row_idx().len() + self.source_entry.len()) * size_of::<usize>()
+            + std::mem::size_of_val(c.values())
+    }
+
     /// The permuted triangle `C`.
     pub fn matrix(&self) -> &CscMatrix {
         &self.matrix
@@ -92,7 +100,7 @@ impl PermutedTriangle {
 /// taken a word at a time): two different patterns give the same
 /// fingerprint with probability about 2⁻⁶⁴. Cost `O(nnz)`, like comparing
 /// the patterns, but no copy of the pattern is kept.
-fn pattern_fingerprint(a: &CscMatrix) -> u64 {
+pub(crate) fn pattern_fingerprint(a: &CscMatrix) -> u64 {
     const PRIME: u64 = 0x0000_0100_0000_01b3;
     let words = [a.nrows(), a.ncols()].into_iter();
     let words = words

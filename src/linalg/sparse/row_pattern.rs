@@ -24,6 +24,11 @@ pub struct RowPattern {
 }
 
 impl RowPattern {
+    /// Bytes held (array lengths).
+    pub fn bytes(&self) -> usize {
+        (self.visited.len() + self.stack.len()) * std::mem::size_of::<usize>()
+    }
+
     /// A workspace for `n × n` matrices.
     pub fn new(n: usize) -> Self {
         RowPattern {

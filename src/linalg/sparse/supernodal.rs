@@ -4,7 +4,8 @@
 //! form a dense lower-trapezoidal block. Going through the supernodes in
 //! order, each block `S` is
 //!
-//! 1. **loaded** with its columns of `C = P A Pᵀ` (zeros elsewhere);
+//! 1. **loaded** with its columns of `C = P A Pᵀ` (zeros elsewhere), read
+//!    from `A` through the slots of [`FactorLoading`];
 //! 2. **updated** by every earlier supernode `D` that has rows in `S`'s
 //!    columns (its *descendants*): `S −= X Yᵀ`, where `X` is `D`'s block
 //!    from the first of those rows down and `Y` its rows inside `S`'s
@@ -36,6 +37,7 @@
 //! Davis, Rajamanickam, Sid-Lakhdar, Acta Numerica 2016, §9.
 
 use super::csc::CscMatrix;
+use super::factor_loading::FactorLoading;
 use super::symbolic::SymbolicCholesky;
 use super::up_looking::FailedPivot;
 use crate::linalg::dense::gram_block::{gram_block, BLOCK_COLUMNS};
@@ -85,14 +87,30 @@ impl SupernodalWorkspace {
     }
 }
 
-/// Fills `values` with `L` for `C = P A Pᵀ`, given by its lower triangle
-/// `lower`.
+impl SupernodalWorkspace {
+    /// Bytes held (array lengths).
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of;
+        (self.position_in_block.len()
+            + self.next_row.len()
+            + self.column_base.len()
+            + self.relative.len())
+            * size_of::<usize>()
+            + (self.waiting.len() + self.next_waiting.len()) * size_of::<Option<usize>>()
+            + std::mem::size_of_val(&self.block[..])
+            + std::mem::size_of_val(&self.rows_of_y[..])
+    }
+}
+
+/// Fills `values` with `L` for `C = P A Pᵀ`, reading `A` (its lower
+/// triangle) through `loading`.
 ///
 /// # Errors
 /// The first column whose pivot is not positive and finite.
 pub fn factor_supernodal(
     symbolic: &SymbolicCholesky,
-    lower: &CscMatrix,
+    a: &CscMatrix,
+    loading: &FactorLoading,
     values: &mut [f64],
     work: &mut SupernodalWorkspace,
 ) -> Result<(), FailedPivot> {
@@ -102,7 +120,7 @@ pub fn factor_supernodal(
         for (position, &row) in rows.iter().enumerate() {
             work.position_in_block[row as usize] = position;
         }
-        load_block(symbolic, lower, s, values, &work.position_in_block);
+        load_block(symbolic, a, loading, s, values);
         apply_waiting_updates(symbolic, s, values, work);
         factor_block(symbolic, s, values, work)?;
         let width = symbolic.supernodes().columns(s).len();
@@ -124,22 +142,17 @@ fn column_base(symbolic: &SymbolicCholesky, s: usize, k: usize) -> usize {
     symbolic.col_ptr()[symbolic.supernodes().columns(s).start + k] - k
 }
 
-/// Step 1: the block's columns get `C(:, j)` at the positions of its rows.
+/// Step 1: the block's columns get `C(:, j)`, zeros elsewhere.
 fn load_block(
     symbolic: &SymbolicCholesky,
-    lower: &CscMatrix,
+    a: &CscMatrix,
+    loading: &FactorLoading,
     s: usize,
     values: &mut [f64],
-    position: &[usize],
 ) {
     let col_ptr = symbolic.col_ptr();
-    for (k, j) in symbolic.supernodes().columns(s).enumerate() {
-        values[col_ptr[j]..col_ptr[j + 1]].fill(0.0);
-        let base = column_base(symbolic, s, k);
-        let (rows, vals) = lower.column(j);
-        for (&i, &v) in rows.iter().zip(vals) {
-            values[base + position[i]] = v;
-        }
+    for j in symbolic.supernodes().columns(s) {
+        loading.load_column(a, j, &mut values[col_ptr[j]..col_ptr[j + 1]]);
     }
 }
 

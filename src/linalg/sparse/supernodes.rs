@@ -14,8 +14,10 @@
 //! contiguously, so the supernodal and the simplicial codes share one
 //! storage.
 //!
-//! No amalgamation: supernodes are only merged when their patterns nest
-//! exactly, so `nnz(L)` stays that of the exact pattern. Cost `O(n)`.
+//! No amalgamation here: supernodes are only merged when their patterns
+//! nest exactly, so `nnz(L)` stays that of the exact pattern. Cost `O(n)`.
+//! [`amalgamation`](super::amalgamation) merges them further, storing some
+//! zeros, for the supernodal factorization.
 //!
 //! Source: Liu, Ng, Peyton, "On finding supernodes for sparse matrix
 //! computations", SIAM J. Matrix Anal. Appl. 14(1), 1993; Davis 2006, §4.6.
@@ -44,6 +46,16 @@ impl Supernodes {
         if n > 0 {
             start.push(n);
         }
+        Self::from_starts(start, n)
+    }
+
+    /// The partition whose supernode `s` is `start[s] .. start[s + 1]`
+    /// (`start` increasing from 0 to `n`, or empty when `n = 0`).
+    pub(crate) fn from_starts(start: Vec<usize>, n: usize) -> Self {
+        debug_assert!(start.windows(2).all(|w| w[0] < w[1]));
+        debug_assert!(
+            start.first().is_none_or(|&s| s == 0) && start.last().is_none_or(|&s| s == n)
+        );
         let mut of_column = vec![0; n];
         for s in 0..start.len().saturating_sub(1) {
             of_column[start[s]..start[s + 1]].fill(s);
@@ -64,6 +76,11 @@ impl Supernodes {
     /// The columns of supernode `s`.
     pub fn columns(&self, s: usize) -> std::ops::Range<usize> {
         self.start[s]..self.start[s + 1]
+    }
+
+    /// Bytes held (array lengths).
+    pub fn bytes(&self) -> usize {
+        (self.start.len() + self.of_column.len()) * std::mem::size_of::<usize>()
     }
 
     /// The supernode that holds column `j`.

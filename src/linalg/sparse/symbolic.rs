@@ -11,6 +11,11 @@
 //! 5. the row indices of every column of `L` ([`RowPattern`], row by row);
 //! 6. the supernodes ([`Supernodes`]).
 //!
+//! For the supernodal factorization, [`SymbolicCholesky::relaxed`] then
+//! merges supernodes ([`amalgamation`](super::amalgamation)): the pattern
+//! grows by some explicit zeros, each column still stored from its
+//! diagonal down. The simplicial method needs the exact pattern.
+//!
 //! The numeric factorization then only fills in values, into arrays whose
 //! size is known here, and can be repeated when the values of `A` change.
 //! Nothing here depends on the values of `A`: the analysis holds patterns
@@ -23,6 +28,7 @@
 //! Source: Davis 2006, ch. 4 (`cs_schol`); George & Liu, *Computer Solution
 //! of Large Sparse Positive Definite Systems*, 1981.
 
+use super::amalgamation::{relax, Relaxation};
 use super::column_counts::column_counts;
 use super::csc::{cumulative_sum, CscMatrix, Triangle};
 use super::etree::elimination_tree;
@@ -75,6 +81,10 @@ pub struct SymbolicCholesky {
     /// a quarter less traffic.
     row_idx: Vec<u32>,
     supernodes: Supernodes,
+    /// Zeros stored in the pattern by [`SymbolicCholesky::relaxed`].
+    explicit_zeros: usize,
+    /// The rule applied by [`SymbolicCholesky::relaxed`], if it was.
+    relaxation: Option<Relaxation>,
 }
 
 impl SymbolicCholesky {
@@ -117,7 +127,76 @@ impl SymbolicCholesky {
             col_ptr,
             row_idx,
             supernodes,
+            explicit_zeros: 0,
+            relaxation: None,
         })
+    }
+
+    /// The same analysis with relaxed supernodes (see
+    /// [`amalgamation`](super::amalgamation)): the column counts, pointers
+    /// and rows now describe the wider pattern, explicit zeros included.
+    /// The rows are rewritten in place, last column first, so no second
+    /// copy of the pattern is made. Relaxing an analysis twice changes
+    /// nothing.
+    pub fn relaxed(mut self, rule: &Relaxation) -> SymbolicCholesky {
+        if self.relaxation.is_some() {
+            return self;
+        }
+        let exact_nnz = self.row_idx.len();
+        let (supernodes, last_member_first) =
+            relax(&self.supernodes, &self.parent, &self.column_counts, rule);
+        // a relaxed node's column k stores rows k .. fc, then those of column fc
+        for (s, &fc) in last_member_first.iter().enumerate() {
+            for k in supernodes.columns(s).start..fc {
+                self.column_counts[k] = (fc - k) + self.column_counts[fc];
+            }
+        }
+        let old_ptr = std::mem::replace(&mut self.col_ptr, cumulative_sum(&self.column_counts));
+        let new_ptr = &self.col_ptr;
+        let row_idx = &mut self.row_idx;
+        row_idx.resize(new_ptr[self.parent.len()], 0);
+        for (s, &fc) in last_member_first.iter().enumerate().rev() {
+            let columns = supernodes.columns(s);
+            for k in (fc..columns.end).rev() {
+                row_idx.copy_within(old_ptr[k]..old_ptr[k + 1], new_ptr[k]); // same rows
+            }
+            for k in (columns.start..fc).rev() {
+                let mut p = new_ptr[k];
+                for row in k..fc {
+                    row_idx[p] = row as u32; // n fits in u32, checked by the analysis
+                    p += 1;
+                }
+                row_idx.copy_within(new_ptr[fc]..new_ptr[fc + 1], p);
+            }
+        }
+        self.explicit_zeros = row_idx.len() - exact_nnz;
+        self.supernodes = supernodes;
+        self.relaxation = Some(*rule);
+        self
+    }
+
+    /// The rule of [`SymbolicCholesky::relaxed`], if it was applied.
+    pub fn relaxation(&self) -> Option<Relaxation> {
+        self.relaxation
+    }
+
+    /// Zeros stored by relaxation; `nnz_l() − explicit_zeros()` is the
+    /// number of nonzeros of the exact `L`.
+    pub fn explicit_zeros(&self) -> usize {
+        self.explicit_zeros
+    }
+
+    /// Bytes held by this analysis (its arrays' lengths, not capacities):
+    /// for the memory figures of `docs/performance.md` and their tests.
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of;
+        let n = self.n();
+        2 * n * size_of::<usize>() // the permutation and its inverse
+            + n * size_of::<Option<usize>>()
+            + std::mem::size_of_val(&self.column_counts[..])
+            + std::mem::size_of_val(&self.col_ptr[..])
+            + std::mem::size_of_val(&self.row_idx[..])
+            + self.supernodes.bytes()
     }
 
     /// Order of the matrix.
@@ -135,12 +214,14 @@ impl SymbolicCholesky {
         &self.parent
     }
 
-    /// `nnz(L(:, j))` for every column, diagonal included.
+    /// `nnz(L(:, j))` for every column, diagonal included (stored entries:
+    /// explicit zeros of a relaxed analysis count).
     pub fn column_counts(&self) -> &[usize] {
         &self.column_counts
     }
 
-    /// `nnz(L)`, diagonal included.
+    /// `nnz(L)`, diagonal included (stored entries, see
+    /// [`SymbolicCholesky::explicit_zeros`]).
     pub fn nnz_l(&self) -> usize {
         self.row_idx.len()
     }
@@ -163,7 +244,8 @@ impl SymbolicCholesky {
         &self.row_idx
     }
 
-    /// The fundamental supernodes of `L`.
+    /// The supernodes of `L`: fundamental, or relaxed after
+    /// [`SymbolicCholesky::relaxed`].
     pub fn supernodes(&self) -> &Supernodes {
         &self.supernodes
     }

@@ -47,6 +47,15 @@ impl UpLookingWorkspace {
     }
 }
 
+impl UpLookingWorkspace {
+    /// Bytes held (array lengths): `row_values`, `next_slot` and the
+    /// row-pattern work arrays, about `4 n` words.
+    pub fn bytes(&self) -> usize {
+        let n = self.row_values.len();
+        n * std::mem::size_of::<f64>() + n * std::mem::size_of::<usize>() + self.pattern.bytes()
+    }
+}
+
 /// A pivot that was not positive: `(column of C, pivot value)`.
 pub type FailedPivot = (usize, f64);
 

@@ -1,0 +1,469 @@
+//! `masssprings bench`: how each cost grows with the size of the cloth.
+//!
+//! For each `grid-N` (the scene of `generate grid N`, built in memory by
+//! [`procedural::grid`], no files), one fresh child process of this same
+//! program (`bench --one N`) measures, in this order:
+//!
+//! 1. the simulation: precomputation, then `--steps` full steps (median);
+//!    then the process's peak resident memory (`VmHWM` of
+//!    `/proc/self/status`): what a simulation of that size needs. A fresh
+//!    process per size, so that sizes do not share a high-water mark;
+//! 2. the sparse Cholesky pipeline on that simulation's `Q`, phase by phase,
+//!    as `masssprings analyze` times it (medians): AMD ordering, symbolic
+//!    analysis, supernodal numeric factorization, a 3-column solve.
+//!
+//! The parent measures the machine's memory bandwidth itself (a STREAM
+//! triad, `a = b + s c` over 3 × 32 MB, best of 10, counting 24 bytes per
+//! element as STREAM does), then fits, for each time and for the peak
+//! memory, the exponent `p` of `cost ≈ c nᵖ` by least squares on
+//! `(ln n, ln cost)`. The solve's bandwidth is the bytes of `L` it reads
+//! (two sweeps over `nnz(L)` values of 8 bytes and row indices of 4) over
+//! its time.
+//!
+//! Output: a table, or with `--json` one object `{triad_gbps, steps,
+//! sizes: [...], slopes: {...}}`; `--csv OUT` writes the sizes as CSV;
+//! `--plot OUT.png` draws the times of the phases and the peak memory
+//! against `n` on log-log axes ([`plot`](super::render::plot)), each
+//! series labelled with its fitted exponent. Progress goes to stderr.
+
+use super::analyze::{analyze, varied_rhs};
+use super::args::Args;
+use super::render::plot::{Figure, Panel, Scale, Series};
+use super::timing::{median_seconds, Repeats};
+use super::AppError;
+use masssprings::files::write_file;
+use masssprings::linalg::sparse::{Method, Ordering, Relaxation, Triangle};
+use masssprings::mesh::procedural;
+use masssprings::sim::simulation::SimulationOptions;
+use masssprings::sim::{Simulation, Sparse};
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+use std::time::Instant;
+
+/// The grid sides measured when `--sizes` is not given: about a minute on
+/// a 2-core machine. 1000 (one million vertices), 2000 and 3162 on request.
+const DEFAULT_SIDES: [usize; 3] = [32, 100, 316];
+
+/// Full steps timed per size when `--steps` is not given.
+const DEFAULT_STEPS: usize = 3;
+
+/// Bytes of `L` one solve reads: two sweeps over `nnz(L)` entries, each a
+/// value (8 bytes) and a 32-bit row index.
+const SOLVE_BYTES_PER_ENTRY: f64 = 2.0 * 12.0;
+
+/// What one size measured (one object of `sizes`, one row of the CSV).
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+struct SizeReport {
+    /// `N` of `grid-N`.
+    side: usize,
+    /// Vertices, `N²`: the order of `Q`.
+    n: usize,
+    /// Entries of the lower triangle of `Q`, diagonal included.
+    nnz_q: usize,
+    /// Nonzeros of `L`, diagonal included.
+    nnz_l: usize,
+    /// Entries of `L` stored, explicit zeros of relaxed supernodes included.
+    nnz_l_stored: usize,
+    /// Multiply-adds of the factorization, `Σ_j count[j]²`.
+    flops: f64,
+    ordering_s: f64,
+    symbolic_s: f64,
+    numeric_s: f64,
+    /// Solve of `Q X = B` for three columns.
+    solve_s: f64,
+    /// One full time step (the assignment's 50 iterations).
+    step_s: f64,
+    /// Building the simulation: springs, matrices, ordering, factorization.
+    precompute_s: f64,
+    /// `VmHWM` after precomputation and steps (0 where `/proc` is absent).
+    peak_bytes: u64,
+    bytes_per_vertex: f64,
+    /// Bytes of `L` read by the solve per second, 10⁹.
+    solve_gbps: f64,
+    /// `‖Q X − B‖ / ‖B‖` of the timed solve.
+    residual: f64,
+}
+
+/// The fitted exponents, `null` with fewer than two sizes.
+#[derive(Debug, serde::Serialize)]
+struct Slopes {
+    ordering_s: Option<f64>,
+    symbolic_s: Option<f64>,
+    numeric_s: Option<f64>,
+    solve_s: Option<f64>,
+    step_s: Option<f64>,
+    peak_bytes: Option<f64>,
+}
+
+/// The whole report (`--json`).
+#[derive(Debug, serde::Serialize)]
+struct BenchReport {
+    triad_gbps: f64,
+    steps: usize,
+    sizes: Vec<SizeReport>,
+    slopes: Slopes,
+}
+
+pub fn run(args: &[String]) -> Result<(), AppError> {
+    let args = Args::parse(args, &["sizes", "steps", "csv", "plot", "one"], &["json"])?;
+    if let Some(extra) = args.positional().first() {
+        return Err(AppError::Usage(format!(
+            "bench: unexpected argument '{extra}'"
+        )));
+    }
+    let steps = steps(&args)?;
+    // the hidden `--one N`: measure one size here, for the parent process
+    let side = args.value_or("one", 0usize)?;
+    if side > 0 {
+        let report = measure_one(side, steps)?;
+        println!(
+            "{}",
+            serde_json::to_string(&report).expect("plain numbers serialise")
+        );
+        return Ok(());
+    }
+    let sides = match args.value_or("sizes", String::new())?.as_str() {
+        "" => DEFAULT_SIDES.to_vec(),
+        text => parse_sides(text)?,
+    };
+    let path_of = |name: &str| {
+        args.value_or(name, String::new())
+            .map(|s| (!s.is_empty()).then(|| PathBuf::from(s)))
+    };
+    let (csv, plot) = (path_of("csv")?, path_of("plot")?);
+    eprintln!("bench: memory bandwidth (triad)");
+    let triad_gbps = triad_gbps();
+    let mut sizes = Vec::with_capacity(sides.len());
+    for &side in &sides {
+        sizes.push(measure_in_child(side, steps)?);
+    }
+    let report = BenchReport {
+        triad_gbps,
+        steps,
+        slopes: fit_slopes(&sizes),
+        sizes,
+    };
+    if let Some(path) = &csv {
+        write_file(path, |out| write_csv(out, &report.sizes))?;
+    }
+    if let Some(path) = &plot {
+        draw_plot(path, &report)?;
+    }
+    if args.switch("json") {
+        println!(
+            "{}",
+            serde_json::to_string(&report).expect("plain numbers serialise")
+        );
+    } else {
+        print_table(&report);
+    }
+    Ok(())
+}
+
+/// Times of the phases (left) and peak memory (right) against `n`, log-log.
+fn draw_plot(path: &std::path::Path, report: &BenchReport) -> Result<(), AppError> {
+    let slopes = &report.slopes;
+    let label = |name: &str, slope: Option<f64>| match slope {
+        Some(p) => format!("{name} (n^{p:.2})"),
+        None => name.to_string(),
+    };
+    let series = |name: &str, slope: Option<f64>, value: fn(&SizeReport) -> f64| {
+        let points = report
+            .sizes
+            .iter()
+            .map(|s| (s.n as f64, value(s)))
+            .collect();
+        Series::new(label(name, slope), points).with_markers()
+    };
+    let times = vec![
+        series("ordering", slopes.ordering_s, |s| s.ordering_s),
+        series("symbolic", slopes.symbolic_s, |s| s.symbolic_s),
+        series("numeric", slopes.numeric_s, |s| s.numeric_s),
+        series("solve, 3 columns", slopes.solve_s, |s| s.solve_s),
+        series("step, 50 iterations", slopes.step_s, |s| s.step_s),
+    ];
+    let memory = vec![
+        series("peak resident", slopes.peak_bytes, |s| {
+            s.peak_bytes as f64 / 1e6
+        }),
+        series("values and rows of L", None, |s| {
+            s.nnz_l_stored as f64 * 12.0 / 1e6
+        }),
+    ];
+    let panel = |title: &str, y_label: &str, series: Vec<Series>| Panel {
+        title: title.into(),
+        x_label: "n (vertices)".into(),
+        y_label: y_label.into(),
+        x_scale: Scale::Log10,
+        y_scale: Scale::Log10,
+        series,
+        ..Panel::default()
+    };
+    let figure = Figure {
+        title: "masssprings bench: cost against size, grid-N cloths".into(),
+        caption: format!(
+            "medians; fitted exponents in the legends; triad bandwidth {:.1} GB/s",
+            report.triad_gbps
+        ),
+        panels: vec![
+            panel("time of each phase", "seconds", times),
+            panel("memory", "MB", memory),
+        ],
+        width: 1200,
+        height: 560,
+    };
+    figure.write_png(path)
+}
+
+fn steps(args: &Args) -> Result<usize, AppError> {
+    match args.value_or("steps", DEFAULT_STEPS)? {
+        0 => Err(AppError::Usage("--steps must be at least 1".into())),
+        steps => Ok(steps),
+    }
+}
+
+/// `32,100,316`: grid sides, each at least 2.
+fn parse_sides(text: &str) -> Result<Vec<usize>, AppError> {
+    text.split(',')
+        .map(|part| match part.trim().parse::<usize>() {
+            Ok(side) if side >= 2 => Ok(side),
+            _ => Err(AppError::Usage(format!(
+                "--sizes {text}: '{part}' is not a grid side (an integer ≥ 2)"
+            ))),
+        })
+        .collect()
+}
+
+/// Runs `bench --one SIDE` in a fresh process of this program and reads
+/// its one-line JSON report.
+fn measure_in_child(side: usize, steps: usize) -> Result<SizeReport, AppError> {
+    let program = std::env::current_exe()
+        .map_err(|e| AppError::Failed(format!("cannot find this program to rerun it: {e}")))?;
+    let output = Command::new(program)
+        .args([
+            "bench",
+            "--one",
+            &side.to_string(),
+            "--steps",
+            &steps.to_string(),
+        ])
+        .stdin(Stdio::null())
+        .stderr(Stdio::inherit())
+        .output()
+        .map_err(|e| AppError::Failed(format!("grid-{side}: cannot start the measurement: {e}")))?;
+    if !output.status.success() {
+        return Err(AppError::Failed(format!(
+            "grid-{side}: the measurement failed ({})",
+            output.status
+        )));
+    }
+    let text = String::from_utf8_lossy(&output.stdout);
+    serde_json::from_str(text.trim()).map_err(|e| {
+        AppError::Failed(format!(
+            "grid-{side}: unreadable report from the measurement ({e})"
+        ))
+    })
+}
+
+/// Measures one size in this process (the child's side of
+/// [`measure_in_child`]).
+fn measure_one(side: usize, steps: usize) -> Result<SizeReport, AppError> {
+    let name = format!("grid-{side}");
+    let failed = |e: &dyn std::fmt::Display| AppError::Failed(format!("{name}: {e}"));
+    eprintln!("{name}: scene");
+    let scene = procedural::grid(side).to_scene().map_err(|e| failed(&e))?;
+    eprintln!("{name}: precomputation (n = {})", scene.vertices.len());
+    let started = Instant::now();
+    let mut simulation = Simulation::<Sparse>::from_scene(&scene, SimulationOptions::default())
+        .map_err(|e| failed(&e))?;
+    let precompute_s = started.elapsed().as_secs_f64();
+    drop(scene);
+    eprintln!("{name}: {steps} steps");
+    let mut step_error = None;
+    let (step_s, _) = median_seconds(Repeats::Exactly(steps), || {
+        if let Err(e) = simulation.step() {
+            step_error.get_or_insert(e);
+        }
+    });
+    if let Some(e) = step_error {
+        return Err(failed(&e));
+    }
+    let peak_bytes = peak_resident_bytes();
+    let lower = simulation.system().Q.triangle(Triangle::Lower);
+    drop(simulation);
+    eprintln!("{name}: ordering, symbolic, numeric, solve");
+    let rhs = varied_rhs(lower.ncols());
+    let a = analyze(
+        &lower,
+        &rhs,
+        Ordering::Amd,
+        Method::Supernodal,
+        Relaxation::NONE, // as the simulation factors
+        Repeats::Adaptive,
+    )
+    .map_err(|e| failed(&e))?;
+    Ok(SizeReport {
+        side,
+        n: a.n,
+        nnz_q: a.nnz_a,
+        nnz_l: a.nnz_l,
+        nnz_l_stored: a.nnz_l_stored,
+        flops: a.flops,
+        ordering_s: a.ordering_s,
+        symbolic_s: a.symbolic_s,
+        numeric_s: a.numeric_s,
+        solve_s: a.solve_s,
+        step_s,
+        precompute_s,
+        peak_bytes,
+        bytes_per_vertex: peak_bytes as f64 / a.n as f64,
+        solve_gbps: SOLVE_BYTES_PER_ENTRY * a.nnz_l_stored as f64 / a.solve_s / 1e9,
+        residual: a.residual,
+    })
+}
+
+/// This process's peak resident set (`VmHWM`, Linux), in bytes; 0 where
+/// it cannot be read.
+fn peak_resident_bytes() -> u64 {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    status
+        .lines()
+        .find_map(|line| line.strip_prefix("VmHWM:"))
+        .and_then(|rest| rest.trim().strip_suffix("kB"))
+        .and_then(|kb| kb.trim().parse::<u64>().ok())
+        .map_or(0, |kb| kb * 1024)
+}
+
+/// STREAM's triad `a = b + s c` over three arrays of 32 MB (far beyond the
+/// caches), best of 10 runs, in 10⁹ bytes per second (24 bytes moved per
+/// element: two reads, one write).
+fn triad_gbps() -> f64 {
+    const LEN: usize = 1 << 22;
+    let b: Vec<f64> = (0..LEN).map(|i| i as f64).collect();
+    let c: Vec<f64> = (0..LEN).map(|i| 0.5 * i as f64).collect();
+    let mut a = vec![0.0; LEN];
+    let s = std::hint::black_box(3.0);
+    let mut best = f64::INFINITY;
+    for _ in 0..10 {
+        let t = Instant::now();
+        for ((a, &b), &c) in a.iter_mut().zip(&b).zip(&c) {
+            *a = b + s * c;
+        }
+        std::hint::black_box(&mut a);
+        best = best.min(t.elapsed().as_secs_f64());
+    }
+    24.0 * LEN as f64 / best / 1e9
+}
+
+/// Least-squares slope of `ln y` against `ln n` over the sizes where
+/// `y > 0`; `None` with fewer than two distinct `n`.
+fn log_log_slope(points: impl Iterator<Item = (f64, f64)>) -> Option<f64> {
+    let logs: Vec<(f64, f64)> = points
+        .filter(|&(n, y)| n > 0.0 && y > 0.0)
+        .map(|(n, y)| (n.ln(), y.ln()))
+        .collect();
+    let count = logs.len() as f64;
+    let mean_x = logs.iter().map(|p| p.0).sum::<f64>() / count;
+    let mean_y = logs.iter().map(|p| p.1).sum::<f64>() / count;
+    let sxx: f64 = logs.iter().map(|p| (p.0 - mean_x).powi(2)).sum();
+    let sxy: f64 = logs.iter().map(|p| (p.0 - mean_x) * (p.1 - mean_y)).sum();
+    (logs.len() >= 2 && sxx > 0.0).then(|| sxy / sxx)
+}
+
+fn fit_slopes(sizes: &[SizeReport]) -> Slopes {
+    let slope =
+        |cost: fn(&SizeReport) -> f64| log_log_slope(sizes.iter().map(|s| (s.n as f64, cost(s))));
+    Slopes {
+        ordering_s: slope(|s| s.ordering_s),
+        symbolic_s: slope(|s| s.symbolic_s),
+        numeric_s: slope(|s| s.numeric_s),
+        solve_s: slope(|s| s.solve_s),
+        step_s: slope(|s| s.step_s),
+        peak_bytes: slope(|s| s.peak_bytes as f64),
+    }
+}
+
+/// The sizes as CSV, one row each, the keys of `--json` as the header.
+fn write_csv(out: &mut dyn Write, sizes: &[SizeReport]) -> std::io::Result<()> {
+    writeln!(
+        out,
+        "side,n,nnz_q,nnz_l,nnz_l_stored,flops,ordering_s,symbolic_s,numeric_s,solve_s,step_s,\
+         precompute_s,peak_bytes,bytes_per_vertex,solve_gbps,residual"
+    )?;
+    for s in sizes {
+        writeln!(
+            out,
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            s.side,
+            s.n,
+            s.nnz_q,
+            s.nnz_l,
+            s.nnz_l_stored,
+            s.flops,
+            s.ordering_s,
+            s.symbolic_s,
+            s.numeric_s,
+            s.solve_s,
+            s.step_s,
+            s.precompute_s,
+            s.peak_bytes,
+            s.bytes_per_vertex,
+            s.solve_gbps,
+            s.residual
+        )?;
+    }
+    Ok(())
+}
+
+fn print_table(report: &BenchReport) {
+    println!(
+        "{:>9} {:>11} {:>12} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>8} {:>7}",
+        "grid",
+        "n",
+        "nnz(L)",
+        "order ms",
+        "symbol ms",
+        "numeric ms",
+        "solve ms",
+        "step ms",
+        "peak MB",
+        "B/vertex",
+        "solve GB/s"
+    );
+    for s in &report.sizes {
+        println!(
+            "{:>9} {:>11} {:>12} {:>10.3} {:>10.3} {:>10.3} {:>10.3} {:>10.1} {:>10.1} {:>8.0} {:>7.1}",
+            format!("grid-{}", s.side),
+            s.n,
+            s.nnz_l,
+            1e3 * s.ordering_s,
+            1e3 * s.symbolic_s,
+            1e3 * s.numeric_s,
+            1e3 * s.solve_s,
+            1e3 * s.step_s,
+            s.peak_bytes as f64 / 1e6,
+            s.bytes_per_vertex,
+            s.solve_gbps
+        );
+    }
+    let show = |slope: Option<f64>| slope.map_or("-".to_string(), |p| format!("{p:.2}"));
+    let slopes = &report.slopes;
+    println!(
+        "{:>9} {:>11} {:>12} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}",
+        "slope",
+        "",
+        "",
+        show(slopes.ordering_s),
+        show(slopes.symbolic_s),
+        show(slopes.numeric_s),
+        show(slopes.solve_s),
+        show(slopes.step_s),
+        show(slopes.peak_bytes)
+    );
+    println!(
+        "(cost ≈ c·nᵖ, p fitted by least squares on logs; medians; {} steps per size; \
+         triad bandwidth {:.1} GB/s)",
+        report.steps, report.triad_gbps
+    );
+}
