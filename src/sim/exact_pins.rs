@@ -47,15 +47,20 @@ pub struct ExactPins<B: LinearAlgebra> {
     pub pin_rhs: Vec<[f64; 3]>,
     /// Room for the free rows of a right-hand side.
     buffer: Vec<[f64; 3]>,
+    /// How `Q_ff` was ordered and factored.
+    pub how: SparseFactorization,
 }
 
 impl<B: LinearAlgebra> ExactPins<B> {
     /// The reduced system of `system`'s network, with its current pins
-    /// and targets.
+    /// and targets, `Q_ff` ordered and factored as `how` says.
     ///
     /// # Errors
     /// [`SimulationError::Linalg`] when `Q_ff` is not positive definite.
-    pub fn new(system: &MassSpringSystem<B>) -> Result<Self, SimulationError> {
+    pub fn new(
+        system: &MassSpringSystem<B>,
+        how: SparseFactorization,
+    ) -> Result<Self, SimulationError> {
         let (a, springs, n, m, k) = (&system.A, &system.springs, system.n(), &system.m, system.k);
         let (delta_t, pinned, targets) = (system.delta_t, &system.pinned, &system.pin_targets);
         let mut is_pinned = vec![false; n];
@@ -75,9 +80,6 @@ impl<B: LinearAlgebra> ExactPins<B> {
         let all: Vec<usize> = (0..n).collect();
         let q_without_pins = springs_and_mass(&all, a);
         let a_free = free_columns::<B>(springs, n, &free);
-        // Q_ff is factored the default way (sparse: AMD, supernodal), whatever
-        // ordering and factorization the simulation's Q uses.
-        let how = SparseFactorization::default();
         let factorization = B::factor(&springs_and_mass(&free, &a_free), how)?;
         let mut reduced = ExactPins {
             buffer: vec![[0.0; 3]; free.len()],
@@ -85,6 +87,7 @@ impl<B: LinearAlgebra> ExactPins<B> {
             q_without_pins,
             factorization,
             pin_rhs: vec![[0.0; 3]; n],
+            how,
         };
         reduced.set_targets(a, springs.len(), k, pinned, targets);
         Ok(reduced)

@@ -117,8 +117,8 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
         self.Q = assemble_q::<B>(&self.A, &self.M, &self.C, self.k, self.delta_t, self.w);
         B::refactor(&mut self.prefactorization, &self.Q)?;
         self.pin_rhs = pin_right_hand_side::<B>(&self.C, n, targets, self.w);
-        if self.exact_pins.is_some() {
-            self.use_exact_pins()?;
+        if let Some(how) = self.exact_pins.as_ref().map(|e| e.how) {
+            self.use_exact_pins(how)?;
         }
         Ok(())
     }
@@ -129,8 +129,8 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
     ///
     /// # Errors
     /// [`SimulationError::Linalg`] when `Q_ff` is not positive definite.
-    pub fn use_exact_pins(&mut self) -> Result<(), SimulationError> {
-        self.exact_pins = Some(ExactPins::new(self)?);
+    pub fn use_exact_pins(&mut self, how: SparseFactorization) -> Result<(), SimulationError> {
+        self.exact_pins = Some(ExactPins::new(self, how)?);
         Ok(())
     }
 

@@ -166,7 +166,7 @@ impl<B: LinearAlgebra> Simulation<B> {
             how,
         )?;
         if options.pins == Pins::Exact {
-            system.use_exact_pins()?;
+            system.use_exact_pins(how)?;
         }
         let n = vertices.len();
         Ok(Simulation {

@@ -348,15 +348,14 @@ impl<'a, 'o> Monitor<'a, 'o> {
     }
 }
 
-/// `norm / initial`, 0 when both are 0 (a step that starts at rest at a
-/// minimiser has nothing to do).
+/// `norm / initial`; when the step starts exactly at a minimiser
+/// (`initial = 0`, e.g. at rest with no force) there is nothing to divide
+/// by, and the absolute `norm` is reported.
 fn relative_gradient(norm: f64, initial: f64) -> f64 {
     if initial > 0.0 {
         norm / initial
-    } else if norm == 0.0 {
-        0.0
     } else {
-        f64::INFINITY
+        norm
     }
 }
 
