@@ -5,10 +5,10 @@ mod common;
 
 use common::*;
 use masssprings::mesh::load_scene;
-use masssprings::sim::energy::StepEnergy;
+use masssprings::sim::energy::{start_lengths, StepEnergy};
 use masssprings::sim::hessian::Hessian;
 use masssprings::sim::methods::Iterate;
-use masssprings::sim::simulation::SimulationOptions;
+use masssprings::sim::simulation::{Pins, SimulationOptions};
 use masssprings::sim::{
     Simulation, SimulationError, Sparse, StepControl, StepMethod, Stop, DELTA_T,
 };
@@ -26,6 +26,7 @@ struct StepData {
     f_ext: Vec<[f64; 3]>,
     start: Vec<[f64; 3]>,
     w: f64,
+    start_lengths: Vec<f64>,
 }
 
 impl StepData {
@@ -42,6 +43,7 @@ impl StepData {
             inertial_target: &self.inertial_target,
             f_ext: &self.f_ext,
             start: &self.start,
+            start_lengths: &self.start_lengths,
         }
     }
 }
@@ -69,9 +71,13 @@ fn step_data() -> impl Strategy<Value = (StepData, Vec<[f64; 3]>)> {
                     .collect()
             };
             let p = shifted(&p_offset);
+            let start = shifted(&start_offset);
+            let mut lengths = vec![0.0; net.springs.len()];
+            start_lengths(&net.springs, &start, &mut lengths);
             let data = StepData {
+                start_lengths: lengths,
                 pin_targets: net.pinned.iter().map(|&i| net.v[i]).collect(),
-                start: shifted(&start_offset),
+                start,
                 inertial_target: shifted(&target_offset),
                 f_ext: forces.iter().map(|f| f.map(|x| 10.0 * x)).collect(),
                 r,
@@ -209,12 +215,12 @@ fn simulation_after(scene: &str, steps: usize) -> Simulation<Sparse> {
     simulation
 }
 
-/// (iteration, E(p) − E(p⁰), relative gradient) of every iterate of the
+/// (iteration, E(p) − E(p⁰), relative gradient).
+type Row = (usize, f64, f64);
+
+/// The rows of every iterate of the
 /// next step of `simulation` (a copy moves), and the positions reached.
-fn trace(
-    simulation: &Simulation<Sparse>,
-    control: StepControl,
-) -> (Vec<(usize, f64, f64)>, Vec<[f64; 3]>) {
+fn trace(simulation: &Simulation<Sparse>, control: StepControl) -> (Vec<Row>, Vec<[f64; 3]>) {
     let mut copy = simulation.clone();
     let mut rows = Vec::new();
     let mut g = vec![[0.0; 3]; copy.positions().len()];
@@ -443,5 +449,83 @@ fn a_non_finite_step_is_reported_by_every_method() {
             ),
             "{method}: {error:?}"
         );
+    }
+}
+
+fn simulation_with(scene: &str, options: SimulationOptions) -> Simulation<Sparse> {
+    let scene = load_scene(&data_path(scene)).unwrap();
+    Simulation::<Sparse>::from_scene(&scene, options).unwrap()
+}
+
+#[test]
+fn exact_pins_stay_exactly_at_their_targets_for_every_method() {
+    for method in StepMethod::ALL {
+        let options = SimulationOptions {
+            pins: Pins::Exact,
+            method,
+            iterations: 20,
+            ..SimulationOptions::default()
+        };
+        let mut simulation = simulation_with("flag.json", options);
+        for _ in 0..3 {
+            simulation.step().unwrap();
+        }
+        for &c in simulation.pinned() {
+            assert_eq!(
+                simulation.positions()[c],
+                simulation.rest_positions()[c],
+                "{method}"
+            );
+        }
+        simulation.start_drag(3000, [0.5, 0.5, 0.5]).unwrap();
+        simulation.step().unwrap();
+        assert_eq!(simulation.positions()[3000], [0.5, 0.5, 0.5], "{method}");
+    }
+}
+
+#[test]
+fn exact_pins_and_the_penalty_agree_to_the_penaltys_drift() {
+    let run = |pins| {
+        let options = SimulationOptions {
+            pins,
+            ..SimulationOptions::default()
+        };
+        let mut simulation = simulation_with("flag.json", options);
+        for _ in 0..10 {
+            simulation.step().unwrap();
+        }
+        simulation.positions().to_vec()
+    };
+    let (penalty, exact) = (run(Pins::Penalty), run(Pins::Exact));
+    let largest = penalty
+        .iter()
+        .zip(&exact)
+        .flat_map(|(a, b)| (0..3).map(move |c| (a[c] - b[c]).abs()))
+        .fold(0.0, f64::max);
+    // the penalty's pins drift by about force / w ~ 1e-7..1e-6 (docs/fidelity.md)
+    assert!(largest > 0.0 && largest < 1e-5, "{largest:e}");
+}
+
+#[test]
+fn with_exact_pins_every_method_reaches_newtons_minimiser() {
+    let options = SimulationOptions {
+        pins: Pins::Exact,
+        ..SimulationOptions::default()
+    };
+    let mut simulation = simulation_with("net.json", options);
+    simulation.step().unwrap();
+    let (_, minimiser) = trace(&simulation, control(StepMethod::Newton, 100, Some(1e-12)));
+    let size = minimiser
+        .iter()
+        .flatten()
+        .fold(1.0f64, |a, x| a.max(x.abs()));
+    for method in StepMethod::ALL {
+        let (_, p) = trace(&simulation, control(method, 5000, Some(1e-11)));
+        let distance = p
+            .iter()
+            .zip(&minimiser)
+            .flat_map(|(a, b)| (0..3).map(move |c| (a[c] - b[c]).abs()))
+            .fold(0.0, f64::max);
+        assert!(distance <= 1e-8 * size, "{method}: {distance:e}");
     }
 }

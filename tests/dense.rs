@@ -4,7 +4,7 @@ mod common;
 
 use common::*;
 use masssprings::linalg::dense::{
-    back_substitution, forward_substitution, DenseCholesky, DenseMatrix,
+    back_substitution_dense, forward_substitution_dense, DenseCholesky, DenseMatrix,
 };
 use masssprings::linalg::LinalgError;
 use nalgebra::{DMatrix, DVector};
@@ -343,7 +343,7 @@ proptest! {
         (t, b) in lower_triangular(12).prop_flat_map(|t| { let n = t.nrows(); (Just(t), rhs_for(n)) })
     ) {
         let mut y = b.clone();
-        forward_substitution(&dense_from_nalgebra(&t), &mut y).unwrap();
+        forward_substitution_dense(&dense_from_nalgebra(&t), &mut y).unwrap();
         let oracle = t.solve_lower_triangular(&column(&b)).unwrap();
         assert_near(&column(&y), &oracle, 1e-10);
     }
@@ -356,7 +356,7 @@ proptest! {
         // its diagonal: upper triangular with garbage below.
         let u = t.transpose();
         let mut x = b.clone();
-        back_substitution(&dense_from_nalgebra(&u), &mut x).unwrap();
+        back_substitution_dense(&dense_from_nalgebra(&u), &mut x).unwrap();
         let oracle = u.solve_upper_triangular(&column(&b)).unwrap();
         assert_near(&column(&x), &oracle, 1e-10);
     }
@@ -391,13 +391,13 @@ fn factor_of_textbook_example_is_exact() {
 
 #[test]
 fn substitutions_compose_to_the_assignment_pseudo_code() {
-    // p = back_substitution(transpose(L), forward_substitution(L, b))
+    // the handout: p = back_substitution(transpose(L), forward_substitution(L, b))
     let a = DenseMatrix::from_rows(&[[4.0, 2.0], [2.0, 10.0]]).unwrap();
     let chol = DenseCholesky::factor(&a).unwrap();
     let b = [6.0, 12.0];
     let mut p = b;
-    forward_substitution(chol.l(), &mut p).unwrap();
-    back_substitution(&chol.l().transpose(), &mut p).unwrap();
+    forward_substitution_dense(chol.l(), &mut p).unwrap();
+    back_substitution_dense(&chol.l().transpose(), &mut p).unwrap();
     let mut direct = b;
     chol.solve_in_place(&mut direct).unwrap();
     assert_eq!(p, direct);
@@ -642,15 +642,15 @@ fn solving_with_a_right_hand_side_of_wrong_length_is_an_error() {
 fn substitution_with_wrong_shapes_is_an_error() {
     let l = DenseMatrix::identity(3);
     assert_eq!(
-        forward_substitution(&DenseMatrix::zeros(3, 2), &mut [0.0; 3]),
+        forward_substitution_dense(&DenseMatrix::zeros(3, 2), &mut [0.0; 3]),
         Err(LinalgError::NotSquare { nrows: 3, ncols: 2 })
     );
     assert_eq!(
-        back_substitution(&DenseMatrix::zeros(2, 3), &mut [0.0; 2]),
+        back_substitution_dense(&DenseMatrix::zeros(2, 3), &mut [0.0; 2]),
         Err(LinalgError::NotSquare { nrows: 2, ncols: 3 })
     );
-    let forward = forward_substitution(&l, &mut [0.0; 4]);
-    assert_eq!(mismatched_operation(forward), "forward_substitution");
-    let back = back_substitution(&l, &mut [0.0; 2]);
-    assert_eq!(mismatched_operation(back), "back_substitution");
+    let forward = forward_substitution_dense(&l, &mut [0.0; 4]);
+    assert_eq!(mismatched_operation(forward), "forward_substitution_dense");
+    let back = back_substitution_dense(&l, &mut [0.0; 2]);
+    assert_eq!(mismatched_operation(back), "back_substitution_dense");
 }

@@ -1,59 +1,81 @@
-//! The whole simulation against the independent reference trajectories in
-//! `../shared/reference/` (Eigen `SimplicialLLT`, the assignment's own
-//! solver), with the tolerances its README states:
+//! The whole simulation against independent reference trajectories
+//! computed with Eigen's `SimplicialLLT` (the assignment's own solver) by
+//! `../shared/tools/eigen-ref`, with the tolerances of
+//! `../shared/reference/README.md`:
 //!
 //! * single spring, chain, net, flag: every vertex within 1e-8 after step 1
 //!   and within 1e-6 after steps 10, 100 and 300;
 //! * skirt: within 1e-8 after step 1; after that the motion is chaotic
-//!   (rounding grows about 25× per step), so the centroid must agree within
-//!   1e-3 and the RMS distance from rest within 1e-3 relative, at steps 100
-//!   and 300. At step 10 the skirt is in the middle of buckling, and there
-//!   this test allows 1e-2 for the centroid and 3e-2 for the RMS: see
-//!   `SKIRT_STEP_10` below for why;
+//!   (rounding grows about 25× per step), so the centroid and the RMS
+//!   distance from rest (relative) are compared instead: within 3e-3 and
+//!   5e-3 at step 10, in the middle of the buckling, and within 1e-3 at
+//!   steps 100 and 300 (the bundled skirt, another mesh, at step 10: within
+//!   1e-2 and 5e-2, see `BUNDLED_SKIRT_STEP_10`);
 //! * pinned vertices within 1e-6 of rest in every scene;
 //! * dense and sparse agree to 1e-9 on the small scenes.
 //!
-//! The scenes and trajectories live outside the repository, in
-//! `../shared/`; without it these tests say so and check nothing else.
+//! Two sets of trajectories:
+//!
+//! * the bundled scenes of `data/` against `tests/fixtures/reference/`
+//!   (steps 1, 10, 100; the command that made them is in the README
+//!   there): these run on any clone;
+//! * the assignment's original scenes, `../shared/original-data/`, against
+//!   `../shared/reference/` (steps 1, 10, 100, 300). They live outside the
+//!   repository: without them these tests say so and pass, except under
+//!   `CI=true`, where a missing `../shared` is a failure.
 //!
 //! `cargo test --release --test fidelity -- --nocapture --test-threads 1`
 //! prints the measured distances (`docs/fidelity.md`).
 
-use masssprings::mesh::load_scene;
+use masssprings::linalg::sparse::{Method, Ordering};
+use masssprings::mesh::{load_scene, Scene};
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Dense, Simulation, Sparse};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
+/// `../shared`, or `None` (with a note) when it is missing; a missing
+/// `../shared` fails under `CI=true`.
 fn shared() -> Option<PathBuf> {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared");
     if path.join("reference").is_dir() && path.join("original-data").is_dir() {
-        Some(path)
-    } else {
-        eprintln!(
-            "SKIPPED: {} not found; the fidelity tests need the assignment's scenes and the reference trajectories",
-            path.display()
-        );
-        None
+        return Some(path);
     }
+    let message = format!(
+        "{} not found; these fidelity tests need the assignment's scenes and their reference trajectories",
+        path.display()
+    );
+    assert!(std::env::var("CI").as_deref() != Ok("true"), "{message}");
+    eprintln!("SKIPPED: {message}");
+    None
 }
 
-/// Aggregate tolerances at skirt step 10: (centroid, relative RMS).
-///
-/// The reference README asks for 1e-3 at every step after the first. At
-/// step 10 the skirt is buckling and differences grow about 30× per step,
-/// so that bound holds only for an implementation whose rounding follows
-/// Eigen's almost bit for bit (the reference rebuilt with fused
-/// multiply-add is 3e-14 away at step 1 and 3.7e-4 at step 10). Ours
-/// orders the unknowns differently (SuiteSparse-quality AMD, 5% less fill
-/// than Eigen's), which puts it 3e-13 away at step 1 (the README allows
-/// 1e-8); correct variants of it that round differently landed between
-/// 7e-4 and 2.5e-2 in centroid at step 10. After the transient, at steps
-/// 100 and 300, we meet the README's 1e-3 with room. `docs/fidelity.md`
-/// has the figures.
-const SKIRT_STEP_10: (f64, f64) = (1e-2, 3e-2);
+/// The repository's own folder `relative`.
+fn repository(relative: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(relative)
+}
+
+/// Aggregate tolerances at the original skirt's step 10: (centroid,
+/// relative RMS), re-measured in `../shared/reference/README.md`: the
+/// reference itself, rebuilt with fused multiply-add, is 3.8e-4 and 1.3e-3
+/// away there. Ours is 7.2e-4 and 1.5e-3 away (`docs/fidelity.md`).
+const SKIRT_STEP_10: (f64, f64) = (3e-3, 5e-3);
+
+/// The same for the bundled skirt (`data/skirt.json`, another mesh), where
+/// the README's bound was not measured. There the reference rebuilt with
+/// fused multiply-add (same ordering, same code) is 1.3e-4 and 5.4e-4 away,
+/// but every correct variant of ours, which eliminates in another order,
+/// lands farther: the default path (AMD, supernodal) 3.5e-3 and 1.8e-2,
+/// AMD simplicial 1.2e-3 and 6.3e-3, natural order 7.3e-3 to 8.1e-3 and
+/// 3.9e-2 to 4.3e-2; by step 100 every one is within 2.5e-4 and 3e-5.
+/// So the bound here is the spread of those variants, and step 100 is held
+/// to the README's 1e-3 (`tests/fixtures/reference/README.md`).
+const BUNDLED_SKIRT_STEP_10: (f64, f64) = (1e-2, 5e-2);
+
+/// Aggregate tolerances of the skirt at steps 100 and 300.
+const SKIRT_LATER: (f64, f64) = (1e-3, 1e-3);
 
 /// `x y z` per line.
-fn read_positions(path: &PathBuf) -> Vec<[f64; 3]> {
+fn read_positions(path: &Path) -> Vec<[f64; 3]> {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     text.lines()
         .filter(|line| !line.trim().is_empty())
@@ -72,7 +94,7 @@ fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
 }
 
 fn max_distance(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
-    assert_eq!(a.len(), b.len());
+    assert_eq!(a.len(), b.len(), "different numbers of vertices");
     a.iter()
         .zip(b)
         .map(|(&p, &q)| distance(p, q))
@@ -93,38 +115,96 @@ fn rms_from_rest(p: &[[f64; 3]], rest: &[[f64; 3]]) -> f64 {
         .sqrt()
 }
 
-/// Simulates `name` for 300 steps (sparse) and compares with the reference
-/// at steps 1, 10, 100, 300.
-fn check_against_reference(name: &str, chaotic: bool) {
-    let Some(largest_drift) = run_against_reference(name, chaotic) else {
-        return;
-    };
-    println!("{name}: largest pin drift over 300 steps {largest_drift:.3e} (tolerance 1e-6)");
+/// One scene and the reference positions to hold it to.
+struct Trajectory {
+    /// The scene's name, `NAME.json` and `NAME.stepK.txt`.
+    name: &'static str,
+    /// The folder of `NAME.json`.
+    scenes: PathBuf,
+    /// The folder of `NAME.stepK.txt`.
+    reference: PathBuf,
+    /// The steps with a reference file, in increasing order.
+    steps: &'static [usize],
+    /// Compare aggregates after step 1 (the skirt).
+    chaotic: bool,
+    /// The aggregate tolerances at step 10 when `chaotic`.
+    step_10: (f64, f64),
 }
 
-/// The run behind [`check_against_reference`]; returns the largest pin
-/// drift, or `None` without `../shared`.
-fn run_against_reference(name: &str, chaotic: bool) -> Option<f64> {
-    let shared = shared()?;
-    let scene = load_scene(&shared.join(format!("original-data/{name}.json"))).unwrap();
-    let mut sim = Simulation::<Sparse>::from_scene(&scene, SimulationOptions::default()).unwrap();
-    let mut largest_drift = 0.0f64;
-    for step in 1..=300 {
-        sim.step().unwrap();
+impl Trajectory {
+    /// A bundled scene of `data/` against `tests/fixtures/reference/`.
+    fn bundled(name: &'static str, chaotic: bool) -> Self {
+        Trajectory {
+            name,
+            scenes: repository("data"),
+            reference: repository("tests/fixtures/reference"),
+            steps: &[1, 10, 100],
+            chaotic,
+            step_10: BUNDLED_SKIRT_STEP_10,
+        }
+    }
+
+    /// An original scene against `../shared/reference/`, if present.
+    fn original(name: &'static str, chaotic: bool) -> Option<Self> {
+        let shared = shared()?;
+        Some(Trajectory {
+            name,
+            scenes: shared.join("original-data"),
+            reference: shared.join("reference"),
+            steps: &[1, 10, 100, 300],
+            chaotic,
+            step_10: SKIRT_STEP_10,
+        })
+    }
+
+    fn scene(&self) -> Scene {
+        load_scene(&self.scenes.join(format!("{}.json", self.name))).unwrap()
+    }
+
+    fn reference_at(&self, step: usize) -> Vec<[f64; 3]> {
+        read_positions(&self.reference.join(format!("{}.step{step}.txt", self.name)))
+    }
+
+    /// Simulates with `options` up to the last reference step, checking the
+    /// pins every step and the positions at every reference step.
+    fn check(&self, options: SimulationOptions) {
+        let scene = self.scene();
+        let mut sim = Simulation::<Sparse>::from_scene(&scene, options).unwrap();
+        let mut largest_drift = 0.0f64;
+        let last = *self.steps.last().unwrap();
+        for step in 1..=last {
+            sim.step().unwrap();
+            largest_drift = largest_drift.max(self.check_pins(&scene, sim.positions(), step));
+            if self.steps.contains(&step) {
+                self.check_step(&scene, sim.positions(), step);
+            }
+        }
+        println!(
+            "{}: largest pin drift over {last} steps {largest_drift:.3e} (tolerance 1e-6)",
+            self.name
+        );
+    }
+
+    /// Every pin within 1e-6 of rest; returns the largest drift.
+    fn check_pins(&self, scene: &Scene, ours: &[[f64; 3]], step: usize) -> f64 {
+        let mut largest = 0.0f64;
         for &pin in &scene.pinned {
-            let drift = distance(sim.positions()[pin], scene.vertices[pin]);
+            let drift = distance(ours[pin], scene.vertices[pin]);
             assert!(
                 drift <= 1e-6,
-                "{name} step {step}: pin {pin} drifted {drift:e}"
+                "{} step {step}: pin {pin} drifted {drift:e}",
+                self.name
             );
-            largest_drift = largest_drift.max(drift);
+            largest = largest.max(drift);
         }
-        if ![1, 10, 100, 300].contains(&step) {
-            continue;
-        }
-        let reference = read_positions(&shared.join(format!("reference/{name}.step{step}.txt")));
-        let ours = sim.positions();
-        if step == 1 || !chaotic {
+        largest
+    }
+
+    /// The positions after `step` against the reference's.
+    fn check_step(&self, scene: &Scene, ours: &[[f64; 3]], step: usize) {
+        let name = self.name;
+        let reference = self.reference_at(step);
+        if step == 1 || !self.chaotic {
             let tolerance = if step == 1 { 1e-8 } else { 1e-6 };
             let error = max_distance(ours, &reference);
             println!(
@@ -134,66 +214,173 @@ fn run_against_reference(name: &str, chaotic: bool) -> Option<f64> {
                 error <= tolerance,
                 "{name} step {step}: max vertex distance {error:e} > {tolerance:e}"
             );
-        } else {
-            let (centroid_tolerance, rms_tolerance) = if step == 10 {
-                SKIRT_STEP_10
-            } else {
-                (1e-3, 1e-3)
-            };
-            let centroid_error = distance(centroid(ours), centroid(&reference));
-            assert!(
-                centroid_error <= centroid_tolerance,
-                "{name} step {step}: centroids {centroid_error:e} apart"
-            );
-            let (rms, rms_reference) = (
-                rms_from_rest(ours, &scene.vertices),
-                rms_from_rest(&reference, &scene.vertices),
-            );
-            let relative = (rms - rms_reference).abs() / rms_reference;
-            println!(
-                "{name} step {step}: centroid {centroid_error:.3e} apart (tolerance {centroid_tolerance:e}), \
-                 RMS from rest {relative:.3e} relative (tolerance {rms_tolerance:e}), max vertex distance {:.3e}",
-                max_distance(ours, &reference)
-            );
-            assert!(
-                relative <= rms_tolerance,
-                "{name} step {step}: RMS from rest {rms} vs {rms_reference}"
-            );
+            return;
         }
+        let (centroid_tolerance, rms_tolerance) = if step == 10 {
+            self.step_10
+        } else {
+            SKIRT_LATER
+        };
+        let centroid_error = distance(centroid(ours), centroid(&reference));
+        let (rms, rms_reference) = (
+            rms_from_rest(ours, &scene.vertices),
+            rms_from_rest(&reference, &scene.vertices),
+        );
+        let relative = (rms - rms_reference).abs() / rms_reference;
+        println!(
+            "{name} step {step}: centroid {centroid_error:.3e} apart (tolerance {centroid_tolerance:e}), \
+             RMS from rest {relative:.3e} relative (tolerance {rms_tolerance:e}), max vertex distance {:.3e}",
+            max_distance(ours, &reference)
+        );
+        assert!(
+            centroid_error <= centroid_tolerance,
+            "{name} step {step}: centroids {centroid_error:e} apart > {centroid_tolerance:e}"
+        );
+        assert!(
+            relative <= rms_tolerance,
+            "{name} step {step}: RMS from rest {rms} vs {rms_reference}, {relative:e} relative > {rms_tolerance:e}"
+        );
     }
-    Some(largest_drift)
+}
+
+// The bundled scenes, on any clone.
+
+#[test]
+fn bundled_single_spring_follows_its_reference() {
+    Trajectory::bundled("single-spring-horizontal", false).check(SimulationOptions::default());
 }
 
 #[test]
+fn bundled_horizontal_chain_follows_its_reference() {
+    Trajectory::bundled("horizontal-chain", false).check(SimulationOptions::default());
+}
+
+#[test]
+fn bundled_net_follows_its_reference() {
+    Trajectory::bundled("net", false).check(SimulationOptions::default());
+}
+
+#[test]
+fn bundled_flag_follows_its_reference() {
+    Trajectory::bundled("flag", false).check(SimulationOptions::default());
+}
+
+#[test]
+fn bundled_skirt_follows_its_reference_in_aggregate() {
+    Trajectory::bundled("skirt", true).check(SimulationOptions::default());
+}
+
+/// The textbook path: `Q` in its own numbering, factored row by row, plain
+/// substitutions (`--ordering natural --factorization simplicial`).
+fn textbook() -> SimulationOptions {
+    SimulationOptions {
+        ordering: Ordering::Natural,
+        factorization: Method::Simplicial,
+        ..SimulationOptions::default()
+    }
+}
+
+/// How far the textbook path may be from the default one: the two differ
+/// only in rounding (another elimination order, another summation order),
+/// which the flag does not amplify much over 100 steps.
+const TEXTBOOK_AGREEMENT: f64 = 1e-8;
+
+#[test]
+fn the_defaults_are_amd_and_supernodal() {
+    let defaults = SimulationOptions::default();
+    assert_eq!(defaults.ordering, Ordering::Amd);
+    assert_eq!(defaults.factorization, Method::Supernodal);
+}
+
+#[test]
+fn bundled_flag_on_the_textbook_path_follows_its_reference() {
+    Trajectory::bundled("flag", false).check(textbook());
+}
+
+#[test]
+fn bundled_flag_on_the_textbook_path_matches_the_default_path() {
+    let scene = Trajectory::bundled("flag", false).scene();
+    let mut textbook = Simulation::<Sparse>::from_scene(&scene, textbook()).unwrap();
+    let mut fast = Simulation::<Sparse>::from_scene(&scene, SimulationOptions::default()).unwrap();
+    assert_eq!(
+        textbook.system().prefactorization.method(),
+        Method::Simplicial
+    );
+    assert_eq!(fast.system().prefactorization.method(), Method::Supernodal);
+    let mut largest = 0.0f64;
+    for step in 1..=100 {
+        textbook.step().unwrap();
+        fast.step().unwrap();
+        let apart = max_distance(textbook.positions(), fast.positions());
+        assert!(
+            apart <= TEXTBOOK_AGREEMENT,
+            "step {step}: textbook and default paths {apart:e} apart"
+        );
+        largest = largest.max(apart);
+    }
+    println!(
+        "flag: textbook and default paths at most {largest:.3e} apart over 100 steps (tolerance {TEXTBOOK_AGREEMENT:e})"
+    );
+}
+
+#[test]
+fn every_bundled_scene_has_its_reference_files() {
+    for name in [
+        "single-spring-horizontal",
+        "horizontal-chain",
+        "net",
+        "flag",
+        "skirt",
+    ] {
+        let trajectory = Trajectory::bundled(name, false);
+        let n = trajectory.scene().vertices.len();
+        for &step in trajectory.steps {
+            assert_eq!(trajectory.reference_at(step).len(), n, "{name} step {step}");
+        }
+    }
+}
+
+// The assignment's original scenes, with `../shared`.
+
+#[test]
 fn single_spring_follows_the_reference() {
-    check_against_reference("single-spring-horizontal", false);
+    if let Some(t) = Trajectory::original("single-spring-horizontal", false) {
+        t.check(SimulationOptions::default());
+    }
 }
 
 #[test]
 fn horizontal_chain_follows_the_reference() {
-    check_against_reference("horizontal-chain", false);
+    if let Some(t) = Trajectory::original("horizontal-chain", false) {
+        t.check(SimulationOptions::default());
+    }
 }
 
 #[test]
 fn net_follows_the_reference() {
-    check_against_reference("net", false);
+    if let Some(t) = Trajectory::original("net", false) {
+        t.check(SimulationOptions::default());
+    }
 }
 
 #[test]
 fn flag_follows_the_reference() {
-    check_against_reference("flag", false);
+    if let Some(t) = Trajectory::original("flag", false) {
+        t.check(SimulationOptions::default());
+    }
 }
 
 #[test]
 fn skirt_follows_the_reference_in_aggregate() {
-    check_against_reference("skirt", true);
+    if let Some(t) = Trajectory::original("skirt", true) {
+        t.check(SimulationOptions::default());
+    }
 }
 
 #[test]
 fn dense_and_sparse_agree_on_the_small_scenes() {
-    let Some(shared) = shared() else { return };
     for name in ["single-spring-horizontal", "horizontal-chain", "net"] {
-        let scene = load_scene(&shared.join(format!("original-data/{name}.json"))).unwrap();
+        let scene = Trajectory::bundled(name, false).scene();
         let options = SimulationOptions::default();
         let mut dense = Simulation::<Dense>::from_scene(&scene, options).unwrap();
         let mut sparse = Simulation::<Sparse>::from_scene(&scene, options).unwrap();

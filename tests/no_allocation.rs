@@ -5,7 +5,7 @@
 use masssprings::linalg::sparse::{Method, Ordering, SparseCholesky, SymbolicCholesky};
 use masssprings::mesh::load_scene;
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::{Dense, LinearAlgebra, Simulation, Sparse};
+use masssprings::sim::{Dense, LinearAlgebra, Simulation, Sparse, StepMethod};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering as AtomicOrdering};
@@ -55,14 +55,18 @@ fn allocations_during(work: impl FnOnce()) -> usize {
 }
 
 fn step_allocations<B: LinearAlgebra>(scene: &str) -> usize {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("data")
-        .join(scene);
-    let scene = load_scene(&path).unwrap();
     let options = SimulationOptions {
         wind: true,
         ..SimulationOptions::default()
     };
+    step_allocations_with::<B>(scene, options)
+}
+
+fn step_allocations_with<B: LinearAlgebra>(scene: &str, options: SimulationOptions) -> usize {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("data")
+        .join(scene);
+    let scene = load_scene(&path).unwrap();
     let mut simulation = Simulation::<B>::from_scene(&scene, options).unwrap();
     simulation.step().unwrap(); // the first step may touch pages, not allocate
     allocations_during(|| {
@@ -78,8 +82,40 @@ fn a_sparse_step_allocates_nothing() {
 }
 
 #[test]
+fn a_step_on_the_textbook_path_allocates_nothing() {
+    let options = SimulationOptions {
+        ordering: Ordering::Natural,
+        factorization: Method::Simplicial,
+        ..SimulationOptions::default()
+    };
+    assert_eq!(step_allocations_with::<Sparse>("net.json", options), 0);
+}
+
+#[test]
 fn a_dense_step_allocates_nothing() {
     assert_eq!(step_allocations::<Dense>("net.json"), 0);
+}
+
+#[test]
+fn no_method_allocates_after_its_first_step() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/net.json");
+    let scene = load_scene(&path).unwrap();
+    for method in StepMethod::ALL {
+        let options = SimulationOptions {
+            method,
+            tolerance: Some(1e-9),
+            iterations: 30,
+            ..SimulationOptions::default()
+        };
+        let mut simulation = Simulation::<Sparse>::from_scene(&scene, options).unwrap();
+        simulation.step().unwrap(); // sizes the method's work arrays
+        let count = allocations_during(|| {
+            for _ in 0..3 {
+                simulation.step().unwrap();
+            }
+        });
+        assert_eq!(count, 0, "{method}");
+    }
 }
 
 #[test]

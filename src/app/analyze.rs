@@ -76,7 +76,7 @@ fn parse_method(args: &Args) -> Result<Method, AppError> {
 }
 
 /// The lower triangle of the square sparse matrix in `path`.
-fn read_symmetric_lower(path: &Path) -> Result<CscMatrix, AppError> {
+pub(super) fn read_symmetric_lower(path: &Path) -> Result<CscMatrix, AppError> {
     match matrix_market::read(path)? {
         MatrixMarket::Sparse(file) if file.matrix.nrows() == file.matrix.ncols() => {
             Ok(file.matrix.triangle(Triangle::Lower))

@@ -13,6 +13,7 @@
 
 use super::args::Args;
 use super::convergence_flags;
+use super::convergence_plot::NamedCurve;
 use super::AppError;
 use masssprings::files::write_file;
 use masssprings::mesh::load_scene;
@@ -50,6 +51,10 @@ struct Request {
     control: StepControl,
     csv: Option<PathBuf>,
     plot: Option<PathBuf>,
+    /// `--steps S`: instead of one step, steps 1…S, medians only.
+    over_steps: Option<usize>,
+    /// The canonical simulation: plain, 50 iterations, the pins given.
+    canonical: SimulationOptions,
 }
 
 /// Plain iterations whose energies are the yardsticks.
@@ -57,8 +62,11 @@ const YARDSTICKS: [usize; 2] = [50, 200];
 
 pub fn run(args: &[String]) -> Result<(), AppError> {
     let request = parse(args)?;
+    if let Some(steps) = request.over_steps {
+        return run_over_steps(&request, steps);
+    }
     let scene = load_scene(&request.scene)?;
-    let mut simulation = Simulation::<Sparse>::from_scene(&scene, SimulationOptions::default())?;
+    let mut simulation = Simulation::<Sparse>::from_scene(&scene, request.canonical)?;
     for step in 1..request.step {
         simulation
             .step()
@@ -100,7 +108,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
 }
 
 fn parse(args: &[String]) -> Result<Request, AppError> {
-    let mut options = vec!["step", "methods", "csv", "plot"];
+    let mut options = vec!["step", "steps", "methods", "csv", "plot"];
     options.extend(
         convergence_flags::OPTIONS
             .iter()
@@ -138,6 +146,14 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
         control: sim_options.step_control(),
         csv: path("csv")?,
         plot: path("plot")?,
+        canonical: SimulationOptions {
+            pins: sim_options.pins,
+            ..SimulationOptions::default()
+        },
+        over_steps: match args.value_or("steps", 0usize)? {
+            0 => None,
+            steps => Some(steps),
+        },
     })
 }
 
@@ -266,7 +282,7 @@ fn write_csv(out: &mut dyn Write, curves: &[Curve]) -> std::io::Result<()> {
 }
 
 /// Each curve as (name, [(iteration, energy, ms)]), for the plot.
-fn curves_for_plot(curves: &[Curve]) -> Vec<(String, Vec<(f64, f64, f64)>)> {
+fn curves_for_plot(curves: &[Curve]) -> Vec<NamedCurve> {
     curves
         .iter()
         .map(|c| {
@@ -278,4 +294,57 @@ fn curves_for_plot(curves: &[Curve]) -> Vec<(String, Vec<(f64, f64, f64)>)> {
             (c.method.name().to_string(), points)
         })
         .collect()
+}
+
+/// `--steps S`: for each of the canonical steps 1…S, the milliseconds each
+/// method needs to reach the energy of 50 plain iterations of that step
+/// (the accuracy the assignment settles for); prints, per method, the
+/// median over the steps and its ratio to plain-50's median.
+fn run_over_steps(request: &Request, steps: usize) -> Result<(), AppError> {
+    let scene = load_scene(&request.scene)?;
+    let mut simulation = Simulation::<Sparse>::from_scene(&scene, request.canonical)?;
+    let mut control = request.control;
+    let mut times: Vec<Vec<f64>> = vec![Vec::new(); request.methods.len()];
+    let mut iterations: Vec<Vec<f64>> = vec![Vec::new(); request.methods.len()];
+    for step in 1..=steps {
+        let plain = trace(&simulation, &control, StepMethod::Plain, YARDSTICKS[0])?;
+        let target = plain.samples.last().map_or(0.0, |s| s.energy);
+        if control.rho.is_none() {
+            let norms: Vec<f64> = plain.samples[1..].iter().map(|s| s.step_norm).collect();
+            control.rho = Some(estimate_rho(&norms));
+        }
+        for (m, &method) in request.methods.iter().enumerate() {
+            let curve = trace(&simulation, &control, method, control.iterations)?;
+            let reached = first_reaching(&curve, target);
+            times[m].push(reached.map_or(f64::INFINITY, |s| s.elapsed_ms));
+            iterations[m].push(reached.map_or(f64::INFINITY, |s| s.iteration as f64));
+        }
+        simulation
+            .step()
+            .map_err(|e| AppError::Failed(format!("step {step}: {e}")))?;
+        eprint!("\rconverge: step {step}/{steps}");
+    }
+    eprintln!();
+    let plain_index = request.methods.iter().position(|&m| m == StepMethod::Plain);
+    println!(
+        "{} steps 1-{steps}: median over the steps of the time to reach plain-50's energy",
+        request.scene.display()
+    );
+    println!(
+        "{:<10} {:>12} {:>10} {:>14}",
+        "method", "iterations", "ms", "/ plain-50"
+    );
+    let plain_median = plain_index.map(|m| super::timing::median(&mut times[m].clone()));
+    for (m, method) in request.methods.iter().enumerate() {
+        let ms = super::timing::median(&mut times[m].clone());
+        let ratio = plain_median.map_or("-".into(), |p| format!("{:.3}", ms / p));
+        println!(
+            "{:<10} {:>12} {:>10.3} {:>14}",
+            method.name(),
+            super::timing::median(&mut iterations[m].clone()),
+            ms,
+            ratio
+        );
+    }
+    Ok(())
 }

@@ -1,14 +1,13 @@
 //! The flags that choose how each step is solved, shared by `simulate`,
 //! `render`, `view` and `converge`: `--method`, `--tolerance`,
-//! `--iterations`, `--rho`, `--window`.
+//! `--iterations`, `--rho`, `--window`, `--pins`.
 
 use super::args::Args;
 use super::AppError;
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::StepMethod;
 
 /// The option names (each takes a value).
-pub const OPTIONS: &[&str] = &["method", "tolerance", "iterations", "rho", "window"];
+pub const OPTIONS: &[&str] = &["method", "tolerance", "iterations", "rho", "window", "pins"];
 
 /// Sets `options` from the flags that were given.
 ///
@@ -16,6 +15,7 @@ pub const OPTIONS: &[&str] = &["method", "tolerance", "iterations", "rho", "wind
 /// A usage error for an unknown method or a value out of range.
 pub fn apply(args: &Args, options: &mut SimulationOptions) -> Result<(), AppError> {
     options.method = args.value_or("method", options.method)?;
+    options.pins = args.value_or("pins", options.pins)?;
     options.iterations = args.value_or("iterations", options.iterations)?;
     let tolerance: f64 = args.value_or("tolerance", f64::NAN)?;
     if !tolerance.is_nan() {
@@ -42,6 +42,5 @@ pub fn apply(args: &Args, options: &mut SimulationOptions) -> Result<(), AppErro
             options.window
         )));
     }
-    let _ = StepMethod::Plain; // the parse above goes through StepMethod's FromStr
     Ok(())
 }

@@ -14,17 +14,16 @@ use super::render::plot::{Figure, Panel, Scale, Series};
 use super::AppError;
 use std::path::Path;
 
-/// Draws `curves` — `(method, [(iteration, E(p) − E(p⁰), ms)])` — into
+/// One method's curve: its name and `(iteration, E(p) − E(p⁰), ms)` per
+/// iterate.
+pub type NamedCurve = (String, Vec<(f64, f64, f64)>);
+
+/// Draws `curves` into
 /// `path` as a PNG.
 ///
 /// # Errors
 /// When the file cannot be written.
-pub fn draw(
-    path: &Path,
-    scene: &str,
-    step: usize,
-    curves: &[(String, Vec<(f64, f64, f64)>)],
-) -> Result<(), AppError> {
+pub fn draw(path: &Path, scene: &str, step: usize, curves: &[NamedCurve]) -> Result<(), AppError> {
     let best = curves
         .iter()
         .flat_map(|(_, points)| points.iter().map(|p| p.1))

@@ -7,9 +7,13 @@ mod bench;
 mod converge;
 mod convergence_flags;
 mod convergence_plot;
+mod etree;
+mod export_q;
+mod factorization_flags;
 mod generate;
 mod render;
 mod simulate;
+mod spy;
 mod timing;
 mod view;
 
@@ -50,6 +54,9 @@ commands:
       beside a measured triad bandwidth, and the log-log slope of each cost;
       --plot draws them (time and memory against n, log-log).
       Default sizes 32,100,316 (about a minute); 1000, 2000, 3162 on request.
+  export-q SCENE.json -o Q.mtx
+      Writes the scene's Q = k AᵀA + M/Δt² + w CᵀC, as the simulation
+      builds it, as a Matrix Market file (lower triangle) for analyze.
   generate grid N [--out DIR]
       Writes DIR/grid-N.json and .obj (DIR defaults to .): the N×N cloth of
       the benchmarks, the same bytes as the reference tool's `ref grid N`.
@@ -57,8 +64,12 @@ commands:
       Writes the five teaching scenes (single-spring-horizontal,
       horizontal-chain, net, flag, skirt) and their PNG textures.
   simulate SCENE.json [--dense] [--steps N] [--every K] [--out DIR] [--wind]
-                      [--json]
+                      [--ordering amd|natural]
+                      [--factorization supernodal|simplicial] [--json]
       Runs the simulation (sparse unless --dense) for N steps (default 100).
+      The sparse Q is ordered by AMD and factored by supernodes unless
+      --ordering/--factorization say otherwise; `--ordering natural
+      --factorization simplicial` runs the textbook code end to end.
       With --out, writes DIR/frame-NNNNNN.obj for step 0 and every K-th step.
       Ends with n, springs, precomputation time and the median step time.
   render SCENE.json -o OUT.gif|OUT.png [--steps N] [--every K] [--size WxH]
@@ -69,12 +80,26 @@ commands:
       Cloths show their surface and pins; --springs adds every spring and
       point mass (always drawn for scenes made only of springs).
   view SCENE.json [--port P] [--address ADDR] [--dense]
+                  [--ordering amd|natural]
+                  [--factorization supernodal|simplicial]
       Serves an interactive viewer on http://127.0.0.1:P/ (P defaults to
       8080, 0 picks a free port; --address serves on another address) and
       prints its URL. The simulation runs here in real time; the page draws
       it with WebGL. Keys: space step, A animate, L springs, R reset,
       W wind; drag to orbit, wheel to zoom, shift-drag to pull a vertex.
       Ctrl-C stops it.
+  spy MATRIX.mtx|SCENE.json -o OUT.png [--ordering amd|natural] [--factor]
+                            [--size S]
+      Draws the pattern of Q (a scene's, or a Matrix Market matrix's lower
+      triangle mirrored) in the order the factorization uses (AMD unless
+      --ordering natural), or with --factor that of its Cholesky factor L,
+      fill-in in orange; S pixels a side (default 480). Prints n, nnz and
+      the fill nnz(L)/nnz(tril Q).
+  etree MATRIX.mtx|SCENE.json -o OUT.png [--ordering amd|natural]
+                              [--size WxH]
+      Draws the elimination tree of Q in the same order, each supernode in
+      its own colour (default 720x360; at most 4096 columns). Prints the
+      tree's height and the number of supernodes.
   help
       This text.
 ";
@@ -85,6 +110,9 @@ pub fn run(args: &[String]) -> i32 {
     let result = match args.first().map(String::as_str) {
         Some("analyze") => analyze::run(&args[1..]),
         Some("bench") => bench::run(&args[1..]),
+        Some("export-q") => export_q::run(&args[1..]),
+        Some("spy") => spy::run(&args[1..]),
+        Some("etree") => etree::run(&args[1..]),
         Some("simulate") => simulate::run(&args[1..]),
         Some("generate") => generate::run(&args[1..]),
         Some("view") => view::run(&args[1..]),

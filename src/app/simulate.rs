@@ -3,6 +3,7 @@
 
 use super::args::Args;
 use super::convergence_flags;
+use super::factorization_flags;
 use super::timing::median;
 use super::AppError;
 use masssprings::files::write_file;
@@ -40,6 +41,7 @@ struct Run {
 pub fn run(args: &[String]) -> Result<(), AppError> {
     let mut options = vec!["steps", "every", "out"];
     options.extend(convergence_flags::OPTIONS);
+    options.extend(factorization_flags::OPTIONS);
     let args = Args::parse(args, &options, &["dense", "wind", "json"])?;
     let scene_path = PathBuf::from(args.single_positional("SCENE.json")?);
     let run = Run {
@@ -59,6 +61,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         ..SimulationOptions::default()
     };
     convergence_flags::apply(&args, &mut options)?;
+    factorization_flags::apply(&args, &mut options)?;
     let summary = if args.switch("dense") {
         simulate::<Dense>(&scene, options, &run)?
     } else {

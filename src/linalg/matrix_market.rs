@@ -39,7 +39,7 @@
 //! problem, e.g. `Q.mtx:7: row index 0 is out of range 1..=3200`.
 //!
 //! The writers print values with 17 significant digits, enough for every
-//! `f64` to read back bit for bit. [`write_file`] writes through a temporary
+//! `f64` to read back bit for bit. [`write_file`](crate::files::write_file) writes through a temporary
 //! file in the destination's folder and renames it into place, so a failed
 //! write never leaves a half-written file behind.
 

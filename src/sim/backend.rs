@@ -9,13 +9,27 @@
 //! * [`Dense`]: [`DenseMatrix`] and [`DenseCholesky`]. Entries are added into
 //!   an n×n array (`A(i, j) += v`), `O(n³)` to factor, `O(n²)` per solve.
 //! * [`Sparse`]: [`CscMatrix`] built from a triplet list and
-//!   [`SparseCholesky`] (AMD ordering, supernodal factorization).
+//!   [`SparseCholesky`], with the ordering and the numeric method of a
+//!   [`SparseFactorization`]: by default AMD and the supernodal method (the
+//!   fast path); `Ordering::Natural` and `Method::Simplicial` give the
+//!   textbook path, row-by-row factorization and column-by-column
+//!   substitution (`--ordering natural --factorization simplicial`).
 
 use crate::linalg::dense::{DenseCholesky, DenseMatrix};
 use crate::linalg::sparse::{
     CscMatrix, Method, Ordering, SparseCholesky, SymbolicCholesky, TripletMatrix,
 };
 use crate::linalg::LinalgError;
+
+/// How the sparse backend factors `Q`: the fill-reducing ordering and the
+/// numeric method (the dense backend has one way and ignores it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct SparseFactorization {
+    /// AMD (default) or the natural order.
+    pub ordering: Ordering,
+    /// Supernodal (default) or simplicial (row by row).
+    pub method: Method,
+}
 
 /// Matrix operations the mass-spring solver needs.
 pub trait LinearAlgebra {
@@ -44,17 +58,24 @@ pub trait LinearAlgebra {
     /// `α X + β Y` (same shapes).
     fn combine(alpha: f64, x: &Self::Matrix, beta: f64, y: &Self::Matrix) -> Self::Matrix;
 
+    /// `X / s`, every entry divided by `s` (as `M/Δt²` is written).
+    fn divide(x: &Self::Matrix, s: f64) -> Self::Matrix;
+
     /// `y = A x` for n×3 blocks.
     fn mul_points(a: &Self::Matrix, x: &[[f64; 3]], y: &mut [[f64; 3]]);
 
     /// `y = Aᵀ x` for n×3 blocks.
     fn transpose_mul_points(a: &Self::Matrix, x: &[[f64; 3]], y: &mut [[f64; 3]]);
 
-    /// Factors the symmetric positive definite `q`.
+    /// Factors the symmetric positive definite `q` (the sparse backend in
+    /// the way `how` says).
     ///
     /// # Errors
     /// [`LinalgError::NotPositiveDefinite`] naming the column.
-    fn factor(q: &Self::Matrix) -> Result<Self::Factorization, LinalgError>;
+    fn factor(
+        q: &Self::Matrix,
+        how: SparseFactorization,
+    ) -> Result<Self::Factorization, LinalgError>;
 
     /// Factors `q` again, for new values with the same pattern.
     ///
@@ -104,6 +125,14 @@ impl LinearAlgebra for Dense {
         x.scale(alpha).scaled_add(beta, y).expect(SHAPES_FIT)
     }
 
+    fn divide(x: &DenseMatrix, s: f64) -> DenseMatrix {
+        let mut quotient = x.clone();
+        for entry in quotient.as_mut_slice() {
+            *entry /= s;
+        }
+        quotient
+    }
+
     fn mul_points(a: &DenseMatrix, x: &[[f64; 3]], y: &mut [[f64; 3]]) {
         a.mul_points(x, y).expect(SHAPES_FIT)
     }
@@ -112,7 +141,7 @@ impl LinearAlgebra for Dense {
         a.transpose_mul_points(x, y).expect(SHAPES_FIT)
     }
 
-    fn factor(q: &DenseMatrix) -> Result<DenseCholesky, LinalgError> {
+    fn factor(q: &DenseMatrix, _: SparseFactorization) -> Result<DenseCholesky, LinalgError> {
         DenseCholesky::factor(q)
     }
 
@@ -149,6 +178,14 @@ impl LinearAlgebra for Sparse {
         x.add_scaled(alpha, y, beta).expect(SHAPES_FIT)
     }
 
+    fn divide(x: &CscMatrix, s: f64) -> CscMatrix {
+        let mut quotient = x.clone();
+        for entry in quotient.values_mut() {
+            *entry /= s;
+        }
+        quotient
+    }
+
     fn mul_points(a: &CscMatrix, x: &[[f64; 3]], y: &mut [[f64; 3]]) {
         a.mul_points(x, y).expect(SHAPES_FIT)
     }
@@ -157,9 +194,9 @@ impl LinearAlgebra for Sparse {
         a.transpose_mul_points(x, y).expect(SHAPES_FIT)
     }
 
-    fn factor(q: &CscMatrix) -> Result<SparseCholesky, LinalgError> {
-        let symbolic = SymbolicCholesky::analyze(q, Ordering::Amd)?;
-        SparseCholesky::factor(symbolic, q, Method::Supernodal)
+    fn factor(q: &CscMatrix, how: SparseFactorization) -> Result<SparseCholesky, LinalgError> {
+        let symbolic = SymbolicCholesky::analyze(q, how.ordering)?;
+        SparseCholesky::factor(symbolic, q, how.method)
     }
 
     fn refactor(factorization: &mut SparseCholesky, q: &CscMatrix) -> Result<(), LinalgError> {

@@ -73,6 +73,17 @@ pub struct StepEnergy<'a> {
     pub f_ext: &'a [[f64; 3]],
     /// `p⁰ = U_cur`, where the step starts.
     pub start: &'a [[f64; 3]],
+    /// `l⁰ₑ = ‖p⁰ᵢ − p⁰ⱼ‖`, every spring's length at the start
+    /// ([`start_lengths`]), kept so that an evaluation takes one square
+    /// root per spring, not two.
+    pub start_lengths: &'a [f64],
+}
+
+/// `l⁰ₑ = ‖p⁰ᵢ − p⁰ⱼ‖` for every spring, into `lengths`.
+pub fn start_lengths(springs: &[[usize; 2]], start: &[[f64; 3]], lengths: &mut [f64]) {
+    for (l, &[i, j]) in lengths.iter_mut().zip(springs) {
+        *l = norm(difference(start[i], start[j]));
+    }
 }
 
 /// `E(p) − E(p⁰)`, term by term.
@@ -110,10 +121,10 @@ impl StepEnergy<'_> {
     fn spring_change(&self, p: &[[f64; 3]]) -> f64 {
         let p0 = self.start;
         let mut sum = 0.0;
-        for (&[i, j], &rest) in self.springs.iter().zip(self.r) {
+        for ((&[i, j], &rest), &l0) in self.springs.iter().zip(self.r).zip(self.start_lengths) {
             let v = difference(p[i], p[j]);
             let v0 = difference(p0[i], p0[j]);
-            let (l, l0) = (norm(v), norm(v0));
+            let l = norm(v);
             let dl = if l + l0 > 0.0 {
                 dot(difference(v, v0), sum3(v, v0)) / (l + l0)
             } else {

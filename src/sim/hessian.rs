@@ -116,6 +116,26 @@ impl Hessian {
         }
     }
 
+    /// Makes the rows and columns of the vertices with `pinned[i]` those of
+    /// the identity (exact pins: those vertices are not unknowns).
+    pub fn constrain(&mut self, pinned: &[bool]) {
+        let n = self.vertex_count.len();
+        for j in 0..n {
+            let start = 9 * self.vertex_start[j];
+            let count = self.vertex_count[j];
+            for c in 0..3 {
+                let column = 3 * c * count + start;
+                for slot in 0..3 * count {
+                    let i = self.matrix.row_idx()[column + slot];
+                    if pinned[i / 3] || pinned[j] {
+                        let identity = i == 3 * j + c;
+                        self.matrix.values_mut()[column + slot] = if identity { 1.0 } else { 0.0 };
+                    }
+                }
+            }
+        }
+    }
+
     /// `H_ii += value · I`.
     fn add_diagonal(&mut self, i: usize, value: f64) {
         for c in 0..3 {

@@ -16,15 +16,18 @@
 //! Written as the formula reads, `r · (v / ‖v‖)`, so that its rounding
 //! matches a direct transcription (Eigen's `r * v.normalized()`).
 //!
-//! On a CPU with AVX2 (checked at run time) the springs are taken four at a
-//! time, one per lane of a 256-bit register, so that the square roots and
-//! divisions, the slow part, run four to an instruction. The arithmetic is
-//! the same, lane by lane, as for one spring.
+//! [`project_springs_portable`] is that formula, one spring at a time. On a
+//! CPU with AVX2 (checked at run time) [`project_springs`] takes the springs
+//! four at a time instead, one per lane of a 256-bit register, so that the
+//! square roots and divisions, the slow part, run four to an instruction.
+//! The arithmetic is the same, lane by lane, as for one spring, and the
+//! tests check that both versions agree on every machine.
 //!
 //! Cost `O(m)`: one square root and three divisions per spring.
 //! Source: Liu et al. 2013, §3 ("local step"); the assignment, "Step 1 (local)".
 
-/// `d[e] = r[e] (p[i] − p[j]) / ‖p[i] − p[j]‖` for every spring `e = (i, j)`.
+/// `d[e] = r[e] (p[i] − p[j]) / ‖p[i] − p[j]‖` for every spring `e = (i, j)`,
+/// four springs per instruction on a CPU with AVX2.
 ///
 /// # Panics
 /// When `r` or `d` does not have one entry per spring, or a spring names a
@@ -40,6 +43,20 @@ pub fn project_springs(springs: &[[usize; 2]], r: &[f64], p: &[[f64; 3]], d: &mu
         }
         return;
     }
+    project_springs_portable(springs, r, p, d);
+}
+
+/// [`project_springs`] one spring at a time, on every CPU.
+///
+/// # Panics
+/// As [`project_springs`].
+pub fn project_springs_portable(
+    springs: &[[usize; 2]],
+    r: &[f64],
+    p: &[[f64; 3]],
+    d: &mut [[f64; 3]],
+) {
+    assert!(r.len() == springs.len() && d.len() == springs.len());
     for ((&spring, &rest_length), d_e) in springs.iter().zip(r).zip(d.iter_mut()) {
         *d_e = project_spring(spring, rest_length, p);
     }

@@ -16,6 +16,7 @@
 
 pub mod backend;
 pub mod energy;
+pub mod exact_pins;
 pub mod forces;
 pub mod hessian;
 pub mod local_step;

@@ -21,7 +21,8 @@
 //! Source: Liu et al. 2013, §3–4; the assignment, "Matrices" and "Pinned
 //! Vertices" (`fast_mass_springs_precomputation_dense.cpp` / `_sparse.cpp`).
 
-use super::backend::{Dense, LinearAlgebra, Sparse};
+use super::backend::{Dense, LinearAlgebra, Sparse, SparseFactorization};
+use super::exact_pins::ExactPins;
 use super::methods::MethodWorkspaces;
 use super::signed_incidence::signed_incidence_matrix;
 use super::SimulationError;
@@ -66,6 +67,9 @@ pub struct MassSpringSystem<B: LinearAlgebra> {
     pub pin_targets: Vec<[f64; 3]>,
     /// `is_pinned[i]`: is vertex `i` one of `pinned`?
     pub is_pinned: Vec<bool>,
+    /// The reduced system when pins are exact constraints
+    /// ([`MassSpringSystem::use_exact_pins`]); `None`: the penalty.
+    pub exact_pins: Option<ExactPins<B>>,
     /// Work arrays of the step, sized once.
     pub(crate) buffers: StepBuffers,
 }
@@ -83,6 +87,8 @@ pub(crate) struct StepBuffers {
     pub d: Vec<[f64; 3]>,
     /// `∇E` where the stopping rule needs it.
     pub gradient: Vec<[f64; 3]>,
+    /// Each spring's length where the step starts.
+    pub start_lengths: Vec<f64>,
     /// The accelerated methods' work arrays, made when first used.
     pub methods: MethodWorkspaces,
 }
@@ -108,9 +114,23 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
         check_pins(n, pinned, targets.len())?;
         self.C = selection_matrix::<B>(n, pinned);
         self.set_pinned(pinned, targets);
-        self.Q = assemble_q::<B>(&self.A, &self.m, &self.C, self.k, self.delta_t, self.w);
+        self.Q = assemble_q::<B>(&self.A, &self.M, &self.C, self.k, self.delta_t, self.w);
         B::refactor(&mut self.prefactorization, &self.Q)?;
         self.pin_rhs = pin_right_hand_side::<B>(&self.C, n, targets, self.w);
+        if let Some(how) = self.exact_pins.as_ref().map(|e| e.how) {
+            self.use_exact_pins(how)?;
+        }
+        Ok(())
+    }
+
+    /// Holds the pins exactly instead of by the penalty (see
+    /// [`exact_pins`](super::exact_pins)): factors the free vertices'
+    /// `Q_ff`.
+    ///
+    /// # Errors
+    /// [`SimulationError::Linalg`] when `Q_ff` is not positive definite.
+    pub fn use_exact_pins(&mut self, how: SparseFactorization) -> Result<(), SimulationError> {
+        self.exact_pins = Some(ExactPins::new(self, how)?);
         Ok(())
     }
 
@@ -132,6 +152,9 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
         }
         self.pin_rhs = pin_right_hand_side::<B>(&self.C, n, targets, self.w);
         self.pin_targets.copy_from_slice(targets);
+        if let Some(exact) = &mut self.exact_pins {
+            exact.set_targets(&self.A, self.springs.len(), self.k, &self.pinned, targets);
+        }
         Ok(())
     }
 
@@ -153,7 +176,8 @@ fn pinned_mask(n: usize, pinned: &[usize]) -> Vec<bool> {
 }
 
 /// The precomputation for rest positions `v`, springs `springs`, stiffness
-/// `k`, masses `m`, pinned vertices `pinned` and time step `delta_t`.
+/// `k`, masses `m`, pinned vertices `pinned` and time step `delta_t`, with
+/// the default factorization (sparse: AMD, supernodal).
 ///
 /// # Errors
 /// [`SimulationError::InvalidInput`] for inconsistent sizes or indices;
@@ -166,6 +190,24 @@ pub fn fast_mass_springs_precomputation<B: LinearAlgebra>(
     pinned: &[usize],
     delta_t: f64,
 ) -> Result<MassSpringSystem<B>, SimulationError> {
+    let how = SparseFactorization::default();
+    fast_mass_springs_precomputation_with(v, springs, k, m, pinned, delta_t, how)
+}
+
+/// [`fast_mass_springs_precomputation`], factoring `Q` the way `how` says
+/// (the ordering and the numeric method of the sparse backend).
+///
+/// # Errors
+/// As [`fast_mass_springs_precomputation`].
+pub fn fast_mass_springs_precomputation_with<B: LinearAlgebra>(
+    v: &[[f64; 3]],
+    springs: &[[usize; 2]],
+    k: f64,
+    m: &[f64],
+    pinned: &[usize],
+    delta_t: f64,
+    how: SparseFactorization,
+) -> Result<MassSpringSystem<B>, SimulationError> {
     let n = v.len();
     check_inputs(v, springs, m)?;
     check_pins(n, pinned, pinned.len())?;
@@ -173,9 +215,10 @@ pub fn fast_mass_springs_precomputation<B: LinearAlgebra>(
     let mass_matrix = B::from_entries(n, n, m.iter().enumerate().map(|(i, &mi)| (i, i, mi)));
     let a = signed_incidence_matrix::<B>(n, springs);
     let c = selection_matrix::<B>(n, pinned);
-    let q = assemble_q::<B>(&a, m, &c, k, delta_t, PIN_WEIGHT);
-    let prefactorization = B::factor(&q)?;
-    let pinned_rest: Vec<[f64; 3]> = pinned.iter().map(|&i| v[i]).collect();
+    let q = assemble_q::<B>(&a, &mass_matrix, &c, k, delta_t, PIN_WEIGHT);
+    let prefactorization = B::factor(&q, how)?;
+    let mut pinned_rest = vec![[0.0; 3]; pinned.len()];
+    B::mul_points(&c, v, &mut pinned_rest); // C V
     let pin_rhs = pin_right_hand_side::<B>(&c, n, &pinned_rest, PIN_WEIGHT);
     Ok(MassSpringSystem {
         r,
@@ -193,12 +236,14 @@ pub fn fast_mass_springs_precomputation<B: LinearAlgebra>(
         pinned: pinned.to_vec(),
         pin_targets: pinned_rest,
         is_pinned: pinned_mask(n, pinned),
+        exact_pins: None,
         buffers: StepBuffers {
             inertia: vec![[0.0; 3]; n],
             y: vec![[0.0; 3]; n],
             b: vec![[0.0; 3]; n],
             d: vec![[0.0; 3]; springs.len()],
             gradient: vec![[0.0; 3]; n],
+            start_lengths: vec![0.0; springs.len()],
             methods: MethodWorkspaces::default(),
         },
     })
@@ -256,29 +301,25 @@ fn selection_matrix<B: LinearAlgebra>(n: usize, pinned: &[usize]) -> B::Matrix {
     )
 }
 
-/// `Q = k AᵀA + M/Δt² + w CᵀC`, each term as the handout writes it (so the
-/// rounding matches a direct transcription: `mᵢ/Δt²`, not `mᵢ·(1/Δt²)`).
+/// `Q = k AᵀA + M/Δt² + w CᵀC`, from the matrices `A`, `M` and `C`, each
+/// term as the handout writes it (so the rounding matches a direct
+/// transcription: `mᵢ/Δt²`, not `mᵢ·(1/Δt²)`).
+#[allow(non_snake_case)] // the handout's M
 fn assemble_q<B: LinearAlgebra>(
     a: &B::Matrix,
-    m: &[f64],
+    M: &B::Matrix,
     c: &B::Matrix,
     k: f64,
     delta_t: f64,
     w: f64,
 ) -> B::Matrix {
-    let n = m.len();
-    let m_over_dt2 = B::from_entries(
-        n,
-        n,
-        m.iter()
-            .enumerate()
-            .map(|(i, &mi)| (i, i, mi / (delta_t * delta_t))),
-    );
+    let m_over_dt2 = B::divide(M, delta_t * delta_t);
     let springs_and_mass = B::combine(k, &B::gram(a), 1.0, &m_over_dt2);
     B::combine(1.0, &springs_and_mass, w, &B::gram(c))
 }
 
-/// `w Cᵀ targets`, where `targets` are the pinned positions (`C V` at rest).
+/// `w Cᵀ targets`, where `targets` are the pinned positions (`C V` at rest,
+/// computed from `C` by the precomputation).
 fn pin_right_hand_side<B: LinearAlgebra>(
     c: &B::Matrix,
     n: usize,

@@ -2,15 +2,16 @@
 //! forces, and pins that can change (dragging a vertex).
 //!
 //! Starts at rest (`U_prev = U_cur = V`, zero velocity) and advances one
-//! [`fast_mass_springs_step`] at a time. The state vectors are swapped, not
+//! [`fast_mass_springs_step`](super::step::fast_mass_springs_step) at a time. The state vectors are swapped, not
 //! copied, and no step allocates.
 
-use super::backend::LinearAlgebra;
+use super::backend::{LinearAlgebra, SparseFactorization};
 use super::forces::{bounding_box_diagonal, external_forces};
 use super::methods::{Observer, StepControl, StepMethod, DEFAULT_WINDOW};
-use super::precomputation::{fast_mass_springs_precomputation, MassSpringSystem, DELTA_T};
+use super::precomputation::{fast_mass_springs_precomputation_with, MassSpringSystem, DELTA_T};
 use super::step::{solve_step, StepReport, ITERATIONS};
 use super::SimulationError;
+use crate::linalg::sparse::{Method, Ordering};
 use crate::mesh::Scene;
 
 /// How a simulation runs.
@@ -31,6 +32,36 @@ pub struct SimulationOptions {
     pub rho: Option<f64>,
     /// Anderson's and L-BFGS's history window.
     pub window: usize,
+    /// Pins by the assignment's penalty, or as exact constraints.
+    pub pins: Pins,
+    /// The sparse backend's fill-reducing ordering (AMD, or the natural
+    /// order of the textbook path).
+    pub ordering: Ordering,
+    /// The sparse backend's numeric factorization and solves (supernodal,
+    /// or the textbook simplicial method).
+    pub factorization: Method,
+}
+
+/// How pinned vertices are held.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Pins {
+    /// The assignment's penalty `½ w ‖p_c − t_c‖²`, `w = 1e10`.
+    #[default]
+    Penalty,
+    /// Removed from the unknowns ([`exact_pins`](super::exact_pins)).
+    Exact,
+}
+
+impl std::str::FromStr for Pins {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, String> {
+        match text {
+            "penalty" => Ok(Pins::Penalty),
+            "exact" => Ok(Pins::Exact),
+            _ => Err(format!("unknown pins '{text}' (expected penalty or exact)")),
+        }
+    }
 }
 
 impl SimulationOptions {
@@ -56,11 +87,41 @@ impl Default for SimulationOptions {
             tolerance: None,
             rho: None,
             window: DEFAULT_WINDOW,
+            pins: Pins::Penalty,
+            ordering: Ordering::default(),
+            factorization: Method::default(),
         }
     }
 }
 
 /// A mass-spring network in motion, on the matrices of backend `B`.
+///
+/// # Examples
+///
+/// A single spring hanging from a pinned vertex, on the textbook sparse
+/// path (natural order, simplicial Cholesky, plain substitutions):
+///
+/// ```
+/// use masssprings::linalg::sparse::{Method, Ordering};
+/// use masssprings::sim::simulation::SimulationOptions;
+/// use masssprings::sim::{Simulation, Sparse};
+///
+/// let vertices = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
+/// let options = SimulationOptions {
+///     ordering: Ordering::Natural,
+///     factorization: Method::Simplicial,
+///     ..SimulationOptions::default()
+/// };
+/// let mut simulation = Simulation::<Sparse>::new(&vertices, &[[0, 1]], 500.0, &[1.0, 1.0], &[0], options)?;
+/// for _ in 0..10 {
+///     simulation.step()?;
+/// }
+/// let [pinned, free] = [simulation.positions()[0], simulation.positions()[1]];
+/// assert!(pinned.iter().all(|x| x.abs() < 1e-6)); // held by the penalty w
+/// assert!(free[1] < 0.0); // the free end falls
+/// assert!((simulation.time() - 10.0 / 30.0).abs() < 1e-12);
+/// # Ok::<(), masssprings::sim::SimulationError>(())
+/// ```
 #[derive(Debug, Clone)]
 pub struct Simulation<B: LinearAlgebra> {
     system: MassSpringSystem<B>,
@@ -82,7 +143,7 @@ impl<B: LinearAlgebra> Simulation<B> {
     /// Precomputes the system for rest positions `vertices` and starts at rest.
     ///
     /// # Errors
-    /// As [`fast_mass_springs_precomputation`].
+    /// As [`fast_mass_springs_precomputation`](super::precomputation::fast_mass_springs_precomputation).
     pub fn new(
         vertices: &[[f64; 3]],
         springs: &[[usize; 2]],
@@ -91,14 +152,22 @@ impl<B: LinearAlgebra> Simulation<B> {
         pinned: &[usize],
         options: SimulationOptions,
     ) -> Result<Self, SimulationError> {
-        let system = fast_mass_springs_precomputation::<B>(
+        let how = SparseFactorization {
+            ordering: options.ordering,
+            method: options.factorization,
+        };
+        let mut system = fast_mass_springs_precomputation_with::<B>(
             vertices,
             springs,
             k,
             masses,
             pinned,
             options.delta_t,
+            how,
         )?;
+        if options.pins == Pins::Exact {
+            system.use_exact_pins(how)?;
+        }
         let n = vertices.len();
         Ok(Simulation {
             system,
@@ -118,7 +187,7 @@ impl<B: LinearAlgebra> Simulation<B> {
     /// The simulation of a loaded scene, starting at rest.
     ///
     /// # Errors
-    /// As [`fast_mass_springs_precomputation`].
+    /// As [`fast_mass_springs_precomputation`](super::precomputation::fast_mass_springs_precomputation).
     pub fn from_scene(scene: &Scene, options: SimulationOptions) -> Result<Self, SimulationError> {
         Self::new(
             &scene.vertices,

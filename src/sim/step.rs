@@ -27,7 +27,7 @@
 //! (`fast_mass_springs_step_dense.cpp` / `_sparse.cpp`, "Step 1–3").
 
 use super::backend::{Dense, LinearAlgebra, Sparse};
-use super::energy::{free_norm, StepEnergy};
+use super::energy::{free_norm, start_lengths, StepEnergy};
 use super::methods::{
     anderson, chebyshev, lbfgs, newton, plain, GlobalStep, Monitor, Observer, Outcome, StepContext,
     StepControl, StepMethod, Stop,
@@ -119,20 +119,23 @@ pub fn solve_step<B: LinearAlgebra>(
         pin_targets,
         is_pinned,
         buffers,
+        exact_pins,
         ..
     } = system;
+    start_lengths(springs, u_cur, &mut buffers.start_lengths);
     let energy = StepEnergy {
         springs,
         r,
         k: *k,
         m,
         delta_t: *delta_t,
-        w: *w,
+        w: if exact_pins.is_some() { 0.0 } else { *w },
         pinned,
         pin_targets,
         inertial_target: &buffers.inertia,
         f_ext,
         start: u_cur,
+        start_lengths: &buffers.start_lengths,
     };
     energy.gradient(u_cur, &mut buffers.gradient);
     let initial_gradient = free_norm(&buffers.gradient, is_pinned);
@@ -148,6 +151,9 @@ pub fn solve_step<B: LinearAlgebra>(
             y: &buffers.y,
             pin_rhs,
             factorization: prefactorization,
+            exact_pins: exact_pins.as_mut(),
+            pinned,
+            pin_targets,
             d: &mut buffers.d,
             b: &mut buffers.b,
         },
@@ -158,6 +164,7 @@ pub fn solve_step<B: LinearAlgebra>(
         &mut buffers.gradient,
         observer,
     );
+    context.global.hold_pins(u_next); // exact pins start at their (maybe moved) targets
     monitor.after(0, &context, u_next, None);
     let workspaces = &mut buffers.methods;
     let outcome: Outcome = match control.method {

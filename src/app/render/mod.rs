@@ -29,6 +29,7 @@ mod lines;
 mod look;
 mod palette;
 pub(super) mod plot;
+pub(super) mod sparsity;
 mod text;
 mod texture;
 mod triangle;

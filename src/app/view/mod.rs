@@ -23,6 +23,7 @@ mod simulation_thread;
 
 use super::args::Args;
 use super::convergence_flags;
+use super::factorization_flags;
 use super::AppError;
 use api::{Frame, Status};
 use http::{Connection, Method, ReadError};
@@ -50,9 +51,11 @@ const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
 pub fn run(args: &[String]) -> Result<(), AppError> {
     let mut options = vec!["port", "address"];
     options.extend(convergence_flags::OPTIONS);
+    options.extend(factorization_flags::OPTIONS);
     let args = Args::parse(args, &options, &["dense"])?;
     let mut simulation_options = SimulationOptions::default();
     convergence_flags::apply(&args, &mut simulation_options)?;
+    factorization_flags::apply(&args, &mut simulation_options)?;
     let scene_path = PathBuf::from(args.single_positional("SCENE.json")?);
     let port: u16 = args.value_or("port", DEFAULT_PORT)?;
     let ip: IpAddr = args.value_or("address", IpAddr::V4(Ipv4Addr::LOCALHOST))?;

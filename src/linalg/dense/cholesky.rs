@@ -28,10 +28,15 @@
 //! ```
 //!
 //! with `U = Lᵀ` (`u_ik = l_ki`). This is the assignment's pseudo-code
-//! `p = back_substitution(transpose(L), forward_substitution(L, b))`, with the
-//! same names: [`forward_substitution`] and [`back_substitution`] work on any
+//! `p = back_substitution(transpose(L), forward_substitution(L, b))`, with its
+//! names and the suffix `_dense` the handout gives its dense functions:
+//! [`forward_substitution_dense`] and [`back_substitution_dense`] work on any
 //! lower and upper triangular matrix, and [`DenseCholesky`] keeps `Lᵀ` next to
 //! `L` (computed once when factoring) so that a solve is exactly that line.
+//! (The sparse ones, for a factor in compressed columns, are
+//! [`forward_substitution_sparse`](crate::linalg::sparse::triangular_solve::forward_substitution_sparse)
+//! and
+//! [`back_substitution_sparse`](crate::linalg::sparse::triangular_solve::back_substitution_sparse).)
 //!
 //! # Cost
 //!
@@ -56,6 +61,33 @@ use crate::linalg::error::LinalgError;
 
 /// The Cholesky factorization `A = L Lᵀ` of a symmetric positive-definite
 /// matrix, ready to solve `A x = b` for as many `b` as needed.
+///
+/// # Examples
+///
+/// ```
+/// use masssprings::linalg::dense::{
+///     back_substitution_dense, forward_substitution_dense, DenseCholesky, DenseMatrix,
+/// };
+///
+/// let a = DenseMatrix::from_rows(&[[4.0, 2.0], [2.0, 10.0]])?;
+/// let cholesky = DenseCholesky::factor(&a)?;
+/// assert_eq!(cholesky.l(), &DenseMatrix::from_rows(&[[2.0, 0.0], [1.0, 3.0]])?);
+///
+/// let mut x = [6.0, 12.0]; // b = A (1, 1)
+/// cholesky.solve_in_place(&mut x)?;
+/// assert_eq!(x, [1.0, 1.0]);
+///
+/// // the handout's p = back_substitution(transpose(L), forward_substitution(L, b))
+/// let mut p = [6.0, 12.0];
+/// forward_substitution_dense(cholesky.l(), &mut p)?;
+/// back_substitution_dense(&cholesky.l().transpose(), &mut p)?;
+/// assert_eq!(p, [1.0, 1.0]);
+///
+/// // not positive definite: the error names the column
+/// let indefinite = DenseMatrix::from_rows(&[[1.0, 2.0], [2.0, 1.0]])?;
+/// assert!(DenseCholesky::factor(&indefinite).is_err());
+/// # Ok::<(), masssprings::linalg::LinalgError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct DenseCholesky {
     /// The lower-triangular factor (zeros above the diagonal).
@@ -209,10 +241,10 @@ fn factor_row(a: &DenseMatrix, l: &mut DenseMatrix, i: usize) -> Result<(), Lina
 ///
 /// # Errors
 /// * [`LinalgError::NotSquare`] when `l` is not square.
-/// * [`LinalgError::DimensionMismatch`] (operation `"forward_substitution"`)
+/// * [`LinalgError::DimensionMismatch`] (operation `"forward_substitution_dense"`)
 ///   when `b.len() != n`; `b` is left untouched.
-pub fn forward_substitution(l: &DenseMatrix, b: &mut [f64]) -> Result<(), LinalgError> {
-    check_triangular_system("forward_substitution", l, b.len())?;
+pub fn forward_substitution_dense(l: &DenseMatrix, b: &mut [f64]) -> Result<(), LinalgError> {
+    check_triangular_system("forward_substitution_dense", l, b.len())?;
     forward_substitution_rows(l, b, 1);
     Ok(())
 }
@@ -225,10 +257,10 @@ pub fn forward_substitution(l: &DenseMatrix, b: &mut [f64]) -> Result<(), Linalg
 ///
 /// # Errors
 /// * [`LinalgError::NotSquare`] when `u` is not square.
-/// * [`LinalgError::DimensionMismatch`] (operation `"back_substitution"`)
+/// * [`LinalgError::DimensionMismatch`] (operation `"back_substitution_dense"`)
 ///   when `b.len() != n`; `b` is left untouched.
-pub fn back_substitution(u: &DenseMatrix, b: &mut [f64]) -> Result<(), LinalgError> {
-    check_triangular_system("back_substitution", u, b.len())?;
+pub fn back_substitution_dense(u: &DenseMatrix, b: &mut [f64]) -> Result<(), LinalgError> {
+    check_triangular_system("back_substitution_dense", u, b.len())?;
     back_substitution_rows(u, b, 1);
     Ok(())
 }

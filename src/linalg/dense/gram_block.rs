@@ -19,8 +19,9 @@
 //! memory serves four multiply-adds. On a CPU with AVX2 and FMA (checked at
 //! run time) the tile is eight 256-bit registers and the loop is written
 //! with those instructions directly: left to itself the compiler keeps the
-//! tile in scalars and spills it to the stack. Elsewhere a plain loop
-//! computes the same sums.
+//! tile in scalars and spills it to the stack. Elsewhere a plain loop,
+//! [`gram_block_portable`], computes the same sums; it can be called
+//! directly on any CPU, and the tests check that both versions agree.
 //!
 //! Cost `4 · rows · ncols(X)` multiply-adds per call. Source: the
 //! register-blocked micro-kernel of Goto & van de Geijn, "Anatomy of
@@ -33,7 +34,8 @@ pub const BLOCK_COLUMNS: usize = 4;
 /// `block[t * rows + r] = Σ_k X(first + r, k) · X(first + t, k)` for
 /// `r in 0..rows`, `t in 0..4`, with `X(p, k) = values[column_base[k] + p]`.
 /// Columns `t ≥ width` of the block are zero. `rows_of_y` is a work buffer
-/// with room for one entry per column of `X`.
+/// with room for one entry per column of `X`. Runs the AVX2 + FMA version
+/// when the CPU has those instructions, [`gram_block_portable`] otherwise.
 ///
 /// # Panics
 /// When `width > 4`, `rows < width`, `block` holds fewer than `4 · rows`
@@ -48,26 +50,60 @@ pub fn gram_block(
     block: &mut [f64],
     rows_of_y: &mut [[f64; BLOCK_COLUMNS]],
 ) {
-    assert!(width <= BLOCK_COLUMNS && rows >= width && block.len() >= BLOCK_COLUMNS * rows);
-    assert!(rows_of_y.len() >= column_base.len());
-    // Y(k) = X(first .. first + width, k), padded with zeros to four values
-    for (y, &base) in rows_of_y.iter_mut().zip(column_base) {
-        *y = [0.0; BLOCK_COLUMNS];
-        y[..width].copy_from_slice(&values[base + first..base + first + width]);
-    }
-    let ys = &rows_of_y[..column_base.len()];
-    let block = &mut block[..BLOCK_COLUMNS * rows];
+    let (ys, block) = prepare(values, column_base, first, width, rows, block, rows_of_y);
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
         // SAFETY: the CPU supports the features the function is compiled for.
         unsafe { avx2::gram_block(values, column_base, first, rows, ys, block) };
         return;
     }
-    gram_block_portable(values, column_base, first, rows, ys, block);
+    plain_sums(values, column_base, first, rows, ys, block);
 }
 
-/// The same sums, one entry at a time.
-fn gram_block_portable(
+/// [`gram_block`] computed by the plain loop on every CPU: the same sums,
+/// one multiply-add at a time, without fused multiply-add.
+///
+/// # Panics
+/// As [`gram_block`].
+pub fn gram_block_portable(
+    values: &[f64],
+    column_base: &[usize],
+    first: usize,
+    width: usize,
+    rows: usize,
+    block: &mut [f64],
+    rows_of_y: &mut [[f64; BLOCK_COLUMNS]],
+) {
+    let (ys, block) = prepare(values, column_base, first, width, rows, block, rows_of_y);
+    plain_sums(values, column_base, first, rows, ys, block);
+}
+
+/// Checks the shapes and fills `Y(k) = X(first .. first + width, k)`,
+/// padded with zeros to four values; returns `Y` and the block's
+/// `4 · rows` values.
+fn prepare<'y, 'b>(
+    values: &[f64],
+    column_base: &[usize],
+    first: usize,
+    width: usize,
+    rows: usize,
+    block: &'b mut [f64],
+    rows_of_y: &'y mut [[f64; BLOCK_COLUMNS]],
+) -> (&'y [[f64; BLOCK_COLUMNS]], &'b mut [f64]) {
+    assert!(width <= BLOCK_COLUMNS && rows >= width && block.len() >= BLOCK_COLUMNS * rows);
+    assert!(rows_of_y.len() >= column_base.len());
+    for (y, &base) in rows_of_y.iter_mut().zip(column_base) {
+        *y = [0.0; BLOCK_COLUMNS];
+        y[..width].copy_from_slice(&values[base + first..base + first + width]);
+    }
+    (
+        &rows_of_y[..column_base.len()],
+        &mut block[..BLOCK_COLUMNS * rows],
+    )
+}
+
+/// The sums, one entry at a time.
+fn plain_sums(
     values: &[f64],
     column_base: &[usize],
     first: usize,

@@ -37,6 +37,23 @@
 use crate::linalg::error::LinalgError;
 
 /// A dense `nrows × ncols` matrix stored row by row.
+///
+/// # Examples
+///
+/// ```
+/// use masssprings::linalg::dense::DenseMatrix;
+///
+/// let a = DenseMatrix::from_rows(&[[1.0, -1.0]])?; // one spring, A = [1 −1]
+/// let ata = a.transpose().mul(&a)?;
+/// assert_eq!(ata, DenseMatrix::from_rows(&[[1.0, -1.0], [-1.0, 1.0]])?);
+/// assert_eq!(ata[(0, 1)], -1.0);
+///
+/// let q = ata.add(&DenseMatrix::identity(2))?; // AᵀA + M with unit masses
+/// let mut y = [[0.0; 3]; 2];
+/// q.mul_points(&[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], &mut y)?;
+/// assert_eq!(y, [[2.0, -1.0, 0.0], [-1.0, 2.0, 0.0]]);
+/// # Ok::<(), masssprings::linalg::LinalgError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct DenseMatrix {
     nrows: usize,

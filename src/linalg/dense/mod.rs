@@ -10,5 +10,5 @@ pub mod cholesky;
 pub mod gram_block;
 pub mod matrix;
 
-pub use cholesky::{back_substitution, forward_substitution, DenseCholesky};
+pub use cholesky::{back_substitution_dense, forward_substitution_dense, DenseCholesky};
 pub use matrix::DenseMatrix;

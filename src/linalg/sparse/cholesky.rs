@@ -15,8 +15,7 @@
 //! (row by row, [`up_looking`](super::up_looking)) and
 //! [`Method::Supernodal`] (dense blocks, [`supernodal`](super::supernodal)).
 //! The solves follow the method: column by column
-//! ([`triangular_solve`](super::triangular_solve)) or supernode by
-//! supernode ([`supernodal_solve`](super::supernodal_solve)).
+//! ([`triangular_solve`]) or supernode by supernode ([`supernodal_solve`]).
 //!
 //! Source: Davis 2006, ch. 4 and §8.1 (`cs_cholsol`).
 
@@ -41,6 +40,30 @@ pub enum Method {
     Supernodal,
 }
 
+impl Method {
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Simplicial => "simplicial",
+            Method::Supernodal => "supernodal",
+        }
+    }
+}
+
+impl std::str::FromStr for Method {
+    type Err = String;
+
+    fn from_str(name: &str) -> Result<Self, String> {
+        match name {
+            "simplicial" => Ok(Method::Simplicial),
+            "supernodal" => Ok(Method::Supernodal),
+            other => Err(format!(
+                "unknown factorization '{other}' (expected simplicial or supernodal)"
+            )),
+        }
+    }
+}
+
 /// The work arrays of whichever method is in use, and how it reads `A`:
 /// the up-looking method reads `C = P A Pᵀ` by its upper triangle (kept,
 /// refilled with each matrix factored); the supernodal one loads its blocks
@@ -52,6 +75,37 @@ enum Workspace {
 }
 
 /// A numeric sparse Cholesky factorization, ready to solve.
+///
+/// # Examples
+///
+/// The textbook path (natural order, simplicial) and the fast one (AMD,
+/// supernodal) on the `Q = AᵀA + I` of a chain of three unit masses joined
+/// by two springs:
+///
+/// ```
+/// use masssprings::linalg::sparse::{Method, Ordering, SparseCholesky, SymbolicCholesky, TripletMatrix};
+///
+/// let entries = [
+///     (0, 0, 2.0), (1, 1, 3.0), (2, 2, 2.0),
+///     (1, 0, -1.0), (0, 1, -1.0), (2, 1, -1.0), (1, 2, -1.0),
+/// ];
+/// let q = TripletMatrix::from_entries(3, 3, entries)?.to_csc();
+/// for (ordering, method) in [
+///     (Ordering::Natural, Method::Simplicial),
+///     (Ordering::Amd, Method::Supernodal),
+/// ] {
+///     let symbolic = SymbolicCholesky::analyze(&q, ordering)?; // patterns only
+///     assert_eq!(symbolic.nnz_l(), 5); // a chain fills in nothing
+///     let mut cholesky = SparseCholesky::factor(symbolic, &q, method)?;
+///     // b = Q · (1, 2, 3) in each of the three columns x, y, z
+///     let mut p = [[0.0; 3], [2.0; 3], [4.0; 3]];
+///     cholesky.solve_points_in_place(&mut p); // p = Q⁻¹ b
+///     for (i, row) in p.iter().enumerate() {
+///         assert!(row.iter().all(|&v| (v - (i + 1) as f64).abs() < 1e-14));
+///     }
+/// }
+/// # Ok::<(), masssprings::linalg::LinalgError>(())
+/// ```
 #[derive(Debug, Clone)]
 pub struct SparseCholesky {
     symbolic: SymbolicCholesky,

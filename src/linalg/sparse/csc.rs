@@ -40,6 +40,30 @@ impl Triangle {
 }
 
 /// A sparse matrix in compressed sparse column form, rows sorted in each column.
+///
+/// Column `j` holds the entries `col_ptr[j] .. col_ptr[j + 1]` of `row_idx`
+/// (their rows) and `values`.
+///
+/// # Examples
+///
+/// ```
+/// use masssprings::linalg::sparse::{CscMatrix, Triangle};
+///
+/// // ⎡ 4 −1 ⎤
+/// // ⎣−1  3 ⎦, column by column
+/// let a = CscMatrix::from_parts(2, 2, vec![0, 2, 4], vec![0, 1, 0, 1], vec![4.0, -1.0, -1.0, 3.0])?;
+/// assert_eq!(a.get(1, 0), -1.0);
+/// assert_eq!(a.column(1), (&[0, 1][..], &[-1.0, 3.0][..]));
+///
+/// let mut y = [0.0; 2];
+/// a.mul_vec(&[1.0, 2.0], &mut y)?;
+/// assert_eq!(y, [2.0, 5.0]);
+///
+/// // the lower triangle, which the Cholesky factorization reads
+/// let lower = a.triangle(Triangle::Lower);
+/// assert_eq!((lower.col_ptr(), lower.row_idx()), (&[0, 2, 3][..], &[0, 1, 1][..]));
+/// # Ok::<(), masssprings::linalg::LinalgError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct CscMatrix {
     nrows: usize,

@@ -41,6 +41,31 @@ use super::supernodes::Supernodes;
 use crate::linalg::error::LinalgError;
 
 /// The result of the symbolic analysis of a symmetric matrix.
+///
+/// # Examples
+///
+/// The star of `docs/sparse-cholesky.md`: a hub joined to four leaves.
+/// Eliminated first (the natural order), the hub connects every leaf to
+/// every other; AMD eliminates it last, and nothing fills in.
+///
+/// ```
+/// use masssprings::linalg::sparse::{Ordering, SymbolicCholesky, TripletMatrix};
+///
+/// let mut q = TripletMatrix::new(5, 5);
+/// q.push(0, 0, 5.0)?;
+/// for leaf in 1..5 {
+///     q.push(leaf, leaf, 2.0)?;
+///     q.push(leaf, 0, -1.0)?;
+///     q.push(0, leaf, -1.0)?;
+/// }
+/// let q = q.to_csc();
+/// let natural = SymbolicCholesky::analyze(&q, Ordering::Natural)?;
+/// let amd = SymbolicCholesky::analyze(&q, Ordering::Amd)?;
+/// assert_eq!((natural.nnz_l(), amd.nnz_l()), (15, 9));
+/// assert_eq!(amd.elimination_tree(), [Some(4), Some(4), Some(4), Some(4), None]);
+/// assert_eq!(amd.supernodes().len(), 4); // {0}, {1}, {2}, {3, 4}
+/// # Ok::<(), masssprings::linalg::LinalgError>(())
+/// ```
 #[derive(Debug, Clone)]
 pub struct SymbolicCholesky {
     /// Fill-reducing ordering followed by the postorder of its tree.

@@ -1,4 +1,5 @@
-//! Forward and back substitution with the sparse factor `L`.
+//! Forward and back substitution with the sparse factor `L`: the textbook
+//! solves of the simplicial method.
 //!
 //! With `L` stored by columns (diagonal first), both triangles are solved
 //! with one sweep over `L`:
@@ -7,6 +8,18 @@
 //! L y = b  (forward):  for j = 0, 1, …:   y_j = b_j / L_jj;  b_i −= L_ij y_j  for i > j
 //! Lᵀ x = y (backward): for j = n−1, …, 0: x_j = (y_j − Σ_{i>j} L_ij x_i) / L_jj
 //! ```
+//!
+//! [`forward_substitution_sparse`] and [`back_substitution_sparse`] are
+//! those two loops, as written, and the simplicial solve
+//! ([`solve_in_place`]) runs them. Beside them,
+//! [`back_substitution_sparse_two_sums`] is a faster variant of the back
+//! sweep: it accumulates the sum in two partial sums (even and odd
+//! entries) so that consecutive multiply-adds do not wait on each other; it
+//! rounds differently, and the tests check it against the plain loop. The
+//! supernodal solves are in [`supernodal_solve`](super::supernodal_solve).
+//! The dense substitutions are
+//! [`forward_substitution_dense`](crate::linalg::dense::forward_substitution_dense)
+//! and [`back_substitution_dense`](crate::linalg::dense::back_substitution_dense).
 //!
 //! The right-hand side is a block of `W` columns stored row by row
 //! (`[[f64; W]]`): `W = 1` for a vector, `W = 3` for the x, y, z
@@ -17,8 +30,8 @@
 //!
 //! For the three coordinates the caller pads each row to four lanes
 //! (`[x, y, z, 0]`), so that on a CPU with AVX2 one 256-bit instruction
-//! updates a whole row; the loops are compiled a second time with AVX2 and
-//! FMA enabled and chosen at run time.
+//! updates a whole row; the same loops are compiled a second time with AVX2
+//! and FMA enabled and chosen at run time.
 //!
 //! Cost `2 · nnz(L) · W` multiply-adds; memory-bound for large `L`.
 //! Source: Davis 2006, §3.1 (`cs_lsolve`, `cs_ltsolve`).
@@ -32,8 +45,8 @@ pub struct FactorView<'a> {
     pub values: &'a [f64],
 }
 
-/// Solves `L y = b` and then `Lᵀ x = y` in place: `x` holds `b` on entry
-/// and `x = (L Lᵀ)⁻¹ b` on return.
+/// Solves `L y = b` and then `Lᵀ x = y` in place with the textbook loops:
+/// `x` holds `b` on entry and `x = (L Lᵀ)⁻¹ b` on return.
 pub fn solve_in_place<const W: usize>(l: FactorView, x: &mut [[f64; W]]) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
@@ -41,20 +54,22 @@ pub fn solve_in_place<const W: usize>(l: FactorView, x: &mut [[f64; W]]) {
         unsafe { solve_in_place_avx2(l, x) };
         return;
     }
-    forward_substitution(l, x);
-    back_substitution(l, x);
+    forward_substitution_sparse(l, x);
+    back_substitution_sparse(l, x);
 }
 
+/// The same loops, compiled with AVX2 and FMA enabled.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 fn solve_in_place_avx2<const W: usize>(l: FactorView, x: &mut [[f64; W]]) {
-    forward_substitution(l, x);
-    back_substitution(l, x);
+    forward_substitution_sparse(l, x);
+    back_substitution_sparse(l, x);
 }
 
-/// Solves `L y = b` in place (`x` holds `b` on entry, `y` on return).
+/// Solves `L y = b` in place (`x` holds `b` on entry, `y` on return):
+/// for each column `j`, `y_j = b_j / L_jj`, then `b_i −= L_ij y_j` below it.
 #[inline(always)]
-pub fn forward_substitution<const W: usize>(l: FactorView, x: &mut [[f64; W]]) {
+pub fn forward_substitution_sparse<const W: usize>(l: FactorView, x: &mut [[f64; W]]) {
     let FactorView {
         col_ptr,
         row_idx,
@@ -74,9 +89,35 @@ pub fn forward_substitution<const W: usize>(l: FactorView, x: &mut [[f64; W]]) {
     }
 }
 
-/// Solves `Lᵀ x = y` in place (`x` holds `y` on entry, `x` on return).
+/// Solves `Lᵀ x = y` in place (`x` holds `y` on entry, `x` on return):
+/// from the last column up, `x_j = (y_j − Σ_{i>j} L_ij x_i) / L_jj`, one
+/// sum accumulated entry by entry.
 #[inline(always)]
-pub fn back_substitution<const W: usize>(l: FactorView, x: &mut [[f64; W]]) {
+pub fn back_substitution_sparse<const W: usize>(l: FactorView, x: &mut [[f64; W]]) {
+    let FactorView {
+        col_ptr,
+        row_idx,
+        values,
+    } = l;
+    for j in (0..x.len()).rev() {
+        let (start, end) = (col_ptr[j], col_ptr[j + 1]);
+        let mut sum = x[j];
+        for (&i, &l_ij) in row_idx[start + 1..end].iter().zip(&values[start + 1..end]) {
+            let xi = x[i as usize];
+            for c in 0..W {
+                sum[c] -= l_ij * xi[c];
+            }
+        }
+        let diagonal = values[start];
+        x[j] = sum.map(|value| value / diagonal);
+    }
+}
+
+/// [`back_substitution_sparse`] with the sum split in two partial sums
+/// (even and odd entries of each column), so that consecutive multiply-adds
+/// do not wait on each other: faster on long columns, rounded differently.
+#[inline(always)]
+pub fn back_substitution_sparse_two_sums<const W: usize>(l: FactorView, x: &mut [[f64; W]]) {
     let FactorView {
         col_ptr,
         row_idx,
@@ -86,7 +127,6 @@ pub fn back_substitution<const W: usize>(l: FactorView, x: &mut [[f64; W]]) {
         let (start, end) = (col_ptr[j], col_ptr[j + 1]);
         let rows = &row_idx[start + 1..end];
         let column = &values[start + 1..end];
-        // two partial sums, so consecutive entries do not wait on each other
         let mut even = x[j];
         let mut odd = [0.0; W];
         let pairs = rows.len() / 2;

@@ -19,6 +19,27 @@ use super::csc::{cumulative_sum, CscMatrix};
 use crate::linalg::error::LinalgError;
 
 /// A list of `(row, col, value)` entries of an `nrows × ncols` matrix.
+///
+/// # Examples
+///
+/// The signed incidence matrix `A` of one spring between vertices 0 and 1,
+/// pushed twice: repeated positions add up when compressed.
+///
+/// ```
+/// use masssprings::linalg::sparse::TripletMatrix;
+///
+/// let mut a = TripletMatrix::new(1, 2);
+/// for _ in 0..2 {
+///     a.push(0, 0, 1.0)?;
+///     a.push(0, 1, -1.0)?;
+/// }
+/// assert_eq!(a.len(), 4);
+/// let csc = a.to_csc();
+/// assert_eq!(csc.nnz(), 2);
+/// assert_eq!(csc.values(), [2.0, -2.0]);
+/// assert!(a.push(1, 0, 1.0).is_err()); // row 1 of a 1-row matrix
+/// # Ok::<(), masssprings::linalg::LinalgError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct TripletMatrix {
     nrows: usize,

@@ -168,6 +168,7 @@ pub(crate) fn solve<B: LinearAlgebra>(
         subtract(&work.g, p, &mut work.f);
         work.push();
         let accelerated = work.held > 0 && work.extrapolate(p);
+        context.global.hold_pins(p);
         let accepted = accelerated && {
             let candidate = context.energy.change(p).total();
             if candidate <= energy {

@@ -134,6 +134,7 @@ pub(crate) fn solve<B: LinearAlgebra>(
         for (x, x_hat) in work.previous.iter_mut().zip(&work.plain) {
             *x = std::array::from_fn(|c| omega_k * x_hat[c] + (1.0 - omega_k) * x[c]);
         }
+        context.global.hold_pins(&mut work.previous);
         let candidate_energy = context.energy.change(&work.previous).total();
         if candidate_energy <= energy {
             // accept: xₖ₋₁ ← xₖ, xₖ ← candidate

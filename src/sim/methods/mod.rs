@@ -19,8 +19,8 @@
 //! first time it runs and reused after, so no step after a method's first
 //! allocates.
 //!
-//! The pieces every method uses are here: [`GlobalStep`] (the plain
-//! iteration and solves with `Q`) and [`Monitor`] (the stopping rule and the
+//! The pieces every method uses are here: `GlobalStep` (the plain
+//! iteration and solves with `Q`) and `Monitor` (the stopping rule and the
 //! per-iteration observer that `masssprings converge` listens to).
 
 pub mod anderson;
@@ -33,6 +33,7 @@ pub mod plain;
 
 use super::backend::LinearAlgebra;
 use super::energy::{free_norm, StepEnergy};
+use super::exact_pins::ExactPins;
 use super::local_step::project_springs;
 use std::fmt;
 use std::str::FromStr;
@@ -180,6 +181,10 @@ pub(crate) struct GlobalStep<'a, B: LinearAlgebra> {
     /// `w CᵀC V`.
     pub pin_rhs: &'a [[f64; 3]],
     pub factorization: &'a mut B::Factorization,
+    /// The reduced system when pins are exact, and the pins.
+    pub exact_pins: Option<&'a mut ExactPins<B>>,
+    pub pinned: &'a [usize],
+    pub pin_targets: &'a [[f64; 3]],
     /// The local step's `d`, one row per spring.
     pub d: &'a mut [[f64; 3]],
     /// `b`, then `Q⁻¹ b`.
@@ -187,14 +192,27 @@ pub(crate) struct GlobalStep<'a, B: LinearAlgebra> {
 }
 
 impl<B: LinearAlgebra> GlobalStep<'_, B> {
-    /// One local/global iteration, in place: `p ← Q⁻¹ (k Aᵀ d(p) + y + w CᵀC V)`.
+    /// One local/global iteration, in place: `p ← Q⁻¹ (k Aᵀ d(p) + y + w CᵀC V)`
+    /// (with exact pins: the free rows from `Q_ff`, the pins at their targets).
     pub fn iterate_in_place(&mut self, p: &mut [[f64; 3]]) {
         project_springs(self.springs, self.r, p, self.d);
         B::transpose_mul_points(self.A, self.d, self.b);
-        for ((b, y), pin) in self.b.iter_mut().zip(self.y).zip(self.pin_rhs) {
+        let pin_rhs = self
+            .exact_pins
+            .as_ref()
+            .map_or(self.pin_rhs, |e| &e.pin_rhs);
+        for ((b, y), pin) in self.b.iter_mut().zip(self.y).zip(pin_rhs) {
             *b = std::array::from_fn(|c| self.k * b[c] + y[c] + pin[c]);
         }
-        B::solve_points(self.factorization, self.b);
+        match self.exact_pins.as_mut() {
+            None => B::solve_points(self.factorization, self.b),
+            Some(exact) => {
+                exact.solve(self.b);
+                for (&c, &t) in self.pinned.iter().zip(self.pin_targets) {
+                    self.b[c] = t;
+                }
+            }
+        }
         p.copy_from_slice(self.b);
     }
 
@@ -204,14 +222,42 @@ impl<B: LinearAlgebra> GlobalStep<'_, B> {
         self.iterate_in_place(out);
     }
 
-    /// `v ← Q⁻¹ v`.
+    /// `v ← Q⁻¹ v` (with exact pins: `Q_ff⁻¹` on the free rows, the pinned
+    /// rows 0, so that no direction moves a pin).
     pub fn solve(&mut self, v: &mut [[f64; 3]]) {
-        B::solve_points(self.factorization, v);
+        match self.exact_pins.as_mut() {
+            None => B::solve_points(self.factorization, v),
+            Some(exact) => exact.solve(v),
+        }
     }
 
-    /// `out ← Q x`.
+    /// `out ← Q x` (with exact pins: `(k AᵀA + M/Δt²) x`, pinned rows 0).
     pub fn mul_q(&self, x: &[[f64; 3]], out: &mut [[f64; 3]]) {
-        B::mul_points(self.Q, x, out);
+        match self.exact_pins.as_ref() {
+            None => B::mul_points(self.Q, x, out),
+            Some(exact) => {
+                B::mul_points(&exact.q_without_pins, x, out);
+                for &c in self.pinned {
+                    out[c] = [0.0; 3];
+                }
+            }
+        }
+    }
+
+    /// With exact pins, puts the pinned rows of `p` back at their targets
+    /// (an extrapolation `ω x̂ + (1 − ω) x` rounds them); nothing with the
+    /// penalty.
+    pub fn hold_pins(&self, p: &mut [[f64; 3]]) {
+        if self.exact() {
+            for (&c, &t) in self.pinned.iter().zip(self.pin_targets) {
+                p[c] = t;
+            }
+        }
+    }
+
+    /// Are the pins exact constraints?
+    pub fn exact(&self) -> bool {
+        self.exact_pins.is_some()
     }
 }
 
@@ -302,15 +348,14 @@ impl<'a, 'o> Monitor<'a, 'o> {
     }
 }
 
-/// `norm / initial`, 0 when both are 0 (a step that starts at rest at a
-/// minimiser has nothing to do).
+/// `norm / initial`; when the step starts exactly at a minimiser
+/// (`initial = 0`, e.g. at rest with no force) there is nothing to divide
+/// by, and the absolute `norm` is reported.
 fn relative_gradient(norm: f64, initial: f64) -> f64 {
     if initial > 0.0 {
         norm / initial
-    } else if norm == 0.0 {
-        0.0
     } else {
-        f64::INFINITY
+        norm
     }
 }
 

@@ -168,6 +168,9 @@ pub(crate) fn solve<B: LinearAlgebra>(
     let mut energy = 0.0; // E(p) − E(p⁰)
     for iteration in 1..=control.iterations {
         work.hessian.assemble(&context.energy, p);
+        if context.global.exact() {
+            work.hessian.constrain(context.pinned);
+        }
         if !work.factor_damped() {
             return Outcome::new(iteration - 1, Stop::Stalled);
         }
@@ -175,8 +178,13 @@ pub(crate) fn solve<B: LinearAlgebra>(
         work.cholesky
             .solve_in_place(work.direction.as_flattened_mut());
         scale(&mut work.direction, -1.0);
+        for (d, &pinned) in work.direction.iter_mut().zip(context.pinned) {
+            if pinned && context.global.exact() {
+                *d = [0.0; 3];
+            }
+        }
         let slope = dot(&work.gradient, &work.direction);
-        if !(slope < 0.0) {
+        if slope.is_nan() || slope >= 0.0 {
             return Outcome::new(iteration - 1, Stop::Stalled);
         }
         let Some((t, new_energy)) = line_search(

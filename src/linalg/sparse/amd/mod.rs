@@ -13,16 +13,16 @@
 //! * the Schur complement is kept implicitly as a *quotient graph*: each
 //!   eliminated pivot becomes an *element* (a clique stored as a list of its
 //!   variables), so the storage never grows beyond that of `A`
-//!   ([`quotient_graph`], [`new_element`]);
+//!   (`quotient_graph.rs`, `new_element.rs`);
 //! * variables with identical patterns are merged into *supervariables* and
-//!   eliminated together ([`supervariables`]; *mass elimination* in
-//!   [`degree_update`]);
+//!   eliminated together (`supervariables.rs`; *mass elimination* in
+//!   `degree_update.rs`);
 //! * the exact degree is replaced by an upper bound computed from the sizes
 //!   `|Le \ Lp|` of the elements seen from the new element `Lp`
-//!   ([`degree_update`]), kept in bucket lists by degree ([`degree_lists`]);
+//!   (`degree_update.rs`), kept in bucket lists by degree (`degree_lists.rs`);
 //! * rows that are "dense" are set aside up front and ordered last;
 //! * the elimination forms an *assembly tree* whose postorder gives the final
-//!   permutation ([`postorder`]).
+//!   permutation (`postorder.rs`).
 //!
 //! **Cost.** `O(nnz(A))` memory (one integer workspace of about
 //! `1.2 · nnz(A + Aᵀ) + n` entries plus a dozen `n`-vectors); time at most
@@ -39,8 +39,8 @@
 //! cloth grids and scenes and on random matrices, with and without
 //! aggressive absorption, dense rows and garbage collections). Deviations
 //! that do not change the result: a smaller hash table
-//! ([`supervariables`]), and an unsymmetric input's rows of `A + Aᵀ` are
-//! sorted ([`pattern`]); one that can: a negative `dense_threshold` keeps
+//! (`supervariables.rs`), and an unsymmetric input's rows of `A + Aᵀ` are
+//! sorted (`pattern.rs`); one that can: a negative `dense_threshold` keeps
 //! every row (see [`AmdOptions`]).
 //!
 //! **Integers.** All workspaces are `i32` (half the memory traffic of

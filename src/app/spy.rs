@@ -1,0 +1,173 @@
+//! `masssprings spy MATRIX.mtx|SCENE.json [--ordering amd|natural]
+//! [--factor] -o OUT.png`: a picture of the pattern of `Q` (the matrix of a
+//! Matrix Market file, or the `Q` a scene's simulation builds) in the order
+//! the factorization uses, or with `--factor` of its Cholesky factor `L`,
+//! fill-in in its own colour. Prints `n`, `nnz` and the fill
+//! `nnz(L) / nnz(lower triangle of Q)`.
+
+use super::analyze::read_symmetric_lower;
+use super::args::Args;
+use super::render::encode::write_png;
+use super::render::sparsity::{spy, Mark};
+use super::AppError;
+use masssprings::files::write_file;
+use masssprings::linalg::sparse::{
+    CscMatrix, Ordering, PermutedTriangle, SymbolicCholesky, Triangle,
+};
+use masssprings::mesh::{load_scene, Scene};
+use masssprings::sim::precomputation::{fast_mass_springs_precomputation, DELTA_T};
+use masssprings::sim::Sparse;
+use std::path::{Path, PathBuf};
+
+/// Side of the matrix in the picture, pixels, unless `--size` says.
+const DEFAULT_SIZE: usize = 480;
+/// Paper around the matrix, pixels.
+const MARGIN: usize = 8;
+
+/// What `spy` draws and prints.
+struct Picture {
+    label: String,
+    ordering: Ordering,
+    factor: bool,
+}
+
+pub fn run(args: &[String]) -> Result<(), AppError> {
+    let args = Args::parse(&short_out(args), &["ordering", "out", "size"], &["factor"])?;
+    let path = PathBuf::from(args.single_positional("MATRIX.mtx|SCENE.json")?);
+    let out = required_out(&args, "spy", "OUT.png")?;
+    let size: usize = args.value_or("size", DEFAULT_SIZE)?;
+    if !(16..=4096).contains(&size) {
+        return Err(AppError::Usage(format!(
+            "--size {size}: expected 16 to 4096 pixels"
+        )));
+    }
+    let picture = Picture {
+        label: file_name(&path),
+        ordering: args.value_or("ordering", Ordering::Amd)?,
+        factor: args.switch("factor"),
+    };
+    let lower = load_lower(&path)?;
+    let symbolic = SymbolicCholesky::analyze(&lower, picture.ordering)
+        .map_err(|e| AppError::Failed(format!("{}: {e}", path.display())))?;
+    let permuted = PermutedTriangle::new(&lower, symbolic.permutation(), Triangle::Lower)
+        .map_err(|e| AppError::Failed(format!("{}: {e}", path.display())))?;
+    let c = permuted.matrix();
+    let caption = caption(&picture, &symbolic, c);
+    let image = if picture.factor {
+        spy(
+            c.ncols(),
+            factor_entries(&symbolic, c),
+            size,
+            MARGIN,
+            &caption,
+        )
+    } else {
+        spy(c.ncols(), symmetric_entries(c), size, MARGIN, &caption)
+    };
+    write_file(&out, |file| write_png(file, &image))?;
+    println!("{}", caption.join("; "));
+    Ok(())
+}
+
+/// Two lines: what the picture shows, and its counts.
+fn caption(picture: &Picture, symbolic: &SymbolicCholesky, c: &CscMatrix) -> Vec<String> {
+    let n = c.ncols();
+    let nnz_lower = c.nnz();
+    let fill = symbolic.nnz_l() as f64 / nnz_lower as f64;
+    let order = picture.ordering.name();
+    if picture.factor {
+        vec![
+            format!("L of {}, {order} order", picture.label),
+            format!(
+                "n = {n}, nnz(L) = {}, fill nnz(L)/nnz(tril Q) = {fill:.2}",
+                symbolic.nnz_l()
+            ),
+        ]
+    } else {
+        vec![
+            format!("Q of {}, {order} order", picture.label),
+            format!(
+                "n = {n}, nnz(Q) = {}, nnz(tril Q) = {nnz_lower}",
+                2 * nnz_lower - n
+            ),
+        ]
+    }
+}
+
+/// Both triangles of the symmetric matrix whose lower triangle is `lower`.
+fn symmetric_entries(lower: &CscMatrix) -> impl Iterator<Item = (usize, usize, Mark)> + '_ {
+    (0..lower.ncols()).flat_map(move |j| {
+        lower.column(j).0.iter().flat_map(move |&i| {
+            let mirror = (i != j).then_some((j, i, Mark::Entry));
+            std::iter::once((i, j, Mark::Entry)).chain(mirror)
+        })
+    })
+}
+
+/// The pattern of `L`: entries of `C = P Q Pᵀ`'s lower triangle, and fill.
+fn factor_entries<'a>(
+    symbolic: &'a SymbolicCholesky,
+    c: &'a CscMatrix,
+) -> impl Iterator<Item = (usize, usize, Mark)> + 'a {
+    let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx());
+    (0..symbolic.n()).flat_map(move |j| {
+        let in_c = c.column(j).0;
+        row_idx[col_ptr[j]..col_ptr[j + 1]].iter().map(move |&i| {
+            let i = i as usize;
+            let mark = if in_c.binary_search(&i).is_ok() {
+                Mark::Entry
+            } else {
+                Mark::Fill
+            };
+            (i, j, mark)
+        })
+    })
+}
+
+/// The lower triangle of a Matrix Market file's matrix, or of the `Q` the
+/// simulation builds for a scene (`.json`).
+pub fn load_lower(path: &Path) -> Result<CscMatrix, AppError> {
+    if path.extension().is_some_and(|e| e == "json") {
+        Ok(scene_q(&load_scene(path)?)?.triangle(Triangle::Lower))
+    } else {
+        read_symmetric_lower(path)
+    }
+}
+
+/// `Q = k AᵀA + M/Δt² + w CᵀC` of `scene`, as the simulation builds it
+/// (both triangles).
+pub fn scene_q(scene: &Scene) -> Result<CscMatrix, AppError> {
+    let system = fast_mass_springs_precomputation::<Sparse>(
+        &scene.vertices,
+        &scene.springs,
+        scene.k,
+        &scene.masses,
+        &scene.pinned,
+        DELTA_T,
+    )?;
+    Ok(system.Q)
+}
+
+/// `-o FILE` is the short form of `--out FILE`.
+pub fn short_out(args: &[String]) -> Vec<String> {
+    args.iter()
+        .map(|a| if a == "-o" { "--out".into() } else { a.clone() })
+        .collect()
+}
+
+/// The value of `--out`, which `command` requires (`file` names it in the
+/// message).
+pub fn required_out(args: &Args, command: &str, file: &str) -> Result<PathBuf, AppError> {
+    let out = args.value_or("out", String::new())?;
+    if out.is_empty() {
+        return Err(AppError::Usage(format!("{command} needs -o {file}")));
+    }
+    Ok(PathBuf::from(out))
+}
+
+/// The file name of `path`, for captions.
+pub fn file_name(path: &Path) -> String {
+    path.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| path.display().to_string())
+}

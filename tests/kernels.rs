@@ -1,0 +1,197 @@
+//! The kernels that exist twice, a plain version and a fast one, agree on
+//! every machine. The plain versions are called directly here, so they run
+//! under `cargo test` even on a CPU with AVX2, where the library would
+//! otherwise always choose the fast ones:
+//!
+//! * `gram_block_portable` against `gram_block` (AVX2 + FMA when present),
+//!   both against the sums computed here from their definition;
+//! * `project_springs_portable` against `project_springs` (four springs per
+//!   AVX2 instruction when present): the same operations lane by lane, so
+//!   the same bits;
+//! * `back_substitution_sparse` (one sum, the textbook loop) against
+//!   `back_substitution_sparse_two_sums` (two partial sums), and both
+//!   sparse substitutions against the dense ones.
+mod common;
+
+use common::*;
+use masssprings::linalg::dense::gram_block::{gram_block, gram_block_portable, BLOCK_COLUMNS};
+use masssprings::linalg::dense::{back_substitution_dense, forward_substitution_dense};
+use masssprings::linalg::sparse::triangular_solve::{
+    back_substitution_sparse, back_substitution_sparse_two_sums, forward_substitution_sparse,
+    FactorView,
+};
+use masssprings::linalg::sparse::{Method, Ordering, SparseCholesky, SymbolicCholesky};
+use masssprings::sim::local_step::{project_springs, project_springs_portable};
+use proptest::prelude::*;
+
+/// `gram_block` or `gram_block_portable`.
+type GramBlockKernel = fn(&[f64], &[usize], usize, usize, usize, &mut [f64], &mut [[f64; 4]]);
+
+/// The arguments of a `gram_block` call: values of `X`, where each column
+/// starts, the first row, the block's width and its number of rows.
+#[derive(Debug, Clone)]
+struct GramBlockCase {
+    values: Vec<f64>,
+    column_base: Vec<usize>,
+    first: usize,
+    width: usize,
+    rows: usize,
+}
+
+fn gram_block_case() -> impl Strategy<Value = GramBlockCase> {
+    (1usize..40, 0usize..6, 0usize..12).prop_flat_map(|(rows, first, columns)| {
+        let width = 1..=rows.min(BLOCK_COLUMNS);
+        let gaps = prop::collection::vec(0usize..4, columns);
+        (Just(rows), Just(first), width, gaps).prop_flat_map(|(rows, first, width, gaps)| {
+            // column k starts after column k − 1 ends, plus a gap
+            let mut column_base = Vec::with_capacity(gaps.len());
+            let mut next = 0;
+            for gap in gaps {
+                column_base.push(next + gap);
+                next += gap + first + rows;
+            }
+            prop::collection::vec(-1.0f64..1.0, next).prop_map(move |values| GramBlockCase {
+                values,
+                column_base: column_base.clone(),
+                first,
+                width,
+                rows,
+            })
+        })
+    })
+}
+
+impl GramBlockCase {
+    /// The block computed by `kernel` (one of the two versions).
+    fn run(&self, kernel: GramBlockKernel) -> Vec<f64> {
+        let mut block = vec![f64::NAN; BLOCK_COLUMNS * self.rows];
+        let mut rows_of_y = vec![[f64::NAN; BLOCK_COLUMNS]; self.column_base.len()];
+        kernel(
+            &self.values,
+            &self.column_base,
+            self.first,
+            self.width,
+            self.rows,
+            &mut block,
+            &mut rows_of_y,
+        );
+        block
+    }
+
+    /// `X(p, k)`.
+    fn x(&self, p: usize, k: usize) -> f64 {
+        self.values[self.column_base[k] + p]
+    }
+
+    /// Entry `(r, t)` from the definition, and the sum of the absolute
+    /// values of its terms (the scale of its rounding error).
+    fn expected(&self, r: usize, t: usize) -> (f64, f64) {
+        if t >= self.width {
+            return (0.0, 0.0);
+        }
+        (0..self.column_base.len())
+            .map(|k| self.x(self.first + r, k) * self.x(self.first + t, k))
+            .fold((0.0, 0.0), |(sum, scale), term| {
+                (sum + term, scale + term.abs())
+            })
+    }
+}
+
+/// `Lᵀ`-ready factor of a random SPD matrix, as the simplicial method stores it.
+fn simplicial_factor(a: &masssprings::linalg::sparse::CscMatrix) -> SparseCholesky {
+    let symbolic = SymbolicCholesky::analyze(a, Ordering::Amd).unwrap();
+    SparseCholesky::factor(symbolic, a, Method::Simplicial).unwrap()
+}
+
+proptest! {
+    #![proptest_config(proptest_config(300))]
+
+    #[test]
+    fn gram_block_portable_and_fast_agree_with_the_definition(case in gram_block_case()) {
+        let portable = case.run(gram_block_portable);
+        let fast = case.run(gram_block);
+        for t in 0..BLOCK_COLUMNS {
+            for r in 0..case.rows {
+                let (want, scale) = case.expected(r, t);
+                let tolerance = 1e-14 * scale.max(f64::MIN_POSITIVE);
+                let (p, f) = (portable[t * case.rows + r], fast[t * case.rows + r]);
+                prop_assert!((p - want).abs() <= tolerance, "portable ({r}, {t}): {p} vs {want}");
+                prop_assert!((f - want).abs() <= tolerance, "fast ({r}, {t}): {f} vs {want}");
+                prop_assert!((p - f).abs() <= tolerance, "({r}, {t}): portable {p}, fast {f}");
+            }
+        }
+    }
+
+    #[test]
+    fn spring_projection_portable_and_fast_give_the_same_bits(
+        (p, springs, r) in (2usize..20).prop_flat_map(|n| (
+            prop::collection::vec(prop::array::uniform3(-10.0f64..10.0), n),
+            prop::collection::vec(prop::array::uniform2(0..n), 0..40),
+            prop::collection::vec(0.0f64..3.0, 40),
+        )).prop_map(|(p, springs, r)| {
+            let m = springs.len();
+            (p, springs, r[..m].to_vec())
+        })
+    ) {
+        let m = springs.len();
+        let (mut portable, mut fast) = (vec![[f64::NAN; 3]; m], vec![[f64::NAN; 3]; m]);
+        project_springs_portable(&springs, &r, &p, &mut portable);
+        project_springs(&springs, &r, &p, &mut fast);
+        for e in 0..m {
+            prop_assert_eq!(portable[e], fast[e], "spring {}", e);
+            let [i, j] = springs[e];
+            let v: [f64; 3] = std::array::from_fn(|c| p[i][c] - p[j][c]);
+            let length = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            let d_length = portable[e].iter().map(|x| x * x).sum::<f64>().sqrt();
+            let want = if length > 0.0 { r[e] } else { 0.0 };
+            prop_assert!((d_length - want).abs() <= 1e-12 * (1.0 + want), "spring {}: |d| = {} vs r = {}", e, d_length, r[e]);
+        }
+    }
+
+    #[test]
+    fn back_substitution_one_sum_and_two_sums_agree(
+        a in random_spd(40, 160),
+        seed in prop::collection::vec(-1.0f64..1.0, 120),
+    ) {
+        let cholesky = simplicial_factor(&a);
+        let l = cholesky.l();
+        let row_idx: Vec<u32> = l.row_idx().iter().map(|&i| i as u32).collect();
+        let view = FactorView { col_ptr: l.col_ptr(), row_idx: &row_idx, values: l.values() };
+        let n = a.ncols();
+        let y: Vec<[f64; 3]> = (0..n).map(|i| [seed[i], seed[40 + i], seed[80 + i]]).collect();
+        let (mut plain, mut two_sums) = (y.clone(), y.clone());
+        back_substitution_sparse(view, &mut plain);
+        back_substitution_sparse_two_sums(view, &mut two_sums);
+        // against the dense back substitution with U = Lᵀ, column by column
+        let u = l.to_dense().transpose();
+        for c in 0..3 {
+            let mut dense: Vec<f64> = y.iter().map(|row| row[c]).collect();
+            back_substitution_dense(&u, &mut dense).unwrap();
+            let scale = dense.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+            for i in 0..n {
+                prop_assert!((plain[i][c] - dense[i]).abs() <= 1e-10 * scale, "plain x[{}][{}]", i, c);
+                prop_assert!((two_sums[i][c] - dense[i]).abs() <= 1e-10 * scale, "two sums x[{}][{}]", i, c);
+            }
+        }
+    }
+
+    #[test]
+    fn forward_substitution_sparse_matches_the_dense_one(
+        a in random_spd(40, 160),
+        seed in prop::collection::vec(-1.0f64..1.0, 40),
+    ) {
+        let cholesky = simplicial_factor(&a);
+        let l = cholesky.l();
+        let row_idx: Vec<u32> = l.row_idx().iter().map(|&i| i as u32).collect();
+        let view = FactorView { col_ptr: l.col_ptr(), row_idx: &row_idx, values: l.values() };
+        let n = a.ncols();
+        let mut sparse: Vec<[f64; 1]> = (0..n).map(|i| [seed[i]]).collect();
+        forward_substitution_sparse(view, &mut sparse);
+        let mut dense = seed[..n].to_vec();
+        forward_substitution_dense(&l.to_dense(), &mut dense).unwrap();
+        let scale = dense.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+        for i in 0..n {
+            prop_assert!((sparse[i][0] - dense[i]).abs() <= 1e-10 * scale, "y[{}]: {} vs {}", i, sparse[i][0], dense[i]);
+        }
+    }
+}
