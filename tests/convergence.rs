@@ -250,20 +250,6 @@ fn control(method: StepMethod, iterations: usize, tolerance: Option<f64>) -> Ste
     }
 }
 
-fn read_points(path: &Path) -> Vec<[f64; 3]> {
-    std::fs::read_to_string(path)
-        .unwrap()
-        .lines()
-        .map(|line| {
-            let v: Vec<f64> = line
-                .split_whitespace()
-                .map(|x| x.parse().unwrap())
-                .collect();
-            [v[0], v[1], v[2]]
-        })
-        .collect()
-}
-
 /// The prototype's `(iteration, energy, relative gradient)` rows.
 fn prototype_rows(file: &str) -> Vec<(usize, f64, f64)> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))

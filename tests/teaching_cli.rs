@@ -2,6 +2,9 @@
 //! `simulate --ordering natural --factorization simplicial` (the textbook
 //! code) against the default path and the reference; `export-q` read back
 //! by `analyze`; `spy` and `etree` pictures and the counts they print.
+mod common;
+
+use common::read_points;
 #[path = "common/cli.rs"]
 mod cli;
 
@@ -27,21 +30,6 @@ fn obj_positions(path: &Path) -> Vec<[f64; 3]> {
         .filter_map(|line| line.strip_prefix("v "))
         .map(|rest| {
             let v: Vec<f64> = rest
-                .split_whitespace()
-                .map(|x| x.parse().unwrap())
-                .collect();
-            [v[0], v[1], v[2]]
-        })
-        .collect()
-}
-
-/// `x y z` per line (a reference trajectory).
-fn reference_positions(path: &Path) -> Vec<[f64; 3]> {
-    std::fs::read_to_string(path)
-        .unwrap()
-        .lines()
-        .map(|line| {
-            let v: Vec<f64> = line
                 .split_whitespace()
                 .map(|x| x.parse().unwrap())
                 .collect();
@@ -92,7 +80,7 @@ fn the_textbook_flags_match_the_default_path_and_the_reference() {
     // the two paths differ only in rounding (docs/README.md)
     let apart = max_distance(&a, &b);
     assert!(apart <= 1e-8, "textbook and default paths {apart:e} apart");
-    let reference = reference_positions(
+    let reference = read_points(
         &Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/reference/flag.step10.txt"),
     );
     let error = max_distance(&a, &reference);

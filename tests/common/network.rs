@@ -82,3 +82,18 @@ pub fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
 pub fn norm(a: [f64; 3]) -> f64 {
     dot(a, a).sqrt()
 }
+
+/// `x y z` per line: a reference trajectory or a saved state.
+pub fn read_points(path: &std::path::Path) -> Vec<[f64; 3]> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .map(|line| {
+            let v: Vec<f64> = line
+                .split_whitespace()
+                .map(|x| x.parse().unwrap())
+                .collect();
+            [v[0], v[1], v[2]]
+        })
+        .collect()
+}
