@@ -103,7 +103,8 @@ impl Workspace {
             subtract(&self.g, &self.previous_g, &mut self.delta_g[slot]);
             self.next_slot = (slot + 1) % self.window();
             self.held = (self.held + 1).min(self.window());
-            for other in 0..self.held_slots_end() {
+            // slots 0 .. held hold history (the ring fills from 0)
+            for other in 0..self.held {
                 let product = dot(&self.delta_f[slot], &self.delta_f[other]);
                 self.gram[(slot, other)] = product;
                 self.gram[(other, slot)] = product;
@@ -112,11 +113,6 @@ impl Workspace {
         self.previous_f.copy_from_slice(&self.f);
         self.previous_g.copy_from_slice(&self.g);
         self.have_previous = true;
-    }
-
-    /// Slots `0 .. held_slots_end()` hold history (the ring fills from 0).
-    fn held_slots_end(&self) -> usize {
-        self.held
     }
 
     /// Solves for `γ` and writes `gₖ − ΔG γ` into `out`; false when the
