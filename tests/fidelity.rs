@@ -27,11 +27,14 @@
 //! `cargo test --release --test fidelity -- --nocapture --test-threads 1`
 //! prints the measured distances (`docs/fidelity.md`).
 
+mod common;
+
+use common::read_points;
 use masssprings::linalg::sparse::{Method, Ordering};
 use masssprings::mesh::{load_scene, Scene};
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Dense, Simulation, Sparse};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// `../shared`, or `None` (with a note) when it is missing; a missing
 /// `../shared` fails under `CI=true`.
@@ -73,21 +76,6 @@ const BUNDLED_SKIRT_STEP_10: (f64, f64) = (1e-2, 5e-2);
 
 /// Aggregate tolerances of the skirt at steps 100 and 300.
 const SKIRT_LATER: (f64, f64) = (1e-3, 1e-3);
-
-/// `x y z` per line.
-fn read_positions(path: &Path) -> Vec<[f64; 3]> {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    text.lines()
-        .filter(|line| !line.trim().is_empty())
-        .map(|line| {
-            let v: Vec<f64> = line
-                .split_whitespace()
-                .map(|x| x.parse().unwrap())
-                .collect();
-            [v[0], v[1], v[2]]
-        })
-        .collect()
-}
 
 fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
@@ -162,7 +150,7 @@ impl Trajectory {
     }
 
     fn reference_at(&self, step: usize) -> Vec<[f64; 3]> {
-        read_positions(&self.reference.join(format!("{}.step{step}.txt", self.name)))
+        read_points(&self.reference.join(format!("{}.step{step}.txt", self.name)))
     }
 
     /// Simulates with `options` up to the last reference step, checking the

@@ -83,11 +83,15 @@ pub fn norm(a: [f64; 3]) -> f64 {
     dot(a, a).sqrt()
 }
 
-/// `x y z` per line: a reference trajectory or a saved state.
+/// `x y z` per line (blank lines skipped): a reference trajectory or a
+/// saved state.
+///
+/// # Panics
+/// Naming the file, when it cannot be read or a line is not three numbers.
 pub fn read_points(path: &std::path::Path) -> Vec<[f64; 3]> {
-    std::fs::read_to_string(path)
-        .unwrap()
-        .lines()
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    text.lines()
+        .filter(|line| !line.trim().is_empty())
         .map(|line| {
             let v: Vec<f64> = line
                 .split_whitespace()
