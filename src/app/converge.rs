@@ -13,6 +13,7 @@
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{self, ITERATIONS, PINS, RHO, WINDOW};
+use super::limits::precompute;
 use super::{load_scene, AppError};
 use masssprings::files::write_file;
 use masssprings::sim::energy::free_norm;
@@ -104,7 +105,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         return run_over_steps(&request, steps);
     }
     let scene = load_scene(&request.scene)?;
-    let mut simulation = Simulation::<Sparse>::from_scene(&scene, request.canonical)?;
+    let mut simulation = precompute::<Sparse>(&scene, &request.scene, request.canonical)?;
     for step in 1..request.step {
         simulation
             .step()
@@ -327,7 +328,7 @@ fn curves_for_plot(curves: &[Curve]) -> Vec<super::convergence_plot::PlotCurve> 
 /// median over the steps and its ratio to plain-50's median.
 fn run_over_steps(request: &Request, steps: usize) -> Result<(), AppError> {
     let scene = load_scene(&request.scene)?;
-    let mut simulation = Simulation::<Sparse>::from_scene(&scene, request.canonical)?;
+    let mut simulation = precompute::<Sparse>(&scene, &request.scene, request.canonical)?;
     let mut control = request.control;
     let mut times: Vec<Vec<f64>> = vec![Vec::new(); request.methods.len()];
     let mut iterations: Vec<Vec<f64>> = vec![Vec::new(); request.methods.len()];
