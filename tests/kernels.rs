@@ -8,6 +8,9 @@
 //! * `project_springs_portable` against `project_springs` (four springs per
 //!   AVX2 instruction when present): the same operations lane by lane, so
 //!   the same bits;
+//! * the spring pass (`Springs::measure`, AVX2 when present, against
+//!   `measure_portable`): `d` the local step's bits, the energy sum and the
+//!   spring forces against their definitions;
 //! * `back_substitution_sparse` (one sum, the textbook loop) against
 //!   `back_substitution_sparse_two_sums` (two partial sums), and both
 //!   sparse substitutions against the dense ones.
@@ -22,6 +25,7 @@ use masssprings::linalg::sparse::triangular_solve::{
 };
 use masssprings::linalg::sparse::{Method, Ordering, SparseCholesky, SymbolicCholesky};
 use masssprings::sim::local_step::{project_springs, project_springs_portable};
+use masssprings::sim::spring_pass::{Outputs, Springs};
 use proptest::prelude::*;
 
 /// `gram_block` or `gram_block_portable`.
@@ -146,6 +150,61 @@ proptest! {
             let want = if length > 0.0 { r[e] } else { 0.0 };
             prop_assert!((d_length - want).abs() <= 1e-12 * (1.0 + want), "spring {}: |d| = {} vs r = {}", e, d_length, r[e]);
         }
+    }
+
+    #[test]
+    fn spring_pass_portable_and_fast_agree_with_the_local_step_and_the_definitions(
+        (p, springs, r, start) in (2usize..20).prop_flat_map(|n| (
+            prop::collection::vec(prop::array::uniform3(-10.0f64..10.0), n),
+            prop::collection::vec(prop::array::uniform2(0..n), 0..40),
+            prop::collection::vec(0.0f64..3.0, 40),
+            prop::collection::vec(0.0f64..30.0, 40),
+        )).prop_map(|(p, springs, r, start)| {
+            let m = springs.len();
+            (p, springs, r[..m].to_vec(), start[..m].to_vec())
+        }),
+        k in 1.0f64..1e5,
+    ) {
+        let (m, n) = (springs.len(), p.len());
+        let pass = Springs { springs: &springs, r: &r, start_lengths: &start, k };
+        let mut local = vec![[0.0; 3]; m];
+        project_springs_portable(&springs, &r, &p, &mut local);
+        let (mut d_portable, mut d_fast) = (vec![[f64::NAN; 3]; m], vec![[f64::NAN; 3]; m]);
+        let (mut g_portable, mut g_fast) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
+        let sum_portable = pass.measure_portable(
+            &p,
+            Outputs { d: Some(&mut d_portable), gradient: Some(&mut g_portable) },
+            0,
+        );
+        let sum_fast = pass.measure(&p, Outputs { d: Some(&mut d_fast), gradient: Some(&mut g_fast) });
+        prop_assert_eq!(&d_portable, &local);
+        prop_assert_eq!(&d_fast, &local);
+        // the definitions: S = Σ (l − r)² − (l⁰ − r)², g = Σ ±k (v − d)
+        let mut sum = 0.0;
+        let mut scale = 0.0;
+        let mut g = vec![[0.0; 3]; n];
+        for (e, &[i, j]) in springs.iter().enumerate() {
+            let v: [f64; 3] = std::array::from_fn(|c| p[i][c] - p[j][c]);
+            let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            sum += (l - r[e]).powi(2) - (start[e] - r[e]).powi(2);
+            scale += (l - r[e]).powi(2) + (start[e] - r[e]).powi(2);
+            for c in 0..3 {
+                g[i][c] += k * (v[c] - local[e][c]);
+                g[j][c] -= k * (v[c] - local[e][c]);
+            }
+        }
+        let tolerance = 1e-12 * scale.max(1.0);
+        prop_assert!((sum_portable - sum).abs() <= tolerance, "portable S {} vs {}", sum_portable, sum);
+        prop_assert!((sum_fast - sum).abs() <= tolerance, "fast S {} vs {}", sum_fast, sum);
+        // the forces are added in spring order by both: the same bits
+        prop_assert_eq!(&g_fast, &g_portable);
+        for (ours, want) in g_portable.iter().zip(&g) {
+            for c in 0..3 {
+                prop_assert!((ours[c] - want[c]).abs() <= 1e-9 * k * (1.0 + want[c].abs() / k));
+            }
+        }
+        // the energy alone: the same sum
+        prop_assert_eq!(pass.measure(&p, Outputs::default()), sum_fast);
     }
 
     #[test]

@@ -32,21 +32,24 @@
 //!
 //! ```text
 //! a² − b² = (a − b)(a + b)         for ‖p − ŷ‖², ‖p − t‖², (l − r)²
-//! l − l⁰ = (v − v⁰)·(v + v⁰) / (l + l⁰)     for the spring lengths l = ‖v‖
 //! ```
+//!
+//! with `l − l⁰` exact to the rounding of the lengths themselves.
 //!
 //! so `E(p) − E(p⁰)` is `0` at `p⁰` exactly and negative where a method has
 //! made progress. The gradient needs no such care: its terms are computed
 //! from `p` directly, never as `Q p − b` (whose two parts are each ~1e10 at
 //! a pin).
 //!
-//! Both cost `O(m + n)` (a pass over the springs like the local step's, and
-//! one over the vertices) and allocate nothing.
+//! Both cost `O(m + n)` (a pass over the springs like the local step's, in
+//! [`spring_pass`](super::spring_pass), and one over the vertices) and allocate nothing.
 //!
 //! Source: the assignment's "Time integration" and "Pinned vertices"
 //! sections (the energy); Liu et al. 2013, §3–4 (the local/global iteration
 //! as block coordinate descent on it); Liu, Bouaziz & Kavan 2017, §3 (the
 //! same iteration as a quasi-Newton step with `Q` as the Hessian guess).
+
+use super::spring_pass::{Outputs, Springs};
 
 /// Everything that fixes one step's energy: the network, the start of the
 /// step, inertia, forces and pins. Borrowed, so it costs nothing to make.
@@ -108,31 +111,34 @@ impl StepEnergy<'_> {
     /// # Panics
     /// When `p` does not have one row per vertex.
     pub fn change(&self, p: &[[f64; 3]]) -> EnergyChange {
+        self.change_given_springs(p, self.springs().measure(p, Outputs::default()))
+    }
+
+    /// `E(p) − E(p⁰)` when a [`spring_pass`](super::spring_pass) at `p` has
+    /// already measured `S = Σₑ (l − l⁰) ((l − r) + (l⁰ − r))` (the local
+    /// step's pass can: then the energy costs only the pass over the
+    /// vertices).
+    ///
+    /// # Panics
+    /// When `p` does not have one row per vertex.
+    pub fn change_given_springs(&self, p: &[[f64; 3]], spring_sum: f64) -> EnergyChange {
         assert_eq!(p.len(), self.start.len());
         EnergyChange {
-            springs: self.spring_change(p),
+            springs: 0.5 * self.k * spring_sum,
             inertia: self.inertia_change(p),
             external: self.external_change(p),
             pins: self.pin_change(p),
         }
     }
 
-    /// `Σₑ ½ k (l − l⁰) ((l − r) + (l⁰ − r))`.
-    fn spring_change(&self, p: &[[f64; 3]]) -> f64 {
-        let p0 = self.start;
-        let mut sum = 0.0;
-        for ((&[i, j], &rest), &l0) in self.springs.iter().zip(self.r).zip(self.start_lengths) {
-            let v = difference(p[i], p[j]);
-            let v0 = difference(p0[i], p0[j]);
-            let l = norm(v);
-            let dl = if l + l0 > 0.0 {
-                dot(difference(v, v0), sum3(v, v0)) / (l + l0)
-            } else {
-                0.0
-            };
-            sum += dl * ((l - rest) + (l0 - rest));
+    /// The springs as the [`spring_pass`](super::spring_pass) sees them.
+    pub fn springs(&self) -> Springs<'_> {
+        Springs {
+            springs: self.springs,
+            r: self.r,
+            start_lengths: self.start_lengths,
+            k: self.k,
         }
-        0.5 * self.k * sum
     }
 
     /// `Σᵢ mᵢ/(2Δt²) (pᵢ − p⁰ᵢ)·((pᵢ − ŷᵢ) + (p⁰ᵢ − ŷᵢ))`.
@@ -190,26 +196,11 @@ impl StepEnergy<'_> {
         {
             *gi = std::array::from_fn(|c| mi * (pi[c] - y[c]) * inverse_dt2 - f[c]);
         }
-        for (&[i, j], &rest) in self.springs.iter().zip(self.r) {
-            let v = difference(p[i], p[j]);
-            let force = spring_gradient(self.k, rest, v);
-            g[i] = sum3(g[i], force);
-            g[j] = difference(g[j], force);
-        }
+        let gradient = Some(&mut *g);
+        self.springs().measure(p, Outputs { d: None, gradient });
         for (&c, t) in self.pinned.iter().zip(self.pin_targets) {
             g[c] = std::array::from_fn(|x| g[c][x] + self.w * (p[c][x] - t[x]));
         }
-    }
-}
-
-/// `k (1 − r/‖v‖) v`: the gradient of `½ k (‖v‖ − r)²` in `v` (zero for a
-/// spring of zero length, as the local step's `d`).
-pub fn spring_gradient(k: f64, rest: f64, v: [f64; 3]) -> [f64; 3] {
-    let length = norm(v);
-    if length > 0.0 {
-        v.map(|x| k * (x - rest * (x / length)))
-    } else {
-        [0.0; 3]
     }
 }
 

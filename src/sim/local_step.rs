@@ -75,7 +75,7 @@ fn project_spring([i, j]: [usize; 2], rest_length: f64, p: &[[f64; 3]]) -> [f64;
 }
 
 #[cfg(target_arch = "x86_64")]
-mod avx2 {
+pub(crate) mod avx2 {
     use std::arch::x86_64::*;
 
     /// The same projection for springs `0 .. 4·⌊m/4⌋`, four springs per
@@ -91,17 +91,7 @@ mod avx2 {
         for g in 0..groups {
             let e = 4 * g;
             let s = &springs[e..e + 4];
-            // v = pᵢ − pⱼ by coordinate, lane k for spring e + k
-            let v: [__m256d; 3] = std::array::from_fn(|c| {
-                let pi = _mm256_set_pd(p[s[3][0]][c], p[s[2][0]][c], p[s[1][0]][c], p[s[0][0]][c]);
-                let pj = _mm256_set_pd(p[s[3][1]][c], p[s[2][1]][c], p[s[1][1]][c], p[s[0][1]][c]);
-                _mm256_sub_pd(pi, pj)
-            });
-            let squared = _mm256_add_pd(
-                _mm256_add_pd(_mm256_mul_pd(v[0], v[0]), _mm256_mul_pd(v[1], v[1])),
-                _mm256_mul_pd(v[2], v[2]),
-            );
-            let length = _mm256_sqrt_pd(squared);
+            let (v, length) = spring_vectors!(s, p);
             // zero-length springs: divide by 1, then multiply by 0
             let positive = _mm256_cmp_pd::<_CMP_GT_OQ>(length, _mm256_setzero_pd());
             let divisor = _mm256_blendv_pd(_mm256_set1_pd(1.0), length, positive);
@@ -120,4 +110,25 @@ mod avx2 {
         }
         4 * groups
     }
+
+    /// `(v, l)`: `vₑ = pᵢ − pⱼ` by coordinate and `‖vₑ‖`, lane `k` for the
+    /// spring `s[k]` of four springs `s`. A macro, not a function, so that it
+    /// is compiled inside each AVX2 function that uses it (a function would
+    /// not be inlined into them, and its intrinsics would become calls).
+    macro_rules! spring_vectors {
+        ($s:expr, $p:expr) => {{
+            let (s, p) = ($s, $p);
+            let v: [__m256d; 3] = std::array::from_fn(|c| {
+                let pi = _mm256_set_pd(p[s[3][0]][c], p[s[2][0]][c], p[s[1][0]][c], p[s[0][0]][c]);
+                let pj = _mm256_set_pd(p[s[3][1]][c], p[s[2][1]][c], p[s[1][1]][c], p[s[0][1]][c]);
+                _mm256_sub_pd(pi, pj)
+            });
+            let squared = _mm256_add_pd(
+                _mm256_add_pd(_mm256_mul_pd(v[0], v[0]), _mm256_mul_pd(v[1], v[1])),
+                _mm256_mul_pd(v[2], v[2]),
+            );
+            (v, _mm256_sqrt_pd(squared))
+        }};
+    }
+    pub(crate) use spring_vectors;
 }

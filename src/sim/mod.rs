@@ -24,6 +24,7 @@ pub mod methods;
 pub mod precomputation;
 pub mod signed_incidence;
 pub mod simulation;
+pub mod spring_pass;
 pub mod step;
 
 pub use backend::{Dense, LinearAlgebra, Sparse};

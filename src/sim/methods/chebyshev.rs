@@ -19,13 +19,22 @@
 //! steps `‖xₖ₊₁ − xₖ‖ / ‖xₖ − xₖ₋₁‖` (the ratio creeps up toward the
 //! asymptotic rate as the fast modes die out, so the largest is the best
 //! guess), capped at 0.995 since an overestimate diverges, and keeps it for
-//! later steps. On the bundled cloths it is 0.97–0.999 and the cap decides. `G` is nonlinear, so the
-//! extrapolation can overshoot: when the energy rises, the iterate is
-//! replaced by the plain `x̂ₖ₊₁` (whose energy never rises) and the
-//! recurrence restarts from `ω₁`.
+//! later steps. On the bundled cloths it is 0.97–0.999 and the cap decides.
 //!
-//! Cost per iteration: one plain iteration, one energy evaluation `O(m + n)`
-//! and two vector updates `O(n)`.
+//! `G` is nonlinear, so the extrapolation can overshoot. The energy of each
+//! iterate is measured by the local step of the next iteration, on its way
+//! (the pass over the springs that computes `d` has every length already:
+//! [`iterate_measuring`](super::StepContext::iterate_measuring)); when it is
+//! above the energy of the iterate before, the extrapolated `xₖ₊₁` is
+//! dropped for the plain `x̂ₖ₊₁` it was made from (whose energy cannot be
+//! higher), and the recurrence restarts from `ω₁`. A restart thus costs the
+//! one iteration spent on the overshooting iterate, and the energy seen
+//! iteration by iteration may rise once before it does; in exchange the
+//! energy test costs almost nothing. The last iterate of a step is tested
+//! by a separate energy evaluation, so a step never ends on an overshoot.
+//!
+//! Cost per iteration: one plain iteration, one pass over the vertices for
+//! the energy, and vector updates `O(n)`.
 //!
 //! Source: H. Wang, "A Chebyshev Semi-Iterative Approach for Accelerating
 //! Projective and Position-based Dynamics", ACM TOG 34(6), 2015, §4–5 (the
@@ -49,6 +58,9 @@ pub struct Workspace {
     previous: Vec<[f64; 3]>,
     /// `x̂ₖ₊₁ = G(xₖ)`.
     plain: Vec<[f64; 3]>,
+    /// `x̂ₖ`, the plain iterate the last extrapolation was made from: where
+    /// to go back to if that extrapolation raised the energy.
+    fallback: Vec<[f64; 3]>,
     /// Room to move vectors around.
     spare: Vec<[f64; 3]>,
     /// `ρ` measured in an earlier step.
@@ -60,6 +72,7 @@ impl Workspace {
         Workspace {
             previous: vec![[0.0; 3]; n],
             plain: vec![[0.0; 3]; n],
+            fallback: vec![[0.0; 3]; n],
             spare: vec![[0.0; 3]; n],
             estimated_rho: None,
         }
@@ -97,61 +110,85 @@ pub(crate) fn solve<B: LinearAlgebra>(
     monitor: &mut Monitor<'_, '_>,
 ) -> Outcome {
     let mut rho = control.rho.or(work.estimated_rho);
-    let mut energy = 0.0; // E(p) − E(p⁰) at the current iterate
-    let mut k = 0; // iterations since the recurrence (re)started
+    let mut estimate = RhoEstimate::default();
+    let mut checked_energy = 0.0; // E − E(p⁰) of the last iterate whose energy was measured
+    let mut k = 0; // extrapolations since the recurrence (re)started
     let mut omega_k = 1.0;
-    let mut last_step_norm = 0.0;
-    let mut largest_ratio: f64 = 0.0;
     work.previous.copy_from_slice(p);
     for iteration in 1..=control.iterations {
-        context.global.iterate(p, &mut work.plain);
-        let Some(radius) = rho else {
-            // Still measuring ρ: a plain iteration.
-            subtract(&work.plain, p, &mut work.spare);
-            let step_norm = norm(&work.spare);
-            if last_step_norm > 0.0 {
-                largest_ratio = largest_ratio.max(step_norm / last_step_norm);
-            }
-            if iteration == ESTIMATION_ITERATIONS {
-                let estimate = largest_ratio.min(RHO_CAP);
-                work.estimated_rho = Some(estimate);
-                rho = Some(estimate);
-            }
-            last_step_norm = step_norm;
-            work.previous.copy_from_slice(p);
-            p.copy_from_slice(&work.plain);
-            if rho.is_some() {
-                energy = context.energy.change(p).total();
-            }
-            if monitor.after(iteration, context, p, None) {
-                return Outcome::new(iteration, Stop::Tolerance);
-            }
-            continue;
-        };
-        k += 1;
-        omega_k = omega(k, radius, omega_k);
-        // candidate xₖ₊₁ = ω x̂ + (1 − ω) xₖ₋₁, built in `previous`
-        for (x, x_hat) in work.previous.iter_mut().zip(&work.plain) {
-            *x = std::array::from_fn(|c| omega_k * x_hat[c] + (1.0 - omega_k) * x[c]);
-        }
-        context.global.hold_pins(&mut work.previous);
-        let candidate_energy = context.energy.change(&work.previous).total();
-        if candidate_energy <= energy {
-            // accept: xₖ₋₁ ← xₖ, xₖ ← candidate
-            work.spare.copy_from_slice(p);
-            p.copy_from_slice(&work.previous);
-            work.previous.copy_from_slice(&work.spare);
-            energy = candidate_energy;
-        } else {
-            // overshoot: take the plain iterate and restart the recurrence
-            work.previous.copy_from_slice(p);
-            p.copy_from_slice(&work.plain);
-            energy = context.energy.change(p).total();
+        let energy = context.iterate_measuring(p, &mut work.plain);
+        if k > 0 && energy > checked_energy {
+            // The last extrapolation overshot: back to the plain iterate it
+            // was made from (`G` of the last good iterate), and restart.
+            p.copy_from_slice(&work.fallback);
             k = 0;
+        } else {
+            checked_energy = energy;
+            match rho {
+                None => {
+                    // Still measuring ρ: a plain iteration.
+                    rho = estimate.record(iteration, p, &work.plain, &mut work.spare);
+                    work.estimated_rho = work.estimated_rho.or(rho);
+                    p.copy_from_slice(&work.plain);
+                }
+                Some(radius) => {
+                    k += 1;
+                    omega_k = omega(k, radius, omega_k);
+                    extrapolate(context, work, omega_k, p);
+                }
+            }
         }
         if monitor.after(iteration, context, p, None) {
             return Outcome::new(iteration, Stop::Tolerance);
         }
     }
+    if k > 0 && context.energy.change(p).total() > checked_energy {
+        p.copy_from_slice(&work.fallback); // the last extrapolation overshot
+    }
     Outcome::new(control.iterations, Stop::Iterations)
+}
+
+/// `xₖ₊₁ = ω x̂ₖ₊₁ + (1 − ω) xₖ₋₁` into `p`, with `x̂ₖ₊₁ = G(p)` in
+/// `work.plain`; `work.previous` becomes `xₖ` and `work.fallback` `x̂ₖ₊₁`.
+fn extrapolate<B: LinearAlgebra>(
+    context: &StepContext<'_, B>,
+    work: &mut Workspace,
+    omega: f64,
+    p: &mut [[f64; 3]],
+) {
+    for (x, x_hat) in work.previous.iter_mut().zip(&work.plain) {
+        *x = std::array::from_fn(|c| omega * x_hat[c] + (1.0 - omega) * x[c]);
+    }
+    context.global.hold_pins(&mut work.previous);
+    work.spare.copy_from_slice(p);
+    p.copy_from_slice(&work.previous);
+    std::mem::swap(&mut work.previous, &mut work.spare);
+    std::mem::swap(&mut work.fallback, &mut work.plain);
+}
+
+/// The measurement of `ρ` from the first plain steps of the first step.
+#[derive(Debug, Default)]
+struct RhoEstimate {
+    last_step_norm: f64,
+    largest_ratio: f64,
+}
+
+impl RhoEstimate {
+    /// Records the plain step `x̂ − x`; returns `ρ` once
+    /// [`ESTIMATION_ITERATIONS`] have been recorded.
+    fn record(
+        &mut self,
+        iteration: usize,
+        x: &[[f64; 3]],
+        x_hat: &[[f64; 3]],
+        scratch: &mut [[f64; 3]],
+    ) -> Option<f64> {
+        subtract(x_hat, x, scratch);
+        let step_norm = norm(scratch);
+        if self.last_step_norm > 0.0 {
+            self.largest_ratio = self.largest_ratio.max(step_norm / self.last_step_norm);
+        }
+        self.last_step_norm = step_norm;
+        (iteration == ESTIMATION_ITERATIONS).then(|| self.largest_ratio.min(RHO_CAP))
+    }
 }

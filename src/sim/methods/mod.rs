@@ -35,6 +35,7 @@ use super::backend::LinearAlgebra;
 use super::energy::{free_norm, StepEnergy};
 use super::exact_pins::ExactPins;
 use super::local_step::project_springs;
+use super::spring_pass::Outputs;
 use std::fmt;
 use std::str::FromStr;
 
@@ -196,6 +197,12 @@ impl<B: LinearAlgebra> GlobalStep<'_, B> {
     /// (with exact pins: the free rows from `Q_ff`, the pins at their targets).
     pub fn iterate_in_place(&mut self, p: &mut [[f64; 3]]) {
         project_springs(self.springs, self.r, p, self.d);
+        self.global_step(p);
+    }
+
+    /// The global step from the `d` of the last local step: `p ← Q⁻¹ (k Aᵀ d
+    /// + y + w CᵀC V)`.
+    fn global_step(&mut self, p: &mut [[f64; 3]]) {
         B::transpose_mul_points(self.A, self.d, self.b);
         let pin_rhs = self
             .exact_pins
@@ -267,6 +274,24 @@ pub(crate) struct StepContext<'a, B: LinearAlgebra> {
     /// `pinned[i]`: is vertex `i` pinned?
     pub pinned: &'a [bool],
     pub global: GlobalStep<'a, B>,
+}
+
+impl<B: LinearAlgebra> StepContext<'_, B> {
+    /// `out ← G(p)`, one local/global iteration from `p`, returning
+    /// `E(p) − E(p⁰)`: the local step's own pass over the springs measures
+    /// the energy on the way ([`spring_pass`](crate::sim::spring_pass)), so
+    /// the energy of every iterate costs one pass over the vertices.
+    pub fn iterate_measuring(&mut self, p: &[[f64; 3]], out: &mut [[f64; 3]]) -> f64 {
+        let d = Some(&mut *self.global.d);
+        let spring_sum = self
+            .energy
+            .springs()
+            .measure(p, Outputs { d, gradient: None });
+        let energy = self.energy.change_given_springs(p, spring_sum).total();
+        out.copy_from_slice(p);
+        self.global.global_step(out);
+        energy
+    }
 }
 
 /// The stopping rule and the observer, consulted after every iteration.
