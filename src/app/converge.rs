@@ -90,6 +90,13 @@ two-panel plot.",
             "Instead of one step, steps 1…S: the median time each method takes to reach \
              plain-50's energy.",
         ),
+        Flag::value(
+            "tolerance",
+            "T",
+            "With --steps: each method instead solves every step until its relative gradient \
+             is at most T (0 < T < 1), as simulate --tolerance does; prints the median step \
+             time against plain-50's and how many steps ended at or below plain-50's energy.",
+        ),
         ITERATIONS,
         RHO,
         WINDOW,
@@ -327,6 +334,9 @@ fn curves_for_plot(curves: &[Curve]) -> Vec<super::convergence_plot::PlotCurve> 
 /// (the accuracy the assignment settles for); prints, per method, the
 /// median over the steps and its ratio to plain-50's median.
 fn run_over_steps(request: &Request, steps: usize) -> Result<(), AppError> {
+    if let Some(tolerance) = request.control.tolerance {
+        return run_over_steps_to_tolerance(request, steps, tolerance);
+    }
     let scene = load_scene(&request.scene)?;
     let mut simulation = precompute::<Sparse>(&scene, &request.scene, request.canonical)?;
     let mut control = request.control;
@@ -373,4 +383,105 @@ fn run_over_steps(request: &Request, steps: usize) -> Result<(), AppError> {
         );
     }
     Ok(())
+}
+
+/// `--steps S --tolerance T`: for each of the canonical steps 1…S, each
+/// method solves the step as `simulate --tolerance T` would (stopping by
+/// the rule, nobody watching), timed whole; so does plain with 50
+/// iterations. Prints, per method, the median step time, its ratio to
+/// plain-50's, the median iterations, and on how many steps the method
+/// ended at or below plain-50's energy (the accuracy it is compared at).
+fn run_over_steps_to_tolerance(
+    request: &Request,
+    steps: usize,
+    tolerance: f64,
+) -> Result<(), AppError> {
+    let scene = load_scene(&request.scene)?;
+    let mut simulation = precompute::<Sparse>(&scene, &request.scene, request.canonical)?;
+    let plain_50 = StepControl {
+        method: StepMethod::Plain,
+        iterations: YARDSTICKS[0],
+        tolerance: None,
+        ..request.control
+    };
+    let mut control = request.control;
+    // One runner per method, kept across steps so that each method's work
+    // arrays are made once (as in a simulation), and set to the canonical
+    // state before each timed step.
+    let mut plain_runner = simulation.clone();
+    let mut runners = vec![simulation.clone(); request.methods.len()];
+    let mut plain_ms = Vec::new();
+    let mut rows: Vec<(Vec<f64>, Vec<f64>, usize)> =
+        vec![(Vec::new(), Vec::new(), 0); request.methods.len()];
+    for step in 1..=steps {
+        if control.rho.is_none() {
+            let plain = trace(&simulation, &control, StepMethod::Plain, YARDSTICKS[0])?;
+            let norms: Vec<f64> = plain.samples[1..].iter().map(|s| s.step_norm).collect();
+            control.rho = Some(estimate_rho(&norms));
+        }
+        let (plain_report, ms) = timed_step(&mut plain_runner, &simulation, &plain_50)?;
+        plain_ms.push(ms);
+        let target = -plain_report.energy_decrease;
+        for ((&method, runner), row) in request.methods.iter().zip(&mut runners).zip(&mut rows) {
+            let control = StepControl {
+                method,
+                tolerance: Some(tolerance),
+                ..control
+            };
+            let (report, ms) = timed_step(runner, &simulation, &control)?;
+            row.0.push(ms);
+            row.1.push(report.iterations as f64);
+            if -report.energy_decrease <= target + 1e-12 * target.abs() {
+                row.2 += 1;
+            }
+        }
+        simulation
+            .step()
+            .map_err(|e| AppError::Failed(format!("step {step}: {e}")))?;
+        eprint!("\rconverge: step {step}/{steps}");
+    }
+    eprintln!();
+    let plain_median = super::timing::median(&mut plain_ms);
+    println!(
+        "{} steps 1-{steps}, --tolerance {tolerance}: median step time against plain-50's \
+         ({plain_median:.3} ms)",
+        request.scene.display()
+    );
+    println!(
+        "{:<10} {:>12} {:>10} {:>12} {:>26}",
+        "method", "iterations", "ms", "/ plain-50", "steps at plain-50's energy"
+    );
+    for (method, (ms, iterations, reached)) in request.methods.iter().zip(&mut rows) {
+        let ms = super::timing::median(ms);
+        println!(
+            "{:<10} {:>12} {:>10.3} {:>12.3} {:>26}",
+            method.name(),
+            super::timing::median(iterations),
+            ms,
+            ms / plain_median,
+            format!("{reached} of {steps}")
+        );
+    }
+    Ok(())
+}
+
+/// The next step from `simulation`'s state, solved by `runner` as
+/// `control` says, and its wall time in milliseconds.
+fn timed_step(
+    runner: &mut Simulation<Sparse>,
+    simulation: &Simulation<Sparse>,
+    control: &StepControl,
+) -> Result<(masssprings::sim::StepReport, f64), AppError> {
+    let failed =
+        |e: masssprings::sim::SimulationError| AppError::Failed(format!("{}: {e}", control.method));
+    runner
+        .set_state(
+            simulation.previous_positions(),
+            simulation.positions(),
+            simulation.steps(),
+        )
+        .map_err(failed)?;
+    let started = Instant::now();
+    let report = runner.step_with(control, None).map_err(failed)?;
+    Ok((report, 1e3 * started.elapsed().as_secs_f64()))
 }

@@ -251,6 +251,11 @@ impl<B: LinearAlgebra> Simulation<B> {
         &self.u_cur
     }
 
+    /// The positions one step earlier, `U_prev`.
+    pub fn previous_positions(&self) -> &[[f64; 3]] {
+        &self.u_prev
+    }
+
     /// The rest positions `V`.
     pub fn rest_positions(&self) -> &[[f64; 3]] {
         &self.rest

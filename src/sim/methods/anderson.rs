@@ -25,8 +25,13 @@
 //! its mean diagonal, a Tikhonov term that keeps nearly parallel columns
 //! from blowing `γ` up.
 //!
-//! Cost per iteration: one plain iteration, one or two energy evaluations
-//! `O(m + n)`, and `O(m n)` for the inner products and the combination.
+//! The energy of a candidate is measured by the local step made at it
+//! ([`local_step_measuring`](super::StepContext::local_step_measuring)),
+//! which the next global step needs anyway: testing costs a pass over the
+//! vertices, and a rejection one more local step.
+//!
+//! Cost per iteration: one plain iteration, one pass over the vertices for
+//! the energy (and a second local step after a rejection), and `O(m n)` for the inner products and the combination.
 //!
 //! Sources: D. G. Anderson, "Iterative procedures for nonlinear integral
 //! equations", J. ACM 12(4), 1965; H. F. Walker & P. Ni, "Anderson
@@ -35,7 +40,7 @@
 //! L. Liu, "Anderson Acceleration for Geometry Optimization and Physics
 //! Simulation", ACM TOG 37(4), 2018, Algorithm 1 (the energy safeguard).
 
-use super::block_vector::{add_scaled, dot, subtract};
+use super::block_vector::{dot, subtract};
 use super::{Monitor, Outcome, StepContext, StepControl, Stop};
 use crate::linalg::dense::{DenseCholesky, DenseMatrix};
 use crate::sim::backend::LinearAlgebra;
@@ -61,6 +66,8 @@ pub struct Workspace {
     normal: DenseMatrix,
     cholesky: DenseCholesky,
     gamma: Vec<f64>,
+    /// `Δfⱼ · fₖ` of the held columns (by slot).
+    delta_f_dot_f: Vec<f64>,
 }
 
 impl Workspace {
@@ -81,6 +88,7 @@ impl Workspace {
             cholesky: DenseCholesky::factor(&DenseMatrix::identity(window))
                 .expect("the identity is positive definite"),
             gamma: vec![0.0; window],
+            delta_f_dot_f: vec![0.0; window],
         }
     }
 
@@ -94,25 +102,47 @@ impl Workspace {
         self.have_previous = false;
     }
 
-    /// Records `fₖ`, `gₖ`: the differences with `fₖ₋₁`, `gₖ₋₁` join the
-    /// history (the oldest leaves when it is full).
-    fn push(&mut self) {
-        if self.have_previous {
+    /// Records `fₖ = gₖ − xₖ` (with `gₖ` in `g`): the differences with
+    /// `fₖ₋₁`, `gₖ₋₁` join the history (the oldest leaves when it is full),
+    /// the Gram matrix gains their row, and `ΔFᵀfₖ` (the normal equations'
+    /// right-hand side) is formed, in two passes over the vectors.
+    fn push(&mut self, x: &[[f64; 3]]) {
+        if !self.have_previous {
+            subtract(&self.g, x, &mut self.f);
+        } else {
             let slot = self.next_slot;
-            subtract(&self.f, &self.previous_f, &mut self.delta_f[slot]);
-            subtract(&self.g, &self.previous_g, &mut self.delta_g[slot]);
+            self.differences(x, slot);
             self.next_slot = (slot + 1) % self.window();
             self.held = (self.held + 1).min(self.window());
-            // slots 0 .. held hold history (the ring fills from 0)
-            for other in 0..self.held {
-                let product = dot(&self.delta_f[slot], &self.delta_f[other]);
-                self.gram[(slot, other)] = product;
-                self.gram[(other, slot)] = product;
-            }
+            self.inner_products(slot);
         }
-        self.previous_f.copy_from_slice(&self.f);
+        std::mem::swap(&mut self.f, &mut self.previous_f);
         self.previous_g.copy_from_slice(&self.g);
         self.have_previous = true;
+    }
+
+    /// `f ← g − x`, `Δf ← f − f_prev`, `Δg ← g − g_prev` (into `slot`), in one
+    /// pass; `f` is left in `previous_f`'s place by [`Workspace::push`].
+    fn differences(&mut self, x: &[[f64; 3]], slot: usize) {
+        let (delta_f, delta_g) = (&mut self.delta_f[slot], &mut self.delta_g[slot]);
+        for i in 0..x.len() {
+            for c in 0..3 {
+                let f = self.g[i][c] - x[i][c];
+                self.f[i][c] = f;
+                delta_f[i][c] = f - self.previous_f[i][c];
+                delta_g[i][c] = self.g[i][c] - self.previous_g[i][c];
+            }
+        }
+    }
+
+    /// The Gram row `Δf_slot · Δf_j` and `Δf_j · f` for every held `j`.
+    fn inner_products(&mut self, slot: usize) {
+        for j in 0..self.held {
+            let product = dot(&self.delta_f[slot], &self.delta_f[j]);
+            self.gram[(slot, j)] = product;
+            self.gram[(j, slot)] = product;
+            self.delta_f_dot_f[j] = dot(&self.delta_f[j], &self.f);
+        }
     }
 
     /// Solves for `γ` and writes `gₖ − ΔG γ` into `out`; false when the
@@ -130,22 +160,29 @@ impl Workspace {
                     (false, false) => 0.0,
                 };
             }
-            self.gamma[i] = if i < held {
-                dot(&self.delta_f[i], &self.f)
-            } else {
-                0.0
-            };
+            self.gamma[i] = if i < held { self.delta_f_dot_f[i] } else { 0.0 };
         }
         if self.cholesky.refactor(&self.normal).is_err()
             || self.cholesky.solve_in_place(&mut self.gamma).is_err()
         {
             return false;
         }
-        out.copy_from_slice(&self.g);
-        for j in 0..held {
-            add_scaled(out, -self.gamma[j], &self.delta_g[j]);
-        }
+        self.combine(out);
         out.iter().flatten().all(|x| x.is_finite())
+    }
+
+    /// `out ← g − Σⱼ γⱼ Δgⱼ`, in one pass.
+    fn combine(&self, out: &mut [[f64; 3]]) {
+        let held = &self.delta_g[..self.held];
+        for (i, o) in out.iter_mut().enumerate() {
+            let mut sum = self.g[i];
+            for (delta_g, &gamma) in held.iter().zip(&self.gamma) {
+                for c in 0..3 {
+                    sum[c] -= gamma * delta_g[i][c];
+                }
+            }
+            *o = sum;
+        }
     }
 }
 
@@ -158,26 +195,27 @@ pub(crate) fn solve<B: LinearAlgebra>(
     monitor: &mut Monitor<'_, '_>,
 ) -> Outcome {
     work.clear();
-    let mut energy = 0.0; // of the last accepted iterate, relative to p⁰
+    // The local step at each accepted iterate is made when it is accepted
+    // (it measures the energy that decides), and used by the next global step.
+    let mut energy = context.local_step_measuring(p);
     for iteration in 1..=control.iterations {
-        context.global.iterate(p, &mut work.g);
-        subtract(&work.g, p, &mut work.f);
-        work.push();
+        context.global_step(&mut work.g);
+        work.push(p);
         let accelerated = work.held > 0 && work.extrapolate(p);
-        context.global.hold_pins(p);
         let accepted = accelerated && {
-            let candidate = context.energy.change(p).total();
-            if candidate <= energy {
+            context.global.hold_pins(p);
+            let candidate = context.local_step_measuring(p);
+            let lower = candidate <= energy;
+            if lower {
                 energy = candidate;
-                true
-            } else {
-                false
             }
+            lower
         };
         if !accepted {
-            // the safeguard: the plain iterate, and a fresh history
+            // the safeguard: the plain iterate (whose energy cannot be
+            // higher), and a fresh history
             p.copy_from_slice(&work.g);
-            energy = context.energy.change(p).total();
+            energy = context.local_step_measuring(p);
             if accelerated {
                 work.clear();
             }

@@ -21,20 +21,16 @@
 //! guess), capped at 0.995 since an overestimate diverges, and keeps it for
 //! later steps. On the bundled cloths it is 0.97–0.999 and the cap decides.
 //!
-//! `G` is nonlinear, so the extrapolation can overshoot. The energy of each
-//! iterate is measured by the local step of the next iteration, on its way
-//! (the pass over the springs that computes `d` has every length already:
-//! [`iterate_measuring`](super::StepContext::iterate_measuring)); when it is
-//! above the energy of the iterate before, the extrapolated `xₖ₊₁` is
-//! dropped for the plain `x̂ₖ₊₁` it was made from (whose energy cannot be
-//! higher), and the recurrence restarts from `ω₁`. A restart thus costs the
-//! one iteration spent on the overshooting iterate, and the energy seen
-//! iteration by iteration may rise once before it does; in exchange the
-//! energy test costs almost nothing. The last iterate of a step is tested
-//! by a separate energy evaluation, so a step never ends on an overshoot.
+//! `G` is nonlinear, so the extrapolation can overshoot: when the energy
+//! rises, the iterate is replaced by the plain `x̂ₖ₊₁` (whose energy never
+//! rises) and the recurrence restarts from `ω₁`. The energy of a candidate
+//! is measured by the local step made at it
+//! ([`local_step_measuring`](super::StepContext::local_step_measuring)),
+//! which the next global step needs anyway, so the test costs a pass over
+//! the vertices, and a restart one more local step.
 //!
 //! Cost per iteration: one plain iteration, one pass over the vertices for
-//! the energy, and vector updates `O(n)`.
+//! the energy, and vector updates and copies `O(n)`.
 //!
 //! Source: H. Wang, "A Chebyshev Semi-Iterative Approach for Accelerating
 //! Projective and Position-based Dynamics", ACM TOG 34(6), 2015, §4–5 (the
@@ -54,13 +50,12 @@ pub const ESTIMATION_ITERATIONS: usize = 20;
 /// Chebyshev's work arrays, and its estimate of `ρ` from earlier steps.
 #[derive(Debug, Clone)]
 pub struct Workspace {
+    /// `xₖ`, the current iterate.
+    current: Vec<[f64; 3]>,
     /// `xₖ₋₁`, then the candidate `xₖ₊₁`.
     previous: Vec<[f64; 3]>,
     /// `x̂ₖ₊₁ = G(xₖ)`.
     plain: Vec<[f64; 3]>,
-    /// `x̂ₖ`, the plain iterate the last extrapolation was made from: where
-    /// to go back to if that extrapolation raised the energy.
-    fallback: Vec<[f64; 3]>,
     /// Room to move vectors around.
     spare: Vec<[f64; 3]>,
     /// `ρ` measured in an earlier step.
@@ -70,9 +65,9 @@ pub struct Workspace {
 impl Workspace {
     pub fn new(n: usize) -> Self {
         Workspace {
+            current: vec![[0.0; 3]; n],
             previous: vec![[0.0; 3]; n],
             plain: vec![[0.0; 3]; n],
-            fallback: vec![[0.0; 3]; n],
             spare: vec![[0.0; 3]; n],
             estimated_rho: None,
         }
@@ -111,59 +106,66 @@ pub(crate) fn solve<B: LinearAlgebra>(
 ) -> Outcome {
     let mut rho = control.rho.or(work.estimated_rho);
     let mut estimate = RhoEstimate::default();
-    let mut checked_energy = 0.0; // E − E(p⁰) of the last iterate whose energy was measured
     let mut k = 0; // extrapolations since the recurrence (re)started
     let mut omega_k = 1.0;
+    // xₖ in `current`, xₖ₋₁ in `previous`; the buffers trade places
+    // instead of being copied.
+    work.current.copy_from_slice(p);
     work.previous.copy_from_slice(p);
+    // The local step at each iterate is made when it is reached (it
+    // measures the energy that decides), and used by the next global step.
+    let mut energy = context.local_step_measuring(p);
+    let mut outcome = Outcome::new(control.iterations, Stop::Iterations);
     for iteration in 1..=control.iterations {
-        let energy = context.iterate_measuring(p, &mut work.plain);
-        if k > 0 && energy > checked_energy {
-            // The last extrapolation overshot: back to the plain iterate it
-            // was made from (`G` of the last good iterate), and restart.
-            p.copy_from_slice(&work.fallback);
-            k = 0;
-        } else {
-            checked_energy = energy;
-            match rho {
-                None => {
-                    // Still measuring ρ: a plain iteration.
-                    rho = estimate.record(iteration, p, &work.plain, &mut work.spare);
-                    work.estimated_rho = work.estimated_rho.or(rho);
-                    p.copy_from_slice(&work.plain);
-                }
-                Some(radius) => {
-                    k += 1;
-                    omega_k = omega(k, radius, omega_k);
-                    extrapolate(context, work, omega_k, p);
+        context.global_step(&mut work.plain);
+        match rho {
+            None => {
+                // Still measuring ρ: a plain iteration.
+                rho = estimate.record(iteration, &work.current, &work.plain, &mut work.spare);
+                work.estimated_rho = work.estimated_rho.or(rho);
+                work.take_plain();
+                energy = context.local_step_measuring(&work.current);
+            }
+            Some(radius) => {
+                k += 1;
+                omega_k = omega(k, radius, omega_k);
+                extrapolate(context, work, omega_k);
+                let candidate = context.local_step_measuring(&work.previous);
+                if candidate <= energy {
+                    std::mem::swap(&mut work.current, &mut work.previous);
+                    energy = candidate;
+                } else {
+                    // overshoot: the plain iterate, and the recurrence restarts
+                    work.take_plain();
+                    energy = context.local_step_measuring(&work.current);
+                    k = 0;
                 }
             }
         }
-        if monitor.after(iteration, context, p, None) {
-            return Outcome::new(iteration, Stop::Tolerance);
+        if monitor.after(iteration, context, &work.current, None) {
+            outcome = Outcome::new(iteration, Stop::Tolerance);
+            break;
         }
     }
-    if k > 0 && context.energy.change(p).total() > checked_energy {
-        p.copy_from_slice(&work.fallback); // the last extrapolation overshot
-    }
-    Outcome::new(control.iterations, Stop::Iterations)
+    p.copy_from_slice(&work.current);
+    outcome
 }
 
-/// `xₖ₊₁ = ω x̂ₖ₊₁ + (1 − ω) xₖ₋₁` into `p`, with `x̂ₖ₊₁ = G(p)` in
-/// `work.plain`; `work.previous` becomes `xₖ` and `work.fallback` `x̂ₖ₊₁`.
-fn extrapolate<B: LinearAlgebra>(
-    context: &StepContext<'_, B>,
-    work: &mut Workspace,
-    omega: f64,
-    p: &mut [[f64; 3]],
-) {
+impl Workspace {
+    /// `xₖ₋₁ ← xₖ`, `xₖ ← x̂ₖ₊₁` (by trading buffers).
+    fn take_plain(&mut self) {
+        std::mem::swap(&mut self.previous, &mut self.current);
+        std::mem::swap(&mut self.current, &mut self.plain);
+    }
+}
+
+/// The candidate `xₖ₊₁ = ω x̂ₖ₊₁ + (1 − ω) xₖ₋₁` into `work.previous` (which
+/// holds `xₖ₋₁`), with `x̂ₖ₊₁ = G(xₖ)` in `work.plain`.
+fn extrapolate<B: LinearAlgebra>(context: &StepContext<'_, B>, work: &mut Workspace, omega: f64) {
     for (x, x_hat) in work.previous.iter_mut().zip(&work.plain) {
         *x = std::array::from_fn(|c| omega * x_hat[c] + (1.0 - omega) * x[c]);
     }
     context.global.hold_pins(&mut work.previous);
-    work.spare.copy_from_slice(p);
-    p.copy_from_slice(&work.previous);
-    std::mem::swap(&mut work.previous, &mut work.spare);
-    std::mem::swap(&mut work.fallback, &mut work.plain);
 }
 
 /// The measurement of `ρ` from the first plain steps of the first step.

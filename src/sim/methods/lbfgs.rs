@@ -26,12 +26,20 @@
 //!   `sᵀy < 0.2 sᵀQs` the pair's `y` is replaced by `θ y + (1 − θ) Q s`,
 //!   `θ = 0.8 sᵀQs / (sᵀQs − sᵀy)`, so that `sᵀy = 0.2 sᵀQs > 0`.
 //! * **A line search that also expands** ([`line_search`](super::line_search)):
-//!   from `t = 1`, `t` doubles while the energy keeps falling, or halves
-//!   until the Armijo condition holds.
+//!   from the step length the last search accepted (at least 1), it looks
+//!   further while the energy keeps falling, or halves `t` until the Armijo
+//!   condition holds.
 //!
-//! Cost per iteration: one solve with `Q`, one gradient and two or more
-//! energy evaluations (`O(m + n)` each), one product `Q s`, and `O(m n)` for
-//! the recursion.
+//! Each trial point of the line search gets its energy and its gradient
+//! from one pass over the springs ([`change_and_gradient`]), so the
+//! accepted point's gradient, which the next pair needs, costs nothing more.
+//!
+//! Cost per iteration: one solve with `Q`, one energy-and-gradient
+//! evaluation per trial point (two when the first is accepted and the
+//! doubled one is not), `O(m + n)` each, one product `Q s`, and `O(m n)`
+//! for the recursion.
+//!
+//! [`change_and_gradient`]: crate::sim::energy::StepEnergy::change_and_gradient
 //!
 //! Sources: T. Liu, S. Bouaziz, L. Kavan, "Quasi-Newton Methods for
 //! Real-time Simulation of Hyperelastic Materials", ACM TOG 36(3), 2017,
@@ -55,12 +63,15 @@ pub struct Workspace {
     /// Ring position of the oldest pair, and how many are held.
     oldest: usize,
     held: usize,
-    /// `∇E(p)`, `∇E(p_new)`, the direction, a trial point, `Q s`.
+    /// `∇E(p)`, the direction, `Q s`.
     gradient: Vec<[f64; 3]>,
-    new_gradient: Vec<[f64; 3]>,
     direction: Vec<[f64; 3]>,
-    trial: Vec<[f64; 3]>,
     q_s: Vec<[f64; 3]>,
+    /// The line search's last two trial points `p + t d`, their gradients
+    /// and their `t`.
+    trials: [Vec<[f64; 3]>; 2],
+    trial_gradients: [Vec<[f64; 3]>; 2],
+    trial_lengths: [f64; 2],
 }
 
 impl Workspace {
@@ -74,15 +85,25 @@ impl Workspace {
             oldest: 0,
             held: 0,
             gradient: vec![[0.0; 3]; n],
-            new_gradient: vec![[0.0; 3]; n],
             direction: vec![[0.0; 3]; n],
-            trial: vec![[0.0; 3]; n],
             q_s: vec![[0.0; 3]; n],
+            trials: [vec![[0.0; 3]; n], vec![[0.0; 3]; n]],
+            trial_gradients: [vec![[0.0; 3]; n], vec![[0.0; 3]; n]],
+            trial_lengths: [f64::NAN; 2],
         }
     }
 
     pub(crate) fn window(&self) -> usize {
         self.s.len()
+    }
+
+    /// Which trial buffer holds the point at step length `t`.
+    fn trial_holding(&self, t: f64) -> usize {
+        if self.trial_lengths[0] == t {
+            0
+        } else {
+            1
+        }
     }
 
     /// Ring slot of the `age`-th oldest pair.
@@ -159,39 +180,70 @@ pub(crate) fn solve<B: LinearAlgebra>(
     work.oldest = 0;
     context.energy.gradient(p, &mut work.gradient);
     let mut energy = 0.0; // E(p) − E(p⁰)
+    let mut last_step_length: f64 = 1.0;
     for iteration in 1..=control.iterations {
         let Some(slope) = descent_direction(context, work) else {
             return Outcome::new(iteration - 1, Stop::Stalled);
         };
-        let Some((t, new_energy)) = line_search(
-            &context.energy,
-            Search::Expanding,
-            p,
-            &work.direction,
-            slope,
-            energy,
-            &mut work.trial,
-        ) else {
+        let first = last_step_length.max(1.0);
+        let Some((t, new_energy)) = search_along_direction(context, work, p, first, slope, energy)
+        else {
             return Outcome::new(iteration - 1, Stop::Stalled);
         };
-        let slot = work.next_slot();
-        moved(p, t, &work.direction, &mut work.trial);
-        subtract(&work.trial, p, &mut work.s[slot]);
-        p.copy_from_slice(&work.trial);
+        last_step_length = t;
         energy = new_energy;
-        context.energy.gradient(p, &mut work.new_gradient);
-        subtract(&work.new_gradient, &work.gradient, &mut work.y[slot]);
+        let slot = work.next_slot();
+        let trial = work.trial_holding(t);
+        subtract(&work.trials[trial], p, &mut work.s[slot]);
+        p.copy_from_slice(&work.trials[trial]);
+        subtract(
+            &work.trial_gradients[trial],
+            &work.gradient,
+            &mut work.y[slot],
+        );
+        std::mem::swap(&mut work.gradient, &mut work.trial_gradients[trial]);
         context.global.mul_q(&work.s[slot], &mut work.q_s);
         let s_y = work.damp(slot);
         if s_y > 0.0 {
             work.commit(s_y);
         }
-        std::mem::swap(&mut work.gradient, &mut work.new_gradient);
         if monitor.after(iteration, context, p, Some(&work.gradient)) {
             return Outcome::new(iteration, Stop::Tolerance);
         }
     }
     Outcome::new(control.iterations, Stop::Iterations)
+}
+
+/// The line search along `work.direction` from `p`. Each trial point is
+/// built in one of two buffers, taken in turn, with its energy and
+/// gradient from one evaluation: the accepted point is always the last or
+/// the one before it, so its gradient is at hand when the search ends.
+fn search_along_direction<B: LinearAlgebra>(
+    context: &StepContext<'_, B>,
+    work: &mut Workspace,
+    p: &[[f64; 3]],
+    first: f64,
+    slope: f64,
+    energy: f64,
+) -> Option<(f64, f64)> {
+    let Workspace {
+        direction,
+        trials,
+        trial_gradients,
+        trial_lengths,
+        ..
+    } = work;
+    *trial_lengths = [f64::NAN; 2];
+    let mut next = 0;
+    line_search(Search::Expanding, first, slope, energy, |t| {
+        moved(p, t, direction, &mut trials[next]);
+        let change = context
+            .energy
+            .change_and_gradient(&trials[next], &mut trial_gradients[next]);
+        trial_lengths[next] = t;
+        next = 1 - next;
+        change.total()
+    })
 }
 
 /// Sets `work.direction` to the L-BFGS direction, or to the plain one

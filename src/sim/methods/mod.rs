@@ -223,12 +223,6 @@ impl<B: LinearAlgebra> GlobalStep<'_, B> {
         p.copy_from_slice(self.b);
     }
 
-    /// `out ← G(p)`, one local/global iteration from `p` (which is kept).
-    pub fn iterate(&mut self, p: &[[f64; 3]], out: &mut [[f64; 3]]) {
-        out.copy_from_slice(p);
-        self.iterate_in_place(out);
-    }
-
     /// `v ← Q⁻¹ v` (with exact pins: `Q_ff⁻¹` on the free rows, the pinned
     /// rows 0, so that no direction moves a pin).
     pub fn solve(&mut self, v: &mut [[f64; 3]]) {
@@ -277,20 +271,24 @@ pub(crate) struct StepContext<'a, B: LinearAlgebra> {
 }
 
 impl<B: LinearAlgebra> StepContext<'_, B> {
-    /// `out ← G(p)`, one local/global iteration from `p`, returning
-    /// `E(p) − E(p⁰)`: the local step's own pass over the springs measures
-    /// the energy on the way ([`spring_pass`](crate::sim::spring_pass)), so
-    /// the energy of every iterate costs one pass over the vertices.
-    pub fn iterate_measuring(&mut self, p: &[[f64; 3]], out: &mut [[f64; 3]]) -> f64 {
+    /// The local step at `p` (its `d` is kept for the next
+    /// [`StepContext::global_step`]), returning `E(p) − E(p⁰)`: the local
+    /// step's pass over the springs measures the energy on the way
+    /// ([`spring_pass`](crate::sim::spring_pass)), so an iterate's energy
+    /// costs one more pass over the vertices only. Peng et al. 2018 test
+    /// each accelerated iterate this way.
+    pub fn local_step_measuring(&mut self, p: &[[f64; 3]]) -> f64 {
         let d = Some(&mut *self.global.d);
         let spring_sum = self
             .energy
             .springs()
             .measure(p, Outputs { d, gradient: None });
-        let energy = self.energy.change_given_springs(p, spring_sum).total();
-        out.copy_from_slice(p);
+        self.energy.change_given_springs(p, spring_sum).total()
+    }
+
+    /// `out ← G(p)` from the `d` of the last local step, made at `p`.
+    pub fn global_step(&mut self, out: &mut [[f64; 3]]) {
         self.global.global_step(out);
-        energy
     }
 }
 

@@ -33,7 +33,7 @@
 //! (Levenberg–Marquardt); Davis 2006, ch. 4 (the factorization).
 
 use super::block_vector::{dot, moved, scale};
-use super::line_search::{line_search, Search};
+use super::line_search::{energy_along, line_search, Search};
 use super::{Monitor, Outcome, StepContext, StepControl, Stop};
 use crate::linalg::sparse::{Method, Ordering, SparseCholesky, SymbolicCholesky};
 use crate::linalg::LinalgError;
@@ -187,15 +187,10 @@ pub(crate) fn solve<B: LinearAlgebra>(
         if slope.is_nan() || slope >= 0.0 {
             return Outcome::new(iteration - 1, Stop::Stalled);
         }
-        let Some((t, new_energy)) = line_search(
-            &context.energy,
-            Search::Backtracking,
-            p,
-            &work.direction,
-            slope,
-            energy,
-            &mut work.trial,
-        ) else {
+        let (direction, trial) = (&work.direction, &mut work.trial);
+        let Some((t, new_energy)) = line_search(Search::Backtracking, 1.0, slope, energy, |t| {
+            energy_along(&context.energy, p, direction, trial, t)
+        }) else {
             return Outcome::new(iteration - 1, Stop::Stalled);
         };
         moved(p, t, &work.direction, &mut work.trial);
