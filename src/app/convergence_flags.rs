@@ -7,6 +7,7 @@
 use super::args::{Args, Flag};
 use super::AppError;
 use masssprings::sim::simulation::SimulationOptions;
+use masssprings::sim::methods::MAX_WINDOW;
 use masssprings::sim::StepMethod;
 
 pub const METHOD: Flag = Flag::value(
@@ -69,7 +70,7 @@ pub fn apply(args: &Args, options: &mut SimulationOptions) -> Result<(), AppErro
         options.rho = open_unit_interval(args, "rho", "a spectral radius")?.or(options.rho);
     }
     if args.declares("window") {
-        options.window = args.whole_number("window", options.window as u64, 1..=100)? as usize;
+        options.window = args.whole_number("window", options.window as u64, 1..=MAX_WINDOW as u64)? as usize;
     }
     Ok(())
 }

@@ -147,12 +147,18 @@ impl StepEnergy<'_> {
     /// between even and odd vertices, so that the additions overlap).
     fn inertia_and_external_change(&self, p: &[[f64; 3]]) -> (f64, f64) {
         let (mut inertia, mut external) = ([0.0; 2], [0.0; 2]);
-        for (i, pi) in p.iter().enumerate() {
-            let (p0, y, f) = (self.start[i], self.inertial_target[i], self.f_ext[i]);
-            let moved = difference(*pi, p0);
-            let lane = i % 2;
-            inertia[lane] += self.m[i] * dot(moved, sum3(difference(*pi, y), difference(p0, y)));
-            external[lane] += dot(moved, f);
+        let pairs = p
+            .chunks(2)
+            .zip(self.start.chunks(2))
+            .zip(self.inertial_target.chunks(2))
+            .zip(self.f_ext.chunks(2).zip(self.m.chunks(2)));
+        for (((p, p0), y), (f, m)) in pairs {
+            for lane in 0..p.len() {
+                let moved = difference(p[lane], p0[lane]);
+                let (here, start) = (difference(p[lane], y[lane]), difference(p0[lane], y[lane]));
+                inertia[lane] += m[lane] * dot(moved, sum3(here, start));
+                external[lane] += dot(moved, f[lane]);
+            }
         }
         let inertia = (inertia[0] + inertia[1]) / (2.0 * self.delta_t * self.delta_t);
         (inertia, -(external[0] + external[1]))

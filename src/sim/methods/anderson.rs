@@ -40,8 +40,8 @@
 //! L. Liu, "Anderson Acceleration for Geometry Optimization and Physics
 //! Simulation", ACM TOG 37(4), 2018, Algorithm 1 (the energy safeguard).
 
-use super::block_vector::{dot, subtract};
-use super::{Monitor, Outcome, StepContext, StepControl, Stop};
+use super::block_vector::subtract;
+use super::{Monitor, Outcome, StepContext, StepControl, Stop, MAX_WINDOW};
 use crate::linalg::dense::{DenseCholesky, DenseMatrix};
 use crate::sim::backend::LinearAlgebra;
 
@@ -72,7 +72,7 @@ pub struct Workspace {
 
 impl Workspace {
     pub fn new(n: usize, window: usize) -> Self {
-        let window = window.max(1);
+        let window = window.clamp(1, MAX_WINDOW);
         Workspace {
             delta_f: vec![vec![[0.0; 3]; n]; window],
             delta_g: vec![vec![[0.0; 3]; n]; window],
@@ -135,13 +135,24 @@ impl Workspace {
         }
     }
 
-    /// The Gram row `Δf_slot · Δf_j` and `Δf_j · f` for every held `j`.
+    /// The Gram row `Δf_slot · Δf_j` and `Δf_j · f` for every held `j`, in
+    /// one pass that reads each `Δf_j` once.
     fn inner_products(&mut self, slot: usize) {
-        for j in 0..self.held {
-            let product = dot(&self.delta_f[slot], &self.delta_f[j]);
+        let held = self.held;
+        let mut row = [[0.0; 2]; MAX_WINDOW]; // (Δf_slot · Δf_j, Δf_j · f)
+        let (newest, f) = (&self.delta_f[slot], &self.f);
+        for i in 0..f.len() {
+            for (sums, delta_f) in row.iter_mut().zip(&self.delta_f[..held]) {
+                for c in 0..3 {
+                    sums[0] += newest[i][c] * delta_f[i][c];
+                    sums[1] += delta_f[i][c] * f[i][c];
+                }
+            }
+        }
+        for (j, [product, with_f]) in row.into_iter().take(held).enumerate() {
             self.gram[(slot, j)] = product;
             self.gram[(j, slot)] = product;
-            self.delta_f_dot_f[j] = dot(&self.delta_f[j], &self.f);
+            self.delta_f_dot_f[j] = with_f;
         }
     }
 

@@ -49,7 +49,7 @@
 
 use super::block_vector::{add_scaled, dot, moved, scale, subtract};
 use super::line_search::{line_search, Search};
-use super::{Monitor, Outcome, StepContext, StepControl, Stop};
+use super::{Monitor, Outcome, StepContext, StepControl, Stop, MAX_WINDOW};
 use crate::sim::backend::LinearAlgebra;
 
 /// L-BFGS's history and work arrays.
@@ -76,7 +76,7 @@ pub struct Workspace {
 
 impl Workspace {
     pub fn new(n: usize, window: usize) -> Self {
-        let window = window.max(1);
+        let window = window.clamp(1, MAX_WINDOW);
         Workspace {
             s: vec![vec![[0.0; 3]; n]; window],
             y: vec![vec![[0.0; 3]; n]; window],

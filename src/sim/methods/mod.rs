@@ -115,6 +115,9 @@ pub struct StepControl {
 /// The history window of Anderson and L-BFGS when none is given.
 pub const DEFAULT_WINDOW: usize = 5;
 
+/// The longest history window (a longer one is cut to this).
+pub const MAX_WINDOW: usize = 100;
+
 impl Default for StepControl {
     fn default() -> Self {
         StepControl {
