@@ -111,3 +111,16 @@ fn converge_with_a_tolerance_solves_each_step_by_the_rule() {
         assert!(line.ends_with("3 of 3"), "{line}");
     }
 }
+
+#[test]
+fn a_relaxation_outside_its_range_is_a_usage_error() {
+    for bad in ["0", "2.5", "fast"] {
+        let output = masssprings(&["converge", &data("net.json"), "--relaxation", bad]);
+        assert_eq!(output.status.code(), Some(2), "{bad}: {}", stderr(&output));
+        assert!(
+            stderr(&output).contains("--relaxation expects a number above 0 and at most 2"),
+            "{bad}: {}",
+            stderr(&output)
+        );
+    }
+}

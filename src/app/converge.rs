@@ -12,7 +12,7 @@
 //! CSV and as a two-panel plot.
 
 use super::args::{Args, CommandSpec, Flag};
-use super::convergence_flags::{self, ITERATIONS, PINS, RHO, WINDOW};
+use super::convergence_flags::{self, ITERATIONS, PINS, RELAXATION, RHO, WINDOW};
 use super::limits::precompute;
 use super::{load_scene, AppError};
 use masssprings::files::write_file;
@@ -99,6 +99,7 @@ two-panel plot.",
         ),
         ITERATIONS,
         RHO,
+        RELAXATION,
         WINDOW,
         PINS,
     ],

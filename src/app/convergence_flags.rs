@@ -1,13 +1,13 @@
 //! The flags that choose how each step is solved, shared by `simulate`,
 //! `render`, `view` and `converge`: `--method`, `--tolerance`,
-//! `--iterations`, `--rho`, `--window`, `--pins`. A command lists the ones it accepts
+//! `--iterations`, `--rho`, `--relaxation`, `--window`, `--pins`. A command lists the ones it accepts
 //! in its flag table ([`super::args::CommandSpec`]); [`apply`] reads those
 //! that were declared.
 
 use super::args::{Args, Flag};
 use super::AppError;
-use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::methods::MAX_WINDOW;
+use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::StepMethod;
 
 pub const METHOD: Flag = Flag::value(
@@ -30,6 +30,12 @@ pub const RHO: Flag = Flag::value(
     "rho",
     "R",
     "Chebyshev's spectral radius, between 0 and 1 (default: estimated).",
+);
+pub const RELAXATION: Flag = Flag::value(
+    "relaxation",
+    "G",
+    "Chebyshev's relaxation γ of each plain step, above 0 and at most 2 (default 1.5; 1: \
+     none).",
 );
 pub const WINDOW: Flag = Flag::value(
     "window",
@@ -69,8 +75,21 @@ pub fn apply(args: &Args, options: &mut SimulationOptions) -> Result<(), AppErro
     if args.declares("rho") {
         options.rho = open_unit_interval(args, "rho", "a spectral radius")?.or(options.rho);
     }
+    if args.declares("relaxation") {
+        if let Some(text) = args.text("relaxation") {
+            options.relaxation = match text.trim().parse::<f64>() {
+                Ok(value) if value > 0.0 && value <= 2.0 => value,
+                _ => {
+                    return Err(AppError::Usage(format!(
+                        "--relaxation expects a number above 0 and at most 2, got '{text}'"
+                    )))
+                }
+            };
+        }
+    }
     if args.declares("window") {
-        options.window = args.whole_number("window", options.window as u64, 1..=MAX_WINDOW as u64)? as usize;
+        options.window =
+            args.whole_number("window", options.window as u64, 1..=MAX_WINDOW as u64)? as usize;
     }
     Ok(())
 }

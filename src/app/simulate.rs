@@ -10,7 +10,9 @@
 //! median step time comes from a bounded sample.
 
 use super::args::{Args, CommandSpec, Flag};
-use super::convergence_flags::{self, ITERATIONS, METHOD, PINS, RHO, TOLERANCE, WINDOW};
+use super::convergence_flags::{
+    self, ITERATIONS, METHOD, PINS, RELAXATION, RHO, TOLERANCE, WINDOW,
+};
 use super::factorization_flags::{self, FACTORIZATION, ORDERING};
 use super::limits::precompute;
 use super::progress::{duration, Progress};
@@ -94,6 +96,7 @@ time and the total time.",
         TOLERANCE,
         ITERATIONS,
         RHO,
+        RELAXATION,
         WINDOW,
         PINS,
         ORDERING,

@@ -30,6 +30,8 @@ pub struct SimulationOptions {
     pub tolerance: Option<f64>,
     /// Chebyshev's spectral radius (estimated when `None`).
     pub rho: Option<f64>,
+    /// Chebyshev's relaxation of each plain step.
+    pub relaxation: f64,
     /// Anderson's and L-BFGS's history window.
     pub window: usize,
     /// Pins by the assignment's penalty, or as exact constraints.
@@ -72,6 +74,7 @@ impl SimulationOptions {
             iterations: self.iterations,
             tolerance: self.tolerance,
             rho: self.rho,
+            relaxation: self.relaxation,
             window: self.window,
         }
     }
@@ -86,6 +89,7 @@ impl Default for SimulationOptions {
             method: StepMethod::Plain,
             tolerance: None,
             rho: None,
+            relaxation: crate::sim::methods::chebyshev::DEFAULT_RELAXATION,
             window: DEFAULT_WINDOW,
             pins: Pins::Penalty,
             ordering: Ordering::default(),

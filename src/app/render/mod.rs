@@ -40,7 +40,9 @@ mod vector;
 mod tests_common;
 
 use super::args::{Args, CommandSpec, Flag};
-use super::convergence_flags::{self, ITERATIONS, METHOD, PINS, RHO, TOLERANCE, WINDOW};
+use super::convergence_flags::{
+    self, ITERATIONS, METHOD, PINS, RELAXATION, RHO, TOLERANCE, WINDOW,
+};
 use super::limits::{check_frames, precompute};
 use super::progress::Progress;
 use super::timing::median;
@@ -139,6 +141,7 @@ point mass (always drawn for scenes made only of springs).",
         TOLERANCE,
         ITERATIONS,
         RHO,
+        RELAXATION,
         WINDOW,
         PINS,
     ],

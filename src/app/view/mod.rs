@@ -25,7 +25,9 @@ mod simulation_thread;
 mod watchers;
 
 use super::args::{Args, CommandSpec, Flag};
-use super::convergence_flags::{self, ITERATIONS, METHOD, PINS, RHO, TOLERANCE, WINDOW};
+use super::convergence_flags::{
+    self, ITERATIONS, METHOD, PINS, RELAXATION, RHO, TOLERANCE, WINDOW,
+};
 use super::factorization_flags::{self, FACTORIZATION, ORDERING};
 use super::limits::precompute;
 use super::{load_scene, AppError};
@@ -85,6 +87,7 @@ shift-drag to pull a vertex. Ctrl-C stops it.",
         TOLERANCE,
         ITERATIONS,
         RHO,
+        RELAXATION,
         WINDOW,
         PINS,
         ORDERING,

@@ -108,6 +108,8 @@ pub struct StepControl {
     pub tolerance: Option<f64>,
     /// Chebyshev's spectral radius `ρ`; `None` estimates it.
     pub rho: Option<f64>,
+    /// Chebyshev's relaxation `γ` of each plain step (1: none).
+    pub relaxation: f64,
     /// Anderson's and L-BFGS's history: the last `window` iterates.
     pub window: usize,
 }
@@ -125,6 +127,7 @@ impl Default for StepControl {
             iterations: super::step::ITERATIONS,
             tolerance: None,
             rho: None,
+            relaxation: chebyshev::DEFAULT_RELAXATION,
             window: DEFAULT_WINDOW,
         }
     }
