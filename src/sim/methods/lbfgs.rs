@@ -35,9 +35,9 @@
 //! accepted point's gradient, which the next pair needs, costs nothing more.
 //!
 //! Cost per iteration: one solve with `Q`, one energy-and-gradient
-//! evaluation per trial point (two when the first is accepted and the
-//! doubled one is not), `O(m + n)` each, one product `Q s`, and `O(m n)`
-//! for the recursion.
+//! evaluation per trial point (1.8 per iteration on the flag and the skirt:
+//! the first, and the fitted parabola's minimum when it lies well beyond),
+//! `O(m + n)` each, one product `Q s`, and `O(m n)` for the recursion.
 //!
 //! [`change_and_gradient`]: crate::sim::energy::StepEnergy::change_and_gradient
 //!
