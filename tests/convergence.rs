@@ -524,3 +524,40 @@ fn with_exact_pins_every_method_reaches_newtons_minimiser() {
         assert!(distance <= 1e-8 * size, "{method}: {distance:e}");
     }
 }
+
+proptest! {
+    /// On a parabola `E(t) = c t² + s t` (what the energy along a direction
+    /// nearly is), the expanding search lands on the minimum `−s / 2c` in at
+    /// most two evaluations when the minimum lies well beyond the first
+    /// trial, keeps the first trial otherwise, and backtracks (halving)
+    /// when the first trial fails Armijo's condition.
+    #[test]
+    fn the_line_search_finds_a_parabolas_minimum(
+        curvature in 1e-3f64..1e3,
+        slope in -1e3f64..-1e-3,
+        first in prop::sample::select(vec![1.0, 2.0, 4.0]),
+    ) {
+        use masssprings::sim::methods::line_search::{line_search, Search, ARMIJO, LONGEST_STEP};
+        let mut evaluations = 0;
+        let energy = |t: f64| curvature * t * t + slope * t;
+        let (t, e) = line_search(Search::Expanding, first, slope, 0.0, |t| {
+            evaluations += 1;
+            energy(t)
+        })
+        .expect("a parabola that falls at 0 has a sufficient decrease somewhere");
+        prop_assert_eq!(e, energy(t));
+        prop_assert!(e <= ARMIJO * t * slope, "Armijo at t = {}", t);
+        let minimum = -slope / (2.0 * curvature);
+        if first <= minimum / 1.5 {
+            // the parabola is exact: its minimum, capped
+            let want = minimum.min(LONGEST_STEP);
+            prop_assert!((t - want).abs() <= 1e-9 * want, "t = {} against {}", t, want);
+            prop_assert!(evaluations <= 2);
+        } else if energy(first) <= ARMIJO * first * slope {
+            prop_assert_eq!(t, first);
+            prop_assert_eq!(evaluations, 1);
+        } else {
+            prop_assert!(t < first && t >= 0.5f64.powi(40) * first);
+        }
+    }
+}
