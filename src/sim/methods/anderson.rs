@@ -117,22 +117,31 @@ impl Workspace {
             self.inner_products(slot);
         }
         std::mem::swap(&mut self.f, &mut self.previous_f);
-        self.previous_g.copy_from_slice(&self.g);
+        // `g` becomes `previous_g` when the iteration ends ([`Workspace::retire_g`])
         self.have_previous = true;
     }
 
     /// `f ← g − x`, `Δf ← f − f_prev`, `Δg ← g − g_prev` (into `slot`), in one
     /// pass; `f` is left in `previous_f`'s place by [`Workspace::push`].
     fn differences(&mut self, x: &[[f64; 3]], slot: usize) {
-        let (delta_f, delta_g) = (&mut self.delta_f[slot], &mut self.delta_g[slot]);
-        for i in 0..x.len() {
+        let n = x.len();
+        // slices of one length, so that the loop runs without bounds checks
+        let (f, g) = (&mut self.f[..n], &self.g[..n]);
+        let (previous_f, previous_g) = (&self.previous_f[..n], &self.previous_g[..n]);
+        let (delta_f, delta_g) = (&mut self.delta_f[slot][..n], &mut self.delta_g[slot][..n]);
+        for i in 0..n {
             for c in 0..3 {
-                let f = self.g[i][c] - x[i][c];
-                self.f[i][c] = f;
-                delta_f[i][c] = f - self.previous_f[i][c];
-                delta_g[i][c] = self.g[i][c] - self.previous_g[i][c];
+                f[i][c] = g[i][c] - x[i][c];
+                delta_f[i][c] = f[i][c] - previous_f[i][c];
+                delta_g[i][c] = g[i][c] - previous_g[i][c];
             }
         }
+    }
+
+    /// At the end of an iteration: `gₖ` becomes `gₖ₋₁` (by trading buffers:
+    /// the next global step overwrites `g`).
+    fn retire_g(&mut self) {
+        std::mem::swap(&mut self.g, &mut self.previous_g);
     }
 
     /// The Gram row `Δf_slot · Δf_j` and `Δf_j · f` for every held `j`, in
@@ -231,6 +240,7 @@ pub(crate) fn solve<B: LinearAlgebra>(
                 work.clear();
             }
         }
+        work.retire_g();
         if monitor.after(iteration, context, p, None) {
             return Outcome::new(iteration, Stop::Tolerance);
         }
