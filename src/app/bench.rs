@@ -316,7 +316,7 @@ fn measure_one(side: usize, steps: usize) -> Result<SizeReport, AppError> {
         return Err(failed(&e));
     }
     let peak_bytes = peak_resident_bytes();
-    let lower = simulation.system().Q.triangle(Triangle::Lower);
+    let lower = simulation.system().q().triangle(Triangle::Lower);
     drop(simulation);
     eprintln!("{name}: ordering, symbolic, numeric, solve");
     let rhs = varied_rhs(lower.ncols());

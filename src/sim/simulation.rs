@@ -172,6 +172,9 @@ impl<B: LinearAlgebra> Simulation<B> {
         if options.pins == Pins::Exact {
             system.use_exact_pins(how)?;
         }
+        if !multiplies_by_q(options.method) {
+            system.release_q(); // the step only solves with Q
+        }
         let n = vertices.len();
         Ok(Simulation {
             system,
@@ -224,6 +227,9 @@ impl<B: LinearAlgebra> Simulation<B> {
         control: &StepControl,
         observer: Option<Observer<'_>>,
     ) -> Result<StepReport, SimulationError> {
+        if multiplies_by_q(control.method) {
+            self.system.hold_q();
+        }
         external_forces(
             &self.u_cur,
             self.time(),
@@ -271,7 +277,9 @@ impl<B: LinearAlgebra> Simulation<B> {
         self.steps as f64 * self.options.delta_t
     }
 
-    /// The precomputed system (matrices, factorization).
+    /// The precomputed system (matrices, factorization). Its `Q` is
+    /// released unless the method multiplies by it: read it through
+    /// [`MassSpringSystem::q`].
     pub fn system(&self) -> &MassSpringSystem<B> {
         &self.system
     }
@@ -423,4 +431,10 @@ impl<B: LinearAlgebra> Simulation<B> {
     fn pin_rest_targets(&self) -> Vec<[f64; 3]> {
         self.pinned.iter().map(|&i| self.rest[i]).collect()
     }
+}
+
+/// Does a step by `method` multiply by `Q` (not only solve with its
+/// factorization)? L-BFGS does, for its initial Hessian.
+fn multiplies_by_q(method: StepMethod) -> bool {
+    method == StepMethod::Lbfgs
 }
