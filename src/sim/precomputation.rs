@@ -273,6 +273,53 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
         Ok(())
     }
 
+    /// What the system holds, in bytes (arrays' lengths), item by item:
+    /// the memory figures of `docs/performance.md` and their test. The
+    /// work arrays of a method other than `plain`, made when it first
+    /// runs, are not counted.
+    pub fn bytes(&self) -> Vec<(&'static str, usize)> {
+        use std::mem::size_of_val as bytes;
+        let buffers = &self.buffers;
+        let exact = self.exact_pins.as_ref().map_or(0, |e| {
+            B::matrix_bytes(&e.q_without_pins)
+                + B::factorization_bytes(&e.factorization)
+                + bytes(&e.free[..])
+                + 2 * bytes(&e.pin_rhs[..])
+        });
+        vec![
+            (
+                "factorization of Q",
+                B::factorization_bytes(&self.prefactorization),
+            ),
+            ("Q (when held)", B::matrix_bytes(&self.Q)),
+            ("springs (A)", bytes(&self.springs[..])),
+            (
+                "rest lengths r, masses m",
+                bytes(&self.r[..]) + bytes(&self.m[..]),
+            ),
+            (
+                "pins: C, w CᵀC V, pinned, targets, mask",
+                B::matrix_bytes(&self.C)
+                    + bytes(&self.pin_rhs[..])
+                    + bytes(&self.pinned[..])
+                    + bytes(&self.pin_targets[..])
+                    + bytes(&self.is_pinned[..]),
+            ),
+            (
+                "step buffers: inertia, y, b, gradient",
+                bytes(&buffers.inertia[..])
+                    + bytes(&buffers.y[..])
+                    + bytes(&buffers.b[..])
+                    + bytes(&buffers.gradient[..]),
+            ),
+            (
+                "step buffers: d, start lengths",
+                bytes(&buffers.d[..]) + bytes(&buffers.start_lengths[..]),
+            ),
+            ("exact pins: Q without pins, Q_ff factor", exact),
+        ]
+    }
+
     /// Records which vertices are pinned, and where.
     fn set_pinned(&mut self, pinned: &[usize], targets: &[[f64; 3]]) {
         self.pinned = pinned.to_vec();

@@ -284,6 +284,27 @@ impl<B: LinearAlgebra> Simulation<B> {
         &self.system
     }
 
+    /// What the simulation holds, in bytes (arrays' lengths), item by
+    /// item: the system's ([`MassSpringSystem::bytes`]) and the state.
+    pub fn bytes(&self) -> Vec<(&'static str, usize)> {
+        use std::mem::size_of_val as bytes;
+        let mut items = self.system.bytes();
+        let state = [
+            &self.rest,
+            &self.u_prev,
+            &self.u_cur,
+            &self.u_next,
+            &self.f_ext,
+        ];
+        items.push((
+            "state: rest, previous, current, next positions, forces, masses",
+            state.iter().map(|v| bytes(&v[..])).sum::<usize>()
+                + bytes(&self.masses[..])
+                + bytes(&self.pinned[..]),
+        ));
+        items
+    }
+
     /// Is the wind blowing?
     pub fn wind(&self) -> bool {
         self.options.wind
