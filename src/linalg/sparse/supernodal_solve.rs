@@ -31,6 +31,7 @@ use super::symbolic::SymbolicCholesky;
 #[derive(Clone, Copy)]
 struct SupernodalView<'a> {
     symbolic: &'a SymbolicCholesky,
+    col_ptr: &'a [usize],
     values: &'a [f64],
 }
 
@@ -44,7 +45,11 @@ pub fn solve_in_place<const W: usize>(
     values: &[f64],
     x: &mut [[f64; W]],
 ) {
-    let l = SupernodalView { symbolic, values };
+    let l = SupernodalView {
+        symbolic,
+        col_ptr: symbolic.col_ptr(),
+        values,
+    };
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
         // SAFETY: the CPU supports the features the function is compiled for.
@@ -62,6 +67,13 @@ fn solve_in_place_avx2<const W: usize>(l: SupernodalView, x: &mut [[f64; W]]) {
     backward::<W, true>(l, x);
 }
 
+/// A supernode as the sweeps need it: its first column and its rows.
+#[derive(Clone, Copy)]
+struct Supernode<'a> {
+    first: usize,
+    rows: &'a [u32],
+}
+
 /// A panel: up to four consecutive columns of one supernode, the rows they
 /// share, and where each column's entry for row position `p` is stored.
 struct Panel<'a, const P: usize> {
@@ -77,10 +89,10 @@ struct Panel<'a, const P: usize> {
 }
 
 impl<'a, const P: usize> Panel<'a, P> {
-    fn new(l: &SupernodalView<'a>, s: usize, offset: usize) -> Self {
-        let col_ptr = l.symbolic.col_ptr();
-        let rows = l.symbolic.supernode_rows(s);
-        let first = l.symbolic.supernodes().columns(s).start + offset;
+    fn new(l: &SupernodalView<'a>, node: Supernode<'a>, offset: usize) -> Self {
+        let col_ptr = l.col_ptr;
+        let rows = node.rows;
+        let first = node.first + offset;
         Panel {
             first,
             rows,
@@ -119,14 +131,18 @@ fn forward<const W: usize, const FUSED: bool>(l: SupernodalView, x: &mut [[f64; 
     let supernodes = l.symbolic.supernodes();
     for s in 0..supernodes.len() {
         let columns = supernodes.columns(s);
+        let node = Supernode {
+            first: columns.start,
+            rows: l.symbolic.supernode_rows(s),
+        };
         let mut offset = 0;
         while offset < columns.len() {
             let width = (columns.len() - offset).min(PANEL);
             match width {
-                1 => forward_panel::<W, 1, FUSED>(&l, s, offset, x),
-                2 => forward_panel::<W, 2, FUSED>(&l, s, offset, x),
-                3 => forward_panel::<W, 3, FUSED>(&l, s, offset, x),
-                _ => forward_panel::<W, 4, FUSED>(&l, s, offset, x),
+                1 => forward_panel::<W, 1, FUSED>(&l, node, offset, x),
+                2 => forward_panel::<W, 2, FUSED>(&l, node, offset, x),
+                3 => forward_panel::<W, 3, FUSED>(&l, node, offset, x),
+                _ => forward_panel::<W, 4, FUSED>(&l, node, offset, x),
             }
             offset += width;
         }
@@ -137,11 +153,11 @@ fn forward<const W: usize, const FUSED: bool>(l: SupernodalView, x: &mut [[f64; 
 #[inline(always)]
 fn forward_panel<const W: usize, const P: usize, const FUSED: bool>(
     l: &SupernodalView,
-    s: usize,
+    node: Supernode,
     offset: usize,
     x: &mut [[f64; W]],
 ) {
-    let panel = Panel::<P>::new(l, s, offset);
+    let panel = Panel::<P>::new(l, node, offset);
     let values = l.values;
     // the panel's own triangle, column by column
     let mut x_panel = [[0.0; W]; P];
@@ -181,14 +197,18 @@ fn backward<const W: usize, const FUSED: bool>(l: SupernodalView, x: &mut [[f64;
     let supernodes = l.symbolic.supernodes();
     for s in (0..supernodes.len()).rev() {
         let columns = supernodes.columns(s);
+        let node = Supernode {
+            first: columns.start,
+            rows: l.symbolic.supernode_rows(s),
+        };
         // the same panels as the forward sweep, last one first
         let mut offset = (columns.len() - 1) / PANEL * PANEL;
         loop {
             match (columns.len() - offset).min(PANEL) {
-                1 => backward_panel::<W, 1, FUSED>(&l, s, offset, x),
-                2 => backward_panel::<W, 2, FUSED>(&l, s, offset, x),
-                3 => backward_panel::<W, 3, FUSED>(&l, s, offset, x),
-                _ => backward_panel::<W, 4, FUSED>(&l, s, offset, x),
+                1 => backward_panel::<W, 1, FUSED>(&l, node, offset, x),
+                2 => backward_panel::<W, 2, FUSED>(&l, node, offset, x),
+                3 => backward_panel::<W, 3, FUSED>(&l, node, offset, x),
+                _ => backward_panel::<W, 4, FUSED>(&l, node, offset, x),
             }
             if offset == 0 {
                 break;
@@ -202,11 +222,11 @@ fn backward<const W: usize, const FUSED: bool>(l: SupernodalView, x: &mut [[f64;
 #[inline(always)]
 fn backward_panel<const W: usize, const P: usize, const FUSED: bool>(
     l: &SupernodalView,
-    s: usize,
+    node: Supernode,
     offset: usize,
     x: &mut [[f64; W]],
 ) {
-    let panel = Panel::<P>::new(l, s, offset);
+    let panel = Panel::<P>::new(l, node, offset);
     let values = l.values;
     // s_c = Σ_i L_ic x_i over every row below the panel, each x_i read once
     let mut sums = [[0.0; W]; P];

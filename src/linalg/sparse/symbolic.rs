@@ -289,6 +289,7 @@ impl SymbolicCholesky {
     }
 
     /// The rows of column `j` of `L`, diagonal first.
+    #[inline]
     pub fn column_rows(&self, j: usize) -> &[u32] {
         match &self.rows {
             FactorRows::PerColumn(rows) => &rows[self.col_ptr[j]..self.col_ptr[j + 1]],
@@ -301,6 +302,7 @@ impl SymbolicCholesky {
     }
 
     /// The rows of supernode `s`: those of its first column.
+    #[inline]
     pub fn supernode_rows(&self, s: usize) -> &[u32] {
         match &self.rows {
             FactorRows::PerColumn(rows) => {
