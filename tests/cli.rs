@@ -330,6 +330,17 @@ fn bench_reports_every_key_and_slopes_fitted_to_its_own_figures() {
         for key in times {
             assert!(size[key].as_f64().unwrap() > 0.0, "{key} in {size}");
         }
+        // the solve, the local step and Aᵀd as shares of one iteration (step / 50)
+        let iteration = size["step_s"].as_f64().unwrap() / 50.0;
+        for (time, share) in [
+            ("solve_s", "solve_share"),
+            ("local_step_s", "local_step_share"),
+            ("atd_s", "atd_share"),
+        ] {
+            let (time, share) = (size[time].as_f64().unwrap(), size[share].as_f64().unwrap());
+            assert!(time > 0.0, "{size}");
+            assert!((share - time / iteration).abs() <= 1e-9 * share, "{size}");
+        }
         assert!(size["nnz_l"].as_u64() <= size["nnz_l_stored"].as_u64());
         assert!(size["residual"].as_f64().unwrap() < 1e-12, "{size}");
     }

@@ -5,12 +5,14 @@ mod common;
 use common::*;
 use masssprings::linalg::LinalgError;
 use masssprings::sim::local_step::project_springs;
+use masssprings::sim::methods::{StepControl, StepMethod};
 use masssprings::sim::precomputation::{
     fast_mass_springs_precomputation, fast_mass_springs_precomputation_dense,
     fast_mass_springs_precomputation_sparse,
 };
 use masssprings::sim::signed_incidence::{
-    signed_incidence_matrix_dense, signed_incidence_matrix_sparse,
+    incidence_mul_points, incidence_transpose_mul_points, signed_incidence_matrix_dense,
+    signed_incidence_matrix_sparse,
 };
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::step::{
@@ -38,6 +40,32 @@ proptest! {
         let p = points_to_nalgebra(&net.v);
         assert_close(&(dense_to_nalgebra(&a_dense) * &p), &oracle, 1e-15);
         assert_close(&(csc_to_nalgebra(&a_sparse) * &p), &oracle, 1e-15);
+    }
+
+    #[test]
+    fn products_with_a_from_the_spring_list_are_the_matrix_products_to_the_bit(
+        n in 1usize..12,
+        ends in prop::collection::vec((0usize..12, 0usize..12), 0..40),
+        values in prop::collection::vec(prop::array::uniform3(-1e3f64..1e3), 40),
+        x in prop::collection::vec(prop::array::uniform3(-1e3f64..1e3), 12),
+    ) {
+        // any springs: repeated ones, and a vertex joined to itself (a zero row of A)
+        let springs: Vec<[usize; 2]> = ends.iter().map(|&(i, j)| [i % n, j % n]).collect();
+        let d = &values[..springs.len()];
+        let x = &x[..n];
+        let a_sparse = signed_incidence_matrix_sparse(n, &springs);
+        let a_dense = signed_incidence_matrix_dense(n, &springs);
+        let (mut from_list, mut sparse, mut dense) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
+        incidence_transpose_mul_points(&springs, d, &mut from_list);
+        a_sparse.transpose_mul_points(d, &mut sparse).unwrap();
+        a_dense.transpose_mul_points(d, &mut dense).unwrap();
+        prop_assert_eq!(&from_list, &sparse, "Aᵀd against the CSC product");
+        prop_assert_eq!(&from_list, &dense, "Aᵀd against the dense product");
+        let mut ax_list = vec![[0.0; 3]; springs.len()];
+        let mut ax_sparse = vec![[0.0; 3]; springs.len()];
+        incidence_mul_points(&springs, x, &mut ax_list);
+        a_sparse.mul_points(x, &mut ax_sparse).unwrap();
+        prop_assert_eq!(&ax_list, &ax_sparse, "A x against the CSC product");
     }
 
     #[test]
@@ -260,6 +288,55 @@ fn changing_pins_refactors_to_the_same_system_as_precomputing_afresh() {
     fast_mass_springs_step(&mut a, 5, &f, &v, &v, &mut ua).unwrap();
     fast_mass_springs_step(&mut b, 5, &f, &v, &v, &mut ub).unwrap();
     assert_close(&points_to_nalgebra(&ua), &points_to_nalgebra(&ub), 1e-12);
+}
+
+#[test]
+fn a_simulation_holds_q_only_for_a_method_that_multiplies_by_it() {
+    let (v, springs) = cloth(6);
+    let masses = vec![0.05; v.len()];
+    let fresh = |pins: &[usize]| {
+        fast_mass_springs_precomputation_sparse(&v, &springs, 1e3, &masses, pins, DELTA_T).unwrap()
+    };
+    let with = |method| SimulationOptions {
+        method,
+        ..SimulationOptions::default()
+    };
+    let mut plain =
+        Simulation::<Sparse>::new(&v, &springs, 1e3, &masses, &[0], with(StepMethod::Plain))
+            .unwrap();
+    let mut lbfgs =
+        Simulation::<Sparse>::new(&v, &springs, 1e3, &masses, &[0], with(StepMethod::Lbfgs))
+            .unwrap();
+    assert!(fresh(&[0]).holds_q());
+    assert!(!plain.system().holds_q() && lbfgs.system().holds_q());
+    assert_eq!(plain.system().Q.nnz(), 0, "a released Q holds no entries");
+    // Q is still there to read, assembled anew, the same to the bit
+    assert_close(
+        &csc_to_nalgebra(&plain.system().q()),
+        &csc_to_nalgebra(&fresh(&[0]).Q),
+        0.0,
+    );
+    // a drag refactors a released Q, and leaves it released
+    plain.start_drag(30, v[30]).unwrap();
+    assert!(!plain.system().holds_q());
+    assert_close(
+        &csc_to_nalgebra(&plain.system().q()),
+        &csc_to_nalgebra(&fresh(&[0, 30]).Q),
+        0.0,
+    );
+    plain.end_drag().unwrap();
+    // an L-BFGS step holds Q again, and steps as a simulation made for it
+    let control = StepControl {
+        method: StepMethod::Lbfgs,
+        tolerance: Some(1e-8),
+        ..StepControl::default()
+    };
+    for _ in 0..3 {
+        plain.step_with(&control, None).unwrap();
+        lbfgs.step_with(&control, None).unwrap();
+    }
+    assert!(plain.system().holds_q());
+    assert_eq!(plain.positions(), lbfgs.positions());
 }
 
 #[test]

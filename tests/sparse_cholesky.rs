@@ -125,7 +125,7 @@ proptest! {
     fn supernodes_are_runs_of_columns_with_nested_patterns((a, p) in spd_and_permutation(30, 80)) {
         let symbolic = SymbolicCholesky::with_permutation(&a, &p).unwrap();
         let supernodes = symbolic.supernodes();
-        let column = |j: usize| &symbolic.row_idx()[symbolic.col_ptr()[j]..symbolic.col_ptr()[j + 1]];
+        let column = |j: usize| symbolic.column_rows(j);
         let mut covered = 0;
         for s in 0..supernodes.len() {
             let columns = supernodes.columns(s);
@@ -173,6 +173,29 @@ proptest! {
         let none = exact.clone().relaxed(&Relaxation::NONE);
         prop_assert_eq!(none.row_idx(), exact.row_idx());
         prop_assert_eq!(none.supernodes(), exact.supernodes());
+    }
+
+    #[test]
+    fn rows_kept_per_supernode_are_every_columns_rows((a, p) in spd_and_permutation(30, 80)) {
+        let exact = SymbolicCholesky::with_permutation(&a, &p).unwrap();
+        for per_column in [exact.clone(), exact.relaxed(&Relaxation::CHOLMOD)] {
+            let mut per_supernode = per_column.clone();
+            per_supernode.store_rows_per_supernode();
+            prop_assert!(per_supernode.rows_per_supernode() && !per_column.rows_per_supernode());
+            prop_assert_eq!(per_supernode.row_idx(), per_column.row_idx());
+            for j in 0..a.ncols() {
+                prop_assert_eq!(per_supernode.column_rows(j), per_column.column_rows(j));
+            }
+            for s in 0..per_column.supernodes().len() {
+                prop_assert_eq!(per_supernode.supernode_rows(s), per_column.supernode_rows(s));
+            }
+            prop_assert_eq!(per_supernode.nnz_l(), per_column.nnz_l());
+            prop_assert!(per_supernode.bytes() <= per_column.bytes() + 8 * (a.ncols() + 1));
+            // relaxing goes back to rows per column, as from the start
+            let relaxed = per_supernode.relaxed(&Relaxation::CHOLMOD);
+            let again = per_column.clone().relaxed(&Relaxation::CHOLMOD);
+            prop_assert_eq!(relaxed.row_idx(), again.row_idx());
+        }
     }
 
     #[test]
@@ -441,12 +464,14 @@ fn an_empty_matrix_factors_and_solves_to_nothing() {
 fn grid_316_analysis_and_factor_stay_within_their_memory_budget() {
     // Counted from the structures' lengths (`SparseCholesky::bytes`), not
     // from the process. docs/performance.md itemises the figure.
-    // nnz(L) = 4,364,229 values (8 bytes) and 32-bit rows (4): 52.4 MB;
-    // the slots of Q's 497,386 lower entries in L (two u32 each), 4.8 MB
-    // (the permuted copy of Q it replaced took 12.7 MB); the analysis'
-    // n-arrays (permutation, tree, counts, pointers, supernodes), the work
-    // arrays and the solve's buffer: 12 MB. Was 77.2 MB.
-    const BUDGET: usize = 69_300_000;
+    // nnz(L) = 4,364,229 values (8 bytes): 34.9 MB; the rows kept once per
+    // supernode, 780,309 of them (32-bit) and a pointer for each of the
+    // 50,326 supernodes: 3.5 MB (every column's rows took 17.5 MB); the
+    // slots of Q's 497,386 lower entries in L (two u32 each), 4.8 MB (the
+    // permuted copy of Q it replaced took 12.7 MB); the analysis' n-arrays
+    // (permutation, tree, counts, pointers, supernodes), the work arrays and
+    // the solve's buffer: 12 MB. Was 77.2 MB, then 69.2 MB.
+    const BUDGET: usize = 55_300_000;
     let a = grid_matrix(316);
     let symbolic = SymbolicCholesky::analyze(&a, Ordering::Amd).unwrap();
     let cholesky = SparseCholesky::factor(symbolic, &a, Method::Supernodal).unwrap();

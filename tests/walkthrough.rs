@@ -179,7 +179,7 @@ fn step_3_to_5_tree_postorder_and_counts() {
 fn step_6_symbolic_analysis_all_at_once() {
     let symbolic = SymbolicCholesky::analyze(&star(), Ordering::Amd).unwrap();
     assert_eq!(symbolic.col_ptr(), [0, 2, 4, 6, 8, 9]);
-    assert_eq!(symbolic.row_idx(), [0, 4, 1, 4, 2, 4, 3, 4, 4]);
+    assert_eq!(*symbolic.row_idx(), [0, 4, 1, 4, 2, 4, 3, 4, 4]);
     assert_eq!(symbolic.flops(), 17.0); // 4·2² + 1²
 
     // the last leaf and the hub share a pattern: one supernode {3, 4}

@@ -8,16 +8,27 @@
 //!    then the process's peak resident memory (`VmHWM` of
 //!    `/proc/self/status`): what a simulation of that size needs. A fresh
 //!    process per size, so that sizes do not share a high-water mark;
-//! 2. the sparse Cholesky pipeline on that simulation's `Q`, phase by phase,
+//! 2. the two passes over the springs of one local/global iteration, on
+//!    that simulation's springs and positions (medians): the local step
+//!    (`d`, [`project_springs`]) and `Aᵀd` (from the spring list,
+//!    [`incidence_transpose_mul_points`]);
+//! 3. the sparse Cholesky pipeline on that simulation's `Q`, phase by phase,
 //!    as `masssprings analyze` times it (medians): AMD ordering, symbolic
 //!    analysis, supernodal numeric factorization, a 3-column solve.
+//!
+//! An iteration of the step is the local step, `b = k Aᵀd + y + w CᵀC V`
+//! and the 3-column solve, so the report gives the solve, the local step
+//! and `Aᵀd` as shares of one iteration (a step's time over its
+//! [`ITERATIONS`]); the rest (`b`'s sum, copies, the step's energy and
+//! gradient at its start) is what the three shares leave.
 //!
 //! The parent measures the machine's memory bandwidth itself (a STREAM
 //! triad, `a = b + s c` over 3 × 32 MB, best of 10, counting 24 bytes per
 //! element as STREAM does), then fits, for each time and for the peak
 //! memory, the exponent `p` of `cost ≈ c nᵖ` by least squares on
 //! `(ln n, ln cost)`. The solve's bandwidth is the bytes of `L` it reads
-//! (two sweeps over `nnz(L)` values of 8 bytes and row indices of 4) over
+//! (two sweeps over `nnz(L)` values of 8 bytes and over the row indices
+//! of 4, which the supernodal factor keeps once per supernode) over
 //! its time.
 //!
 //! Output: a table, or with `--json` one object `{triad_gbps, steps,
@@ -34,8 +45,10 @@ use super::AppError;
 use masssprings::files::write_file;
 use masssprings::linalg::sparse::{Method, Ordering, Relaxation, Triangle};
 use masssprings::mesh::procedural;
+use masssprings::sim::local_step::project_springs;
+use masssprings::sim::signed_incidence::incidence_transpose_mul_points;
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::{Simulation, Sparse};
+use masssprings::sim::{Simulation, Sparse, ITERATIONS};
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
@@ -48,9 +61,11 @@ const DEFAULT_SIDES: [usize; 3] = [32, 100, 316];
 /// Full steps timed per size when `--steps` is not given.
 const DEFAULT_STEPS: usize = 3;
 
-/// Bytes of `L` one solve reads: two sweeps over `nnz(L)` entries, each a
-/// value (8 bytes) and a 32-bit row index.
-const SOLVE_BYTES_PER_ENTRY: f64 = 2.0 * 12.0;
+/// Bytes of `L` one solve reads: two sweeps over `nnz(L)` values (8 bytes
+/// each) and over the rows kept, once per supernode (32-bit).
+fn solve_bytes(nnz_l_stored: usize, rows_kept: usize) -> f64 {
+    2.0 * (8.0 * nnz_l_stored as f64 + 4.0 * rows_kept as f64)
+}
 
 /// What one size measured (one object of `sizes`, one row of the CSV).
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
@@ -74,6 +89,15 @@ struct SizeReport {
     solve_s: f64,
     /// One full time step (the assignment's 50 iterations).
     step_s: f64,
+    /// The local step of one iteration: `d` for every spring.
+    local_step_s: f64,
+    /// `Aᵀd` of one iteration, from the spring list.
+    atd_s: f64,
+    /// The solve, the local step and `Aᵀd` as shares of one iteration
+    /// (`step_s / 50`).
+    solve_share: f64,
+    local_step_share: f64,
+    atd_share: f64,
     /// Building the simulation: springs, matrices, ordering, factorization.
     precompute_s: f64,
     /// `VmHWM` after precomputation and steps (0 where `/proc` is absent).
@@ -216,9 +240,7 @@ fn draw_plot(path: &std::path::Path, report: &BenchReport) -> Result<(), AppErro
         series("peak resident", slopes.peak_bytes, |s| {
             s.peak_bytes as f64 / 1e6
         }),
-        series("values and rows of L", None, |s| {
-            s.nnz_l_stored as f64 * 12.0 / 1e6
-        }),
+        series("values of L", None, |s| s.nnz_l_stored as f64 * 8.0 / 1e6),
     ];
     let panel = |title: &str, y_label: &str, series: Vec<Series>| Panel {
         title: title.into(),
@@ -316,7 +338,13 @@ fn measure_one(side: usize, steps: usize) -> Result<SizeReport, AppError> {
         return Err(failed(&e));
     }
     let peak_bytes = peak_resident_bytes();
-    let lower = simulation.system().Q.triangle(Triangle::Lower);
+    eprintln!("{name}: local step, Aᵀd");
+    let (local_step_s, atd_s) = time_spring_passes(&simulation);
+    let lower = simulation.system().q().triangle(Triangle::Lower);
+    let symbolic = simulation.system().prefactorization.symbolic();
+    let rows_kept = (0..symbolic.supernodes().len())
+        .map(|s| symbolic.supernode_rows(s).len())
+        .sum();
     drop(simulation);
     eprintln!("{name}: ordering, symbolic, numeric, solve");
     let rhs = varied_rhs(lower.ncols());
@@ -329,6 +357,7 @@ fn measure_one(side: usize, steps: usize) -> Result<SizeReport, AppError> {
         Repeats::Adaptive,
     )
     .map_err(|e| failed(&e))?;
+    let iteration_s = step_s / ITERATIONS as f64;
     Ok(SizeReport {
         side,
         n: a.n,
@@ -341,12 +370,33 @@ fn measure_one(side: usize, steps: usize) -> Result<SizeReport, AppError> {
         numeric_s: a.numeric_s,
         solve_s: a.solve_s,
         step_s,
+        local_step_s,
+        atd_s,
+        solve_share: a.solve_s / iteration_s,
+        local_step_share: local_step_s / iteration_s,
+        atd_share: atd_s / iteration_s,
         precompute_s,
         peak_bytes,
         bytes_per_vertex: peak_bytes as f64 / a.n as f64,
-        solve_gbps: SOLVE_BYTES_PER_ENTRY * a.nnz_l_stored as f64 / a.solve_s / 1e9,
+        solve_gbps: solve_bytes(a.nnz_l_stored, rows_kept) / a.solve_s / 1e9,
         residual: a.residual,
     })
+}
+
+/// Median times of the local step and of `Aᵀd` on `simulation`'s springs
+/// at its current positions (after its steps: a cloth in motion).
+fn time_spring_passes(simulation: &Simulation<Sparse>) -> (f64, f64) {
+    let system = simulation.system();
+    let mut d = vec![[0.0; 3]; system.springs.len()];
+    let mut atd = vec![[0.0; 3]; system.n()];
+    let positions = simulation.positions();
+    let (local_step_s, _) = median_seconds(Repeats::Adaptive, || {
+        project_springs(&system.springs, &system.r, positions, &mut d)
+    });
+    let (atd_s, _) = median_seconds(Repeats::Adaptive, || {
+        incidence_transpose_mul_points(&system.springs, &d, &mut atd)
+    });
+    (local_step_s, atd_s)
 }
 
 /// This process's peak resident set (`VmHWM`, Linux), in bytes; 0 where
@@ -415,12 +465,13 @@ fn write_csv(out: &mut dyn Write, sizes: &[SizeReport]) -> std::io::Result<()> {
     writeln!(
         out,
         "side,n,nnz_q,nnz_l,nnz_l_stored,flops,ordering_s,symbolic_s,numeric_s,solve_s,step_s,\
+         local_step_s,atd_s,solve_share,local_step_share,atd_share,\
          precompute_s,peak_bytes,bytes_per_vertex,solve_gbps,residual"
     )?;
     for s in sizes {
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             s.side,
             s.n,
             s.nnz_q,
@@ -432,6 +483,11 @@ fn write_csv(out: &mut dyn Write, sizes: &[SizeReport]) -> std::io::Result<()> {
             s.numeric_s,
             s.solve_s,
             s.step_s,
+            s.local_step_s,
+            s.atd_s,
+            s.solve_share,
+            s.local_step_share,
+            s.atd_share,
             s.precompute_s,
             s.peak_bytes,
             s.bytes_per_vertex,
@@ -492,4 +548,27 @@ fn print_table(report: &BenchReport) {
          triad bandwidth {:.1} GB/s)",
         report.steps, report.triad_gbps
     );
+    print_iteration_shares(report);
+}
+
+/// One iteration (`step / 50`) and the shares of its solve, local step and
+/// `Aᵀd`.
+fn print_iteration_shares(report: &BenchReport) {
+    println!(
+        "\n{:>9} {:>13} {:>16} {:>16} {:>16} {:>7}",
+        "grid", "iteration ms", "solve ms (%)", "local ms (%)", "Aᵀd ms (%)", "rest %"
+    );
+    let cell = |seconds: f64, share: f64| format!("{:.3} ({:.0}%)", 1e3 * seconds, 1e2 * share);
+    for s in &report.sizes {
+        let rest = 1.0 - s.solve_share - s.local_step_share - s.atd_share;
+        println!(
+            "{:>9} {:>13.3} {:>16} {:>16} {:>16} {:>6.0}%",
+            format!("grid-{}", s.side),
+            1e3 * s.step_s / ITERATIONS as f64,
+            cell(s.solve_s, s.solve_share),
+            cell(s.local_step_s, s.local_step_share),
+            cell(s.atd_s, s.atd_share),
+            1e2 * rest
+        );
+    }
 }

@@ -7,7 +7,11 @@
 //! is written all or nothing; the temporaries of a run that was killed are
 //! removed by the next run into the same folder. Nothing is written before
 //! the precomputation succeeds. Memory does not grow with `--steps`: the
-//! median step time comes from a bounded sample.
+//! median step time comes from a bounded sample. Nor does the scene stay in
+//! memory beside the simulation: its faces are dropped before the
+//! precomputation when no frames are written, and its vertices, springs
+//! and masses once the simulation holds its own (at a million vertices the
+//! scene held ~170 MB, `docs/performance.md`).
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{
@@ -134,9 +138,9 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     convergence_flags::apply(&args, &mut options)?;
     factorization_flags::apply(&args, &mut options)?;
     let summary = if args.switch("dense") {
-        simulate::<Dense>(&scene, &scene_path, options, &run)?
+        simulate::<Dense>(scene, &scene_path, options, &run)?
     } else {
-        simulate::<Sparse>(&scene, &scene_path, options, &run)?
+        simulate::<Sparse>(scene, &scene_path, options, &run)?
     };
     if args.switch("json") {
         println!(
@@ -151,14 +155,20 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
 
 /// Precompute, then step, writing frames and reporting progress.
 fn simulate<B: LinearAlgebra>(
-    scene: &Scene,
+    mut scene: Scene,
     scene_path: &Path,
     options: SimulationOptions,
     run: &Run,
 ) -> Result<Summary, AppError> {
+    let (n, springs) = (scene.vertices.len(), scene.springs.len());
+    if run.out.is_none() {
+        keep_only(&mut scene, Keep::Physics);
+    }
     let started = Instant::now();
-    let mut simulation = precompute::<B>(scene, scene_path, options)?;
+    let mut simulation = precompute::<B>(&scene, scene_path, options)?;
     let precompute_s = started.elapsed().as_secs_f64();
+    keep_only(&mut scene, Keep::Frames); // the simulation holds its own copies
+    let scene = &scene;
     let material = match &run.out {
         Some(folder) => {
             prepare_out_folder(folder)?;
@@ -196,8 +206,8 @@ fn simulate<B: LinearAlgebra>(
     }
     progress.finish();
     Ok(Summary {
-        n: scene.vertices.len(),
-        springs: scene.springs.len(),
+        n,
+        springs,
         steps: run.steps,
         precompute_s,
         step_median_s: step_times.median(),
@@ -208,6 +218,30 @@ fn simulate<B: LinearAlgebra>(
         iterations_median: iterations.median(),
         relative_gradient_median: gradients.median(),
     })
+}
+
+/// What of a scene is still needed.
+enum Keep {
+    /// What the precomputation reads: vertices, springs, masses, pins.
+    Physics,
+    /// What the frames are written from: the name, faces, texture.
+    Frames,
+}
+
+/// Frees the parts of `scene` that `keep` does not name.
+fn keep_only(scene: &mut Scene, keep: Keep) {
+    match keep {
+        Keep::Physics => {
+            scene.faces = Vec::new();
+            scene.texture_coords = Vec::new();
+            scene.face_texture_coords = Vec::new();
+        }
+        Keep::Frames => {
+            scene.vertices = Vec::new();
+            scene.springs = Vec::new();
+            scene.masses = Vec::new();
+        }
+    }
 }
 
 /// The material of the frames, when the scene has a texture and texture

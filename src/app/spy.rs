@@ -129,10 +129,9 @@ fn factor_entries<'a>(
     symbolic: &'a SymbolicCholesky,
     c: &'a CscMatrix,
 ) -> impl Iterator<Item = (usize, usize, Mark)> + 'a {
-    let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx());
     (0..symbolic.n()).flat_map(move |j| {
         let in_c = c.column(j).0;
-        row_idx[col_ptr[j]..col_ptr[j + 1]].iter().map(move |&i| {
+        symbolic.column_rows(j).iter().map(move |&i| {
             let i = i as usize;
             let mark = if in_c.binary_search(&i).is_ok() {
                 Mark::Entry

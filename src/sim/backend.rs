@@ -88,6 +88,13 @@ pub trait LinearAlgebra {
 
     /// `b ← Q⁻¹ b` for an n×3 block.
     fn solve_points(factorization: &mut Self::Factorization, b: &mut [[f64; 3]]);
+
+    /// Bytes a matrix holds (its arrays' lengths), for the memory figures.
+    fn matrix_bytes(a: &Self::Matrix) -> usize;
+
+    /// Bytes a factorization holds (its arrays' lengths, work arrays
+    /// included).
+    fn factorization_bytes(factorization: &Self::Factorization) -> usize;
 }
 
 /// Dense matrices and the dense Cholesky factorization.
@@ -153,6 +160,15 @@ impl LinearAlgebra for Dense {
     fn solve_points(factorization: &mut DenseCholesky, b: &mut [[f64; 3]]) {
         factorization.solve_points_in_place(b).expect(SHAPES_FIT)
     }
+
+    fn matrix_bytes(a: &DenseMatrix) -> usize {
+        a.nrows() * a.ncols() * std::mem::size_of::<f64>()
+    }
+
+    fn factorization_bytes(factorization: &DenseCholesky) -> usize {
+        let n = factorization.dim();
+        2 * n * n * std::mem::size_of::<f64>() // L and Lᵀ
+    }
 }
 
 impl LinearAlgebra for Sparse {
@@ -205,5 +221,15 @@ impl LinearAlgebra for Sparse {
 
     fn solve_points(factorization: &mut SparseCholesky, b: &mut [[f64; 3]]) {
         factorization.solve_points_in_place(b)
+    }
+
+    fn matrix_bytes(a: &CscMatrix) -> usize {
+        std::mem::size_of_val(a.col_ptr())
+            + std::mem::size_of_val(a.row_idx())
+            + std::mem::size_of_val(a.values())
+    }
+
+    fn factorization_bytes(factorization: &SparseCholesky) -> usize {
+        factorization.bytes()
     }
 }

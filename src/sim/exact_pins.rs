@@ -31,7 +31,10 @@
 
 use super::backend::{LinearAlgebra, SparseFactorization};
 use super::precomputation::MassSpringSystem;
-use super::signed_incidence::signed_incidence_entries;
+use super::signed_incidence::{
+    incidence_mul_points, incidence_transpose_mul_points, signed_incidence_entries,
+    signed_incidence_matrix,
+};
 use super::SimulationError;
 
 /// The reduced system of the free vertices.
@@ -61,7 +64,7 @@ impl<B: LinearAlgebra> ExactPins<B> {
         system: &MassSpringSystem<B>,
         how: SparseFactorization,
     ) -> Result<Self, SimulationError> {
-        let (a, springs, n, m, k) = (&system.A, &system.springs, system.n(), &system.m, system.k);
+        let (springs, n, m, k) = (&system.springs, system.n(), &system.m, system.k);
         let (delta_t, pinned, targets) = (system.delta_t, &system.pinned, &system.pin_targets);
         let mut is_pinned = vec![false; n];
         for &c in pinned {
@@ -78,7 +81,7 @@ impl<B: LinearAlgebra> ExactPins<B> {
             B::combine(k, &B::gram(a), 1.0, &mass)
         };
         let all: Vec<usize> = (0..n).collect();
-        let q_without_pins = springs_and_mass(&all, a);
+        let q_without_pins = springs_and_mass(&all, &signed_incidence_matrix::<B>(n, springs));
         let a_free = free_columns::<B>(springs, n, &free);
         let factorization = B::factor(&springs_and_mass(&free, &a_free), how)?;
         let mut reduced = ExactPins {
@@ -89,15 +92,15 @@ impl<B: LinearAlgebra> ExactPins<B> {
             pin_rhs: vec![[0.0; 3]; n],
             how,
         };
-        reduced.set_targets(a, springs.len(), k, pinned, targets);
+        reduced.set_targets(springs, k, pinned, targets);
         Ok(reduced)
     }
 
-    /// Moves the pins to `targets`: `pin_rhs = −k Aᵀ (A t̄)`.
+    /// Moves the pins to `targets`: `pin_rhs = −k Aᵀ (A t̄)`, with `A`
+    /// the signed incidence matrix of `springs` (taken from the list).
     pub fn set_targets(
         &mut self,
-        a: &B::Matrix,
-        springs: usize,
+        springs: &[[usize; 2]],
         k: f64,
         pinned: &[usize],
         targets: &[[f64; 3]],
@@ -107,9 +110,9 @@ impl<B: LinearAlgebra> ExactPins<B> {
         for (&c, &t) in pinned.iter().zip(targets) {
             t_bar[c] = t;
         }
-        let mut a_t = vec![[0.0; 3]; springs];
-        B::mul_points(a, &t_bar, &mut a_t);
-        B::transpose_mul_points(a, &a_t, &mut self.pin_rhs);
+        let mut a_t = vec![[0.0; 3]; springs.len()];
+        incidence_mul_points(springs, &t_bar, &mut a_t);
+        incidence_transpose_mul_points(springs, &a_t, &mut self.pin_rhs);
         for row in &mut self.pin_rhs {
             *row = row.map(|x| -k * x);
         }

@@ -14,6 +14,18 @@
 //! right-hand side, `w CᵀC V`, computed here too. Every buffer the step needs
 //! is sized here, so the step allocates nothing.
 //!
+//! What is kept: the handout's step takes `M` and `A` as matrices; here
+//! `M` is kept as its diagonal `m`, and `A` as the spring list, which is
+//! all of `A` (row `e` is `+1` at `springs[e][0]`, `−1` at `springs[e][1]`;
+//! the step's `k Aᵀd` is taken from it,
+//! [`incidence_transpose_mul_points`](super::signed_incidence::incidence_transpose_mul_points)).
+//! Both are built as matrices here to assemble `Q` the way the handout
+//! writes it, then dropped: a sparse `A` and `M` held 160 MB at a million
+//! vertices (`docs/performance.md`). `Q` itself is kept, unless a
+//! [`Simulation`](super::Simulation) whose method never multiplies by it
+//! releases it ([`MassSpringSystem::holds_q`]): only its factorization is
+//! needed to solve.
+//!
 //! Pins can be changed later ([`MassSpringSystem::set_pins`], e.g. to drag a
 //! vertex): only `C`, `Q`'s values and `w CᵀC V` change, and the sparse
 //! factorization is redone numerically on the pattern it already analysed.
@@ -39,19 +51,17 @@ pub const DELTA_T: f64 = 1.0 / 30.0;
 pub struct MassSpringSystem<B: LinearAlgebra> {
     /// Rest length of every spring.
     pub r: Vec<f64>,
-    /// The masses `m`, one per vertex.
+    /// The masses `m`, one per vertex: the mass matrix `M = diag(m)`.
     pub m: Vec<f64>,
-    /// The mass matrix `diag(m)`.
-    pub M: B::Matrix,
-    /// The signed incidence matrix.
-    pub A: B::Matrix,
     /// The selection matrix of the pinned vertices.
     pub C: B::Matrix,
-    /// `k AᵀA + M/Δt² + w CᵀC`.
+    /// `k AᵀA + M/Δt² + w CᵀC`; an empty (0 × 0) matrix while released
+    /// ([`MassSpringSystem::holds_q`]; [`MassSpringSystem::q`] builds it).
     pub Q: B::Matrix,
     /// The Cholesky factorization of `Q`.
     pub prefactorization: B::Factorization,
-    /// The springs `(i, j)`, 0-based, the orientation `A` uses.
+    /// The springs `(i, j)`, 0-based: the signed incidence matrix `A`
+    /// (row `e` is `+1` in column `i`, `−1` in column `j`).
     pub springs: Vec<[usize; 2]>,
     /// Spring stiffness.
     pub k: f64,
@@ -72,6 +82,8 @@ pub struct MassSpringSystem<B: LinearAlgebra> {
     pub exact_pins: Option<ExactPins<B>>,
     /// Work arrays of the step, sized once.
     pub(crate) buffers: StepBuffers,
+    /// Is `Q` held (not released)?
+    q_held: bool,
 }
 
 /// Work arrays of the step: `n`- and `m`-row blocks.
@@ -114,8 +126,7 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
         check_pins(n, pinned, targets.len())?;
         self.C = selection_matrix::<B>(n, pinned);
         self.set_pinned(pinned, targets);
-        self.Q = assemble_q::<B>(&self.A, &self.M, &self.C, self.k, self.delta_t, self.w);
-        B::refactor(&mut self.prefactorization, &self.Q)?;
+        self.assemble_and_refactor()?;
         self.pin_rhs = pin_right_hand_side::<B>(&self.C, n, targets, self.w);
         if let Some(how) = self.exact_pins.as_ref().map(|e| e.how) {
             self.use_exact_pins(how)?;
@@ -162,9 +173,9 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
         }
         let previous = (self.k, self.delta_t, self.m.clone());
         self.install_parameters(k, delta_t, m);
-        if let Err(error) = B::refactor(&mut self.prefactorization, &self.Q) {
+        if let Err(error) = self.assemble_and_refactor() {
             self.install_parameters(previous.0, previous.1, &previous.2);
-            B::refactor(&mut self.prefactorization, &self.Q)?;
+            self.assemble_and_refactor()?;
             return Err(error.into());
         }
         if let Some(how) = self.exact_pins.as_ref().map(|e| e.how) {
@@ -173,14 +184,69 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
         Ok(())
     }
 
-    /// Sets `k`, `Δt`, `m` and rebuilds `M` and `Q` (not the factorization).
+    /// Sets `k`, `Δt` and `m` (not `Q`, not the factorization).
     fn install_parameters(&mut self, k: f64, delta_t: f64, m: &[f64]) {
-        let n = self.n();
         self.k = k;
         self.delta_t = delta_t;
         self.m.copy_from_slice(m);
-        self.M = B::from_entries(n, n, m.iter().enumerate().map(|(i, &mi)| (i, i, mi)));
-        self.Q = assemble_q::<B>(&self.A, &self.M, &self.C, k, delta_t, self.w);
+    }
+
+    /// Assembles `Q` for the current springs, masses, pins and parameters
+    /// and refactors it (numerically, on the analysis already done); keeps
+    /// `Q` when it is held.
+    fn assemble_and_refactor(&mut self) -> Result<(), crate::linalg::LinalgError> {
+        let q = self.assemble_q();
+        let refactored = B::refactor(&mut self.prefactorization, &q);
+        if self.q_held {
+            self.Q = q;
+        }
+        refactored
+    }
+
+    /// `Q = k AᵀA + M/Δt² + w CᵀC` for the current values.
+    fn assemble_q(&self) -> B::Matrix {
+        assemble_q::<B>(
+            &self.springs,
+            &self.m,
+            &self.C,
+            self.k,
+            self.delta_t,
+            self.w,
+        )
+    }
+
+    /// Is `Q` held? It is after the precomputation; a
+    /// [`Simulation`](super::Simulation) releases it when its method only
+    /// solves with `Q` (the factorization) and never multiplies by it, and
+    /// holds it again for a method that does (L-BFGS).
+    pub fn holds_q(&self) -> bool {
+        self.q_held
+    }
+
+    /// `Q`: the held matrix, or a new one assembled when it was released.
+    pub fn q(&self) -> std::borrow::Cow<'_, B::Matrix> {
+        if self.q_held {
+            std::borrow::Cow::Borrowed(&self.Q)
+        } else {
+            std::borrow::Cow::Owned(self.assemble_q())
+        }
+    }
+
+    /// Keeps `Q` from now on, assembling it again if it was released.
+    pub fn hold_q(&mut self) {
+        if !self.q_held {
+            self.Q = self.assemble_q();
+            self.q_held = true;
+        }
+    }
+
+    /// Frees `Q` (its factorization stays): `n × n` values and indices
+    /// that the step does not read unless it multiplies by `Q`. Only a
+    /// [`Simulation`](super::Simulation), which holds it again before such
+    /// a step, releases it.
+    pub(crate) fn release_q(&mut self) {
+        self.Q = B::from_entries(0, 0, std::iter::empty());
+        self.q_held = false;
     }
 
     /// Moves the current pins to `targets` (one per row of `C`): only the
@@ -202,9 +268,56 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
         self.pin_rhs = pin_right_hand_side::<B>(&self.C, n, targets, self.w);
         self.pin_targets.copy_from_slice(targets);
         if let Some(exact) = &mut self.exact_pins {
-            exact.set_targets(&self.A, self.springs.len(), self.k, &self.pinned, targets);
+            exact.set_targets(&self.springs, self.k, &self.pinned, targets);
         }
         Ok(())
+    }
+
+    /// What the system holds, in bytes (arrays' lengths), item by item:
+    /// the memory figures of `docs/performance.md` and their test. The
+    /// work arrays of a method other than `plain`, made when it first
+    /// runs, are not counted.
+    pub fn bytes(&self) -> Vec<(&'static str, usize)> {
+        use std::mem::size_of_val as bytes;
+        let buffers = &self.buffers;
+        let exact = self.exact_pins.as_ref().map_or(0, |e| {
+            B::matrix_bytes(&e.q_without_pins)
+                + B::factorization_bytes(&e.factorization)
+                + bytes(&e.free[..])
+                + 2 * bytes(&e.pin_rhs[..])
+        });
+        vec![
+            (
+                "factorization of Q",
+                B::factorization_bytes(&self.prefactorization),
+            ),
+            ("Q (when held)", B::matrix_bytes(&self.Q)),
+            ("springs (A)", bytes(&self.springs[..])),
+            (
+                "rest lengths r, masses m",
+                bytes(&self.r[..]) + bytes(&self.m[..]),
+            ),
+            (
+                "pins: C, w CᵀC V, pinned, targets, mask",
+                B::matrix_bytes(&self.C)
+                    + bytes(&self.pin_rhs[..])
+                    + bytes(&self.pinned[..])
+                    + bytes(&self.pin_targets[..])
+                    + bytes(&self.is_pinned[..]),
+            ),
+            (
+                "step buffers: inertia, y, b, gradient",
+                bytes(&buffers.inertia[..])
+                    + bytes(&buffers.y[..])
+                    + bytes(&buffers.b[..])
+                    + bytes(&buffers.gradient[..]),
+            ),
+            (
+                "step buffers: d, start lengths",
+                bytes(&buffers.d[..]) + bytes(&buffers.start_lengths[..]),
+            ),
+            ("exact pins: Q without pins, Q_ff factor", exact),
+        ]
     }
 
     /// Records which vertices are pinned, and where.
@@ -261,10 +374,8 @@ pub fn fast_mass_springs_precomputation_with<B: LinearAlgebra>(
     check_inputs(v, springs, m)?;
     check_pins(n, pinned, pinned.len())?;
     let r = rest_lengths(v, springs);
-    let mass_matrix = B::from_entries(n, n, m.iter().enumerate().map(|(i, &mi)| (i, i, mi)));
-    let a = signed_incidence_matrix::<B>(n, springs);
     let c = selection_matrix::<B>(n, pinned);
-    let q = assemble_q::<B>(&a, &mass_matrix, &c, k, delta_t, PIN_WEIGHT);
+    let q = assemble_q::<B>(springs, m, &c, k, delta_t, PIN_WEIGHT);
     let prefactorization = B::factor(&q, how)?;
     let mut pinned_rest = vec![[0.0; 3]; pinned.len()];
     B::mul_points(&c, v, &mut pinned_rest); // C V
@@ -272,8 +383,6 @@ pub fn fast_mass_springs_precomputation_with<B: LinearAlgebra>(
     Ok(MassSpringSystem {
         r,
         m: m.to_vec(),
-        M: mass_matrix,
-        A: a,
         C: c,
         Q: q,
         prefactorization,
@@ -295,6 +404,7 @@ pub fn fast_mass_springs_precomputation_with<B: LinearAlgebra>(
             start_lengths: vec![0.0; springs.len()],
             methods: MethodWorkspaces::default(),
         },
+        q_held: true,
     })
 }
 
@@ -350,21 +460,34 @@ fn selection_matrix<B: LinearAlgebra>(n: usize, pinned: &[usize]) -> B::Matrix {
     )
 }
 
-/// `Q = k AᵀA + M/Δt² + w CᵀC`, from the matrices `A`, `M` and `C`, each
-/// term as the handout writes it (so the rounding matches a direct
-/// transcription: `mᵢ/Δt²`, not `mᵢ·(1/Δt²)`).
-#[allow(non_snake_case)] // the handout's M
+/// `Q = k AᵀA + M/Δt² + w CᵀC`, from the matrices `A` (of the springs),
+/// `M = diag(m)` and `C`, each term as the handout writes it (so the
+/// rounding matches a direct transcription: `mᵢ/Δt²`, not `mᵢ·(1/Δt²)`).
+/// `A` and `M` are built here and dropped once `Q` is made.
+#[allow(non_snake_case)] // the handout's A and M
 fn assemble_q<B: LinearAlgebra>(
-    a: &B::Matrix,
-    M: &B::Matrix,
+    springs: &[[usize; 2]],
+    m: &[f64],
     c: &B::Matrix,
     k: f64,
     delta_t: f64,
     w: f64,
 ) -> B::Matrix {
-    let m_over_dt2 = B::divide(M, delta_t * delta_t);
-    let springs_and_mass = B::combine(k, &B::gram(a), 1.0, &m_over_dt2);
+    let n = m.len();
+    let AtA = B::gram(&signed_incidence_matrix::<B>(n, springs));
+    let M = B::from_entries(n, n, m.iter().enumerate().map(|(i, &mi)| (i, i, mi)));
+    let m_over_dt2 = B::divide(&M, delta_t * delta_t);
+    drop(M);
+    let springs_and_mass = B::combine(k, &AtA, 1.0, &m_over_dt2);
+    drop((AtA, m_over_dt2));
     B::combine(1.0, &springs_and_mass, w, &B::gram(c))
+}
+
+/// `y = M x` for the diagonal mass matrix `M = diag(m)`: `yᵢ = mᵢ xᵢ`.
+pub(crate) fn mass_mul_points(m: &[f64], x: &[[f64; 3]], y: &mut [[f64; 3]]) {
+    for ((y, x), &mi) in y.iter_mut().zip(x).zip(m) {
+        *y = x.map(|xc| mi * xc);
+    }
 }
 
 /// `w Cᵀ targets`, where `targets` are the pinned positions (`C V` at rest,

@@ -176,6 +176,9 @@ impl<B: LinearAlgebra> Simulation<B> {
         if options.pins == Pins::Exact {
             system.use_exact_pins(how)?;
         }
+        if !multiplies_by_q(options.method) {
+            system.release_q(); // the step only solves with Q
+        }
         let n = vertices.len();
         Ok(Simulation {
             system,
@@ -228,6 +231,9 @@ impl<B: LinearAlgebra> Simulation<B> {
         control: &StepControl,
         observer: Option<Observer<'_>>,
     ) -> Result<StepReport, SimulationError> {
+        if multiplies_by_q(control.method) {
+            self.system.hold_q();
+        }
         external_forces(
             &self.u_cur,
             self.time(),
@@ -280,9 +286,32 @@ impl<B: LinearAlgebra> Simulation<B> {
         self.steps as f64 * self.options.delta_t
     }
 
-    /// The precomputed system (matrices, factorization).
+    /// The precomputed system (matrices, factorization). Its `Q` is
+    /// released unless the method multiplies by it: read it through
+    /// [`MassSpringSystem::q`].
     pub fn system(&self) -> &MassSpringSystem<B> {
         &self.system
+    }
+
+    /// What the simulation holds, in bytes (arrays' lengths), item by
+    /// item: the system's ([`MassSpringSystem::bytes`]) and the state.
+    pub fn bytes(&self) -> Vec<(&'static str, usize)> {
+        use std::mem::size_of_val as bytes;
+        let mut items = self.system.bytes();
+        let state = [
+            &self.rest,
+            &self.u_prev,
+            &self.u_cur,
+            &self.u_next,
+            &self.f_ext,
+        ];
+        items.push((
+            "state: rest, previous, current, next positions, forces, masses",
+            state.iter().map(|v| bytes(&v[..])).sum::<usize>()
+                + bytes(&self.masses[..])
+                + bytes(&self.pinned[..]),
+        ));
+        items
     }
 
     /// Is the wind blowing?
@@ -432,4 +461,10 @@ impl<B: LinearAlgebra> Simulation<B> {
     fn pin_rest_targets(&self) -> Vec<[f64; 3]> {
         self.pinned.iter().map(|&i| self.rest[i]).collect()
     }
+}
+
+/// Does a step by `method` multiply by `Q` (not only solve with its
+/// factorization)? L-BFGS does, for its initial Hessian.
+fn multiplies_by_q(method: StepMethod) -> bool {
+    method == StepMethod::Lbfgs
 }

@@ -32,7 +32,7 @@ use super::methods::{
     anderson, chebyshev, lbfgs, newton, plain, GlobalStep, Monitor, Observer, Outcome, StepContext,
     StepControl, StepMethod, Stop,
 };
-use super::precomputation::MassSpringSystem;
+use super::precomputation::{mass_mul_points, MassSpringSystem};
 use super::SimulationError;
 
 /// The assignment's number of local/global iterations per step.
@@ -107,7 +107,6 @@ pub fn solve_step<B: LinearAlgebra>(
     let MassSpringSystem {
         r,
         m,
-        A,
         Q,
         prefactorization,
         springs,
@@ -146,7 +145,6 @@ pub fn solve_step<B: LinearAlgebra>(
             springs,
             r,
             k: *k,
-            A,
             Q,
             y: &buffers.y,
             pin_rhs,
@@ -257,7 +255,7 @@ fn inertial_term<B: LinearAlgebra>(
     for ((inertia, cur), prev) in buffers.inertia.iter_mut().zip(u_cur).zip(u_prev) {
         *inertia = std::array::from_fn(|c| 2.0 * cur[c] - prev[c]);
     }
-    B::mul_points(&system.M, &buffers.inertia, &mut buffers.y);
+    mass_mul_points(&system.m, &buffers.inertia, &mut buffers.y); // M (2 U_cur − U_prev)
     let dt2 = system.delta_t * system.delta_t;
     for (y, f) in buffers.y.iter_mut().zip(f_ext) {
         *y = std::array::from_fn(|c| y[c] / dt2 + f[c]);

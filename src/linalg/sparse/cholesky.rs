@@ -143,6 +143,10 @@ impl SparseCholesky {
             ));
         }
         let n = symbolic.n();
+        let mut symbolic = symbolic;
+        if method == Method::Supernodal {
+            symbolic.store_rows_per_supernode(); // all that its blocks and solves read
+        }
         let workspace = match method {
             Method::Simplicial => Workspace::Simplicial(
                 UpLookingWorkspace::new(n),
@@ -220,7 +224,7 @@ impl SparseCholesky {
     pub fn l(&self) -> CscMatrix {
         let rows = self
             .symbolic
-            .row_idx()
+            .row_idx() // every column's, built when kept per supernode
             .iter()
             .map(|&i| i as usize)
             .collect();
@@ -273,16 +277,18 @@ impl SparseCholesky {
             row[..W].copy_from_slice(&b[old]); // P b
             row[W..].fill(0.0);
         }
-        let l = FactorView {
-            col_ptr: self.symbolic.col_ptr(),
-            row_idx: self.symbolic.row_idx(),
-            values: &self.values,
-        };
         match self.workspace {
             // L⁻ᵀ L⁻¹ P b, column by column or supernode by supernode
-            Workspace::Simplicial(..) => triangular_solve::solve_in_place(l, buffer),
+            Workspace::Simplicial(..) => {
+                let l = FactorView {
+                    col_ptr: self.symbolic.col_ptr(),
+                    row_idx: &self.symbolic.row_idx(), // per column: borrowed
+                    values: &self.values,
+                };
+                triangular_solve::solve_in_place(l, buffer)
+            }
             Workspace::Supernodal(..) => {
-                supernodal_solve::solve_in_place(l, self.symbolic.supernodes(), buffer)
+                supernodal_solve::solve_in_place(&self.symbolic, &self.values, buffer)
             }
         }
         for (row, &old) in buffer.iter().zip(perm) {

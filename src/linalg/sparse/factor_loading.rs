@@ -63,11 +63,10 @@ impl FactorLoading {
         let start = cumulative_sum(&count);
         let mut next = start[..n].to_vec();
         let mut entries = vec![[0u32; 2]; start[n]];
-        let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx());
         let mut outside = false;
         for_each_lower_entry(a, |i, j, p| {
             let (r, c) = target(i, j);
-            let rows = &row_idx[col_ptr[c]..col_ptr[c + 1]];
+            let rows = symbolic.column_rows(c);
             match rows.binary_search(&(r as u32)) {
                 Ok(slot) => {
                     entries[next[c]] = [slot as u32, p as u32]; // both fit, checked above

@@ -131,9 +131,7 @@ pub fn factor_supernodal(
 
 /// The rows of supernode `s`: the pattern of its first column.
 fn block_rows(symbolic: &SymbolicCholesky, s: usize) -> &[u32] {
-    let first = symbolic.supernodes().columns(s).start;
-    let col_ptr = symbolic.col_ptr();
-    &symbolic.row_idx()[col_ptr[first]..col_ptr[first + 1]]
+    symbolic.supernode_rows(s)
 }
 
 /// Where row position 0 of column `k` of the block would be stored, so that

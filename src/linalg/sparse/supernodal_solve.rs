@@ -24,29 +24,54 @@
 //! solves of CHOLMOD (Chen, Davis, Hager, Rajamanickam, ACM TOMS 35(3),
 //! 2008), here without a dense work block.
 
-use super::supernodes::Supernodes;
-use super::triangular_solve::FactorView;
+use super::symbolic::SymbolicCholesky;
+
+/// The factor as the supernodal sweeps read it: the column pointers of its
+/// values, each supernode's rows (kept once per supernode), the values.
+#[derive(Clone, Copy)]
+struct SupernodalView<'a> {
+    symbolic: &'a SymbolicCholesky,
+    col_ptr: &'a [usize],
+    values: &'a [f64],
+}
 
 /// Columns swept together.
 const PANEL: usize = 4;
 
-/// Solves `L Lᵀ x = b` in place, supernode by supernode.
-pub fn solve_in_place<const W: usize>(l: FactorView, supernodes: &Supernodes, x: &mut [[f64; W]]) {
+/// Solves `L Lᵀ x = b` in place, supernode by supernode, for the factor
+/// analysed in `symbolic` with values `values`.
+pub fn solve_in_place<const W: usize>(
+    symbolic: &SymbolicCholesky,
+    values: &[f64],
+    x: &mut [[f64; W]],
+) {
+    let l = SupernodalView {
+        symbolic,
+        col_ptr: symbolic.col_ptr(),
+        values,
+    };
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
         // SAFETY: the CPU supports the features the function is compiled for.
-        unsafe { solve_in_place_avx2(l, supernodes, x) };
+        unsafe { solve_in_place_avx2(l, x) };
         return;
     }
-    forward::<W, false>(l, supernodes, x);
-    backward::<W, false>(l, supernodes, x);
+    forward::<W, false>(l, x);
+    backward::<W, false>(l, x);
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-fn solve_in_place_avx2<const W: usize>(l: FactorView, supernodes: &Supernodes, x: &mut [[f64; W]]) {
-    forward::<W, true>(l, supernodes, x);
-    backward::<W, true>(l, supernodes, x);
+fn solve_in_place_avx2<const W: usize>(l: SupernodalView, x: &mut [[f64; W]]) {
+    forward::<W, true>(l, x);
+    backward::<W, true>(l, x);
+}
+
+/// A supernode as the sweeps need it: its first column and its rows.
+#[derive(Clone, Copy)]
+struct Supernode<'a> {
+    first: usize,
+    rows: &'a [u32],
 }
 
 /// A panel: up to four consecutive columns of one supernode, the rows they
@@ -64,10 +89,10 @@ struct Panel<'a, const P: usize> {
 }
 
 impl<'a, const P: usize> Panel<'a, P> {
-    fn new(l: &FactorView<'a>, supernode_first: usize, offset: usize) -> Self {
+    fn new(l: &SupernodalView<'a>, node: Supernode<'a>, offset: usize) -> Self {
         let col_ptr = l.col_ptr;
-        let rows = &l.row_idx[col_ptr[supernode_first]..col_ptr[supernode_first + 1]];
-        let first = supernode_first + offset;
+        let rows = node.rows;
+        let first = node.first + offset;
         Panel {
             first,
             rows,
@@ -102,21 +127,22 @@ fn multiply_add<const FUSED: bool>(a: f64, b: f64, c: f64) -> f64 {
 
 /// `L y = b`: supernodes in order, panels in order.
 #[inline(always)]
-fn forward<const W: usize, const FUSED: bool>(
-    l: FactorView,
-    supernodes: &Supernodes,
-    x: &mut [[f64; W]],
-) {
+fn forward<const W: usize, const FUSED: bool>(l: SupernodalView, x: &mut [[f64; W]]) {
+    let supernodes = l.symbolic.supernodes();
     for s in 0..supernodes.len() {
         let columns = supernodes.columns(s);
+        let node = Supernode {
+            first: columns.start,
+            rows: l.symbolic.supernode_rows(s),
+        };
         let mut offset = 0;
         while offset < columns.len() {
             let width = (columns.len() - offset).min(PANEL);
             match width {
-                1 => forward_panel::<W, 1, FUSED>(&l, columns.start, offset, x),
-                2 => forward_panel::<W, 2, FUSED>(&l, columns.start, offset, x),
-                3 => forward_panel::<W, 3, FUSED>(&l, columns.start, offset, x),
-                _ => forward_panel::<W, 4, FUSED>(&l, columns.start, offset, x),
+                1 => forward_panel::<W, 1, FUSED>(&l, node, offset, x),
+                2 => forward_panel::<W, 2, FUSED>(&l, node, offset, x),
+                3 => forward_panel::<W, 3, FUSED>(&l, node, offset, x),
+                _ => forward_panel::<W, 4, FUSED>(&l, node, offset, x),
             }
             offset += width;
         }
@@ -126,12 +152,12 @@ fn forward<const W: usize, const FUSED: bool>(
 /// Forward sweep over one panel of `P` columns.
 #[inline(always)]
 fn forward_panel<const W: usize, const P: usize, const FUSED: bool>(
-    l: &FactorView,
-    supernode_first: usize,
+    l: &SupernodalView,
+    node: Supernode,
     offset: usize,
     x: &mut [[f64; W]],
 ) {
-    let panel = Panel::<P>::new(l, supernode_first, offset);
+    let panel = Panel::<P>::new(l, node, offset);
     let values = l.values;
     // the panel's own triangle, column by column
     let mut x_panel = [[0.0; W]; P];
@@ -167,21 +193,22 @@ fn forward_panel<const W: usize, const P: usize, const FUSED: bool>(
 
 /// `Lᵀ x = y`: supernodes in reverse order, panels in reverse order.
 #[inline(always)]
-fn backward<const W: usize, const FUSED: bool>(
-    l: FactorView,
-    supernodes: &Supernodes,
-    x: &mut [[f64; W]],
-) {
+fn backward<const W: usize, const FUSED: bool>(l: SupernodalView, x: &mut [[f64; W]]) {
+    let supernodes = l.symbolic.supernodes();
     for s in (0..supernodes.len()).rev() {
         let columns = supernodes.columns(s);
+        let node = Supernode {
+            first: columns.start,
+            rows: l.symbolic.supernode_rows(s),
+        };
         // the same panels as the forward sweep, last one first
         let mut offset = (columns.len() - 1) / PANEL * PANEL;
         loop {
             match (columns.len() - offset).min(PANEL) {
-                1 => backward_panel::<W, 1, FUSED>(&l, columns.start, offset, x),
-                2 => backward_panel::<W, 2, FUSED>(&l, columns.start, offset, x),
-                3 => backward_panel::<W, 3, FUSED>(&l, columns.start, offset, x),
-                _ => backward_panel::<W, 4, FUSED>(&l, columns.start, offset, x),
+                1 => backward_panel::<W, 1, FUSED>(&l, node, offset, x),
+                2 => backward_panel::<W, 2, FUSED>(&l, node, offset, x),
+                3 => backward_panel::<W, 3, FUSED>(&l, node, offset, x),
+                _ => backward_panel::<W, 4, FUSED>(&l, node, offset, x),
             }
             if offset == 0 {
                 break;
@@ -194,12 +221,12 @@ fn backward<const W: usize, const FUSED: bool>(
 /// Back sweep over one panel of `P` columns.
 #[inline(always)]
 fn backward_panel<const W: usize, const P: usize, const FUSED: bool>(
-    l: &FactorView,
-    supernode_first: usize,
+    l: &SupernodalView,
+    node: Supernode,
     offset: usize,
     x: &mut [[f64; W]],
 ) {
-    let panel = Panel::<P>::new(l, supernode_first, offset);
+    let panel = Panel::<P>::new(l, node, offset);
     let values = l.values;
     // s_c = Σ_i L_ic x_i over every row below the panel, each x_i read once
     let mut sums = [[0.0; W]; P];

@@ -16,6 +16,14 @@
 //! grows by some explicit zeros, each column still stored from its
 //! diagonal down. The simplicial method needs the exact pattern.
 //!
+//! The rows are found column by column. The supernodal factorization and
+//! its solves only read each supernode's rows (column `k` of a supernode
+//! has the rows of its first column from position `k` on), so it keeps
+//! them once per supernode ([`SymbolicCholesky::store_rows_per_supernode`]):
+//! at a million vertices, 7.9 million row indices instead of 56 million
+//! (32 MB instead of 225 MB, `docs/performance.md`). The values stay one
+//! column after another, laid out by the column pointers.
+//!
 //! The numeric factorization then only fills in values, into arrays whose
 //! size is known here, and can be repeated when the values of `A` change.
 //! Nothing here depends on the values of `A`: the analysis holds patterns
@@ -39,6 +47,7 @@ use super::postorder::postorder;
 use super::row_pattern::RowPattern;
 use super::supernodes::Supernodes;
 use crate::linalg::error::LinalgError;
+use std::borrow::Cow;
 
 /// The result of the symbolic analysis of a symmetric matrix.
 ///
@@ -74,17 +83,28 @@ pub struct SymbolicCholesky {
     parent: Vec<Option<usize>>,
     /// `nnz(L(:, j))`, diagonal included.
     column_counts: Vec<usize>,
-    /// Column `j` of `L` is `col_ptr[j] .. col_ptr[j + 1]` in `row_idx`.
+    /// Column `j` of `L` is `col_ptr[j] .. col_ptr[j + 1]` in the values
+    /// (and in the rows, when they are kept per column).
     col_ptr: Vec<usize>,
-    /// Rows of `L`, sorted in each column, diagonal first. 32-bit: the
-    /// triangular solves are memory-bound, and 4 bytes less per entry is
-    /// a quarter less traffic.
-    row_idx: Vec<u32>,
+    /// Rows of `L`, sorted in each column, diagonal first.
+    rows: FactorRows,
     supernodes: Supernodes,
     /// Zeros stored in the pattern by [`SymbolicCholesky::relaxed`].
     explicit_zeros: usize,
     /// The rule applied by [`SymbolicCholesky::relaxed`], if it was.
     relaxation: Option<Relaxation>,
+}
+
+/// The rows of `L`, 32-bit: the triangular solves are memory-bound, and 4
+/// bytes less per entry is a quarter less traffic.
+#[derive(Debug, Clone)]
+enum FactorRows {
+    /// Every column's rows, column `j` at `col_ptr[j] .. col_ptr[j + 1]`.
+    PerColumn(Vec<u32>),
+    /// Each supernode's rows once, supernode `s` at `start[s] ..
+    /// start[s + 1]`: those of its first column; its column `k` has the
+    /// same rows from position `k` on.
+    PerSupernode { start: Vec<usize>, rows: Vec<u32> },
 }
 
 impl SymbolicCholesky {
@@ -125,7 +145,7 @@ impl SymbolicCholesky {
             parent,
             column_counts,
             col_ptr,
-            row_idx,
+            rows: FactorRows::PerColumn(row_idx),
             supernodes,
             explicit_zeros: 0,
             relaxation: None,
@@ -142,7 +162,15 @@ impl SymbolicCholesky {
         if self.relaxation.is_some() {
             return self;
         }
-        let exact_nnz = self.row_idx.len();
+        let mut row_idx = match std::mem::replace(&mut self.rows, FactorRows::PerColumn(Vec::new()))
+        {
+            FactorRows::PerColumn(rows) => rows,
+            per_supernode => {
+                self.rows = per_supernode;
+                self.row_idx().into_owned()
+            }
+        };
+        let exact_nnz = row_idx.len();
         let (supernodes, last_member_first) =
             relax(&self.supernodes, &self.parent, &self.column_counts, rule);
         // a relaxed node's column k stores rows k .. fc, then those of column fc
@@ -153,7 +181,6 @@ impl SymbolicCholesky {
         }
         let old_ptr = std::mem::replace(&mut self.col_ptr, cumulative_sum(&self.column_counts));
         let new_ptr = &self.col_ptr;
-        let row_idx = &mut self.row_idx;
         row_idx.resize(new_ptr[self.parent.len()], 0);
         for (s, &fc) in last_member_first.iter().enumerate().rev() {
             let columns = supernodes.columns(s);
@@ -170,6 +197,7 @@ impl SymbolicCholesky {
             }
         }
         self.explicit_zeros = row_idx.len() - exact_nnz;
+        self.rows = FactorRows::PerColumn(row_idx);
         self.supernodes = supernodes;
         self.relaxation = Some(*rule);
         self
@@ -195,7 +223,12 @@ impl SymbolicCholesky {
             + n * size_of::<Option<usize>>()
             + std::mem::size_of_val(&self.column_counts[..])
             + std::mem::size_of_val(&self.col_ptr[..])
-            + std::mem::size_of_val(&self.row_idx[..])
+            + match &self.rows {
+                FactorRows::PerColumn(rows) => std::mem::size_of_val(&rows[..]),
+                FactorRows::PerSupernode { start, rows } => {
+                    std::mem::size_of_val(&start[..]) + std::mem::size_of_val(&rows[..])
+                }
+            }
             + self.supernodes.bytes()
     }
 
@@ -223,7 +256,7 @@ impl SymbolicCholesky {
     /// `nnz(L)`, diagonal included (stored entries, see
     /// [`SymbolicCholesky::explicit_zeros`]).
     pub fn nnz_l(&self) -> usize {
-        self.row_idx.len()
+        self.col_ptr[self.n()]
     }
 
     /// Multiply-adds of the factorization, `Σ_j count[j]²`.
@@ -239,9 +272,75 @@ impl SymbolicCholesky {
         &self.col_ptr
     }
 
-    /// Row indices of `L`, sorted in each column, diagonal first.
-    pub fn row_idx(&self) -> &[u32] {
-        &self.row_idx
+    /// Row indices of `L`, column after column (laid out by
+    /// [`SymbolicCholesky::col_ptr`]), sorted in each column, diagonal
+    /// first. Borrowed when they are kept per column; built (`nnz(L)`
+    /// indices) when they are kept per supernode.
+    pub fn row_idx(&self) -> Cow<'_, [u32]> {
+        match &self.rows {
+            FactorRows::PerColumn(rows) => Cow::Borrowed(rows),
+            FactorRows::PerSupernode { .. } => Cow::Owned(
+                (0..self.n())
+                    .flat_map(|j| self.column_rows(j))
+                    .copied()
+                    .collect(),
+            ),
+        }
+    }
+
+    /// The rows of column `j` of `L`, diagonal first.
+    #[inline]
+    pub fn column_rows(&self, j: usize) -> &[u32] {
+        match &self.rows {
+            FactorRows::PerColumn(rows) => &rows[self.col_ptr[j]..self.col_ptr[j + 1]],
+            FactorRows::PerSupernode { .. } => {
+                let s = self.supernodes.of_column(j);
+                let k = j - self.supernodes.columns(s).start;
+                &self.supernode_rows(s)[k..]
+            }
+        }
+    }
+
+    /// The rows of supernode `s`: those of its first column.
+    #[inline]
+    pub fn supernode_rows(&self, s: usize) -> &[u32] {
+        match &self.rows {
+            FactorRows::PerColumn(rows) => {
+                let first = self.supernodes.columns(s).start;
+                &rows[self.col_ptr[first]..self.col_ptr[first + 1]]
+            }
+            FactorRows::PerSupernode { start, rows } => &rows[start[s]..start[s + 1]],
+        }
+    }
+
+    /// Are the rows kept once per supernode?
+    pub fn rows_per_supernode(&self) -> bool {
+        matches!(self.rows, FactorRows::PerSupernode { .. })
+    }
+
+    /// Keeps each supernode's rows once instead of once per column (what
+    /// the supernodal factorization and solves read): `Σ_s count[first(s)]`
+    /// indices instead of `nnz(L)`. [`SymbolicCholesky::row_idx`] still
+    /// gives every column's, by building them.
+    pub fn store_rows_per_supernode(&mut self) {
+        let FactorRows::PerColumn(per_column) = &self.rows else {
+            return;
+        };
+        let count = self.supernodes.len();
+        let mut start = Vec::with_capacity(count + 1);
+        start.push(0);
+        let kept: usize = (0..count).map(|s| self.supernode_rows(s).len()).sum();
+        let mut rows = Vec::with_capacity(kept);
+        for s in 0..count {
+            rows.extend_from_slice(self.supernode_rows(s));
+            start.push(rows.len());
+        }
+        debug_assert!((0..self.n()).all(|j| {
+            let s = self.supernodes.of_column(j);
+            let k = j - self.supernodes.columns(s).start;
+            per_column[self.col_ptr[j]..self.col_ptr[j + 1]] == rows[start[s] + k..start[s + 1]]
+        }));
+        self.rows = FactorRows::PerSupernode { start, rows };
     }
 
     /// The supernodes of `L`: fundamental, or relaxed after

@@ -72,7 +72,7 @@ pub fn factor_up_looking(
 ) -> Result<(), FailedPivot> {
     let n = symbolic.n();
     let parent = symbolic.elimination_tree();
-    let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx());
+    let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx()); // per column: borrowed
     let x = &mut work.row_values;
     work.next_slot.copy_from_slice(&col_ptr[..n]);
     for k in 0..n {

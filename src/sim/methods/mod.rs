@@ -35,6 +35,7 @@ use super::backend::LinearAlgebra;
 use super::energy::{free_norm, StepEnergy};
 use super::exact_pins::ExactPins;
 use super::local_step::project_springs;
+use super::signed_incidence::incidence_transpose_mul_points;
 use super::spring_pass::Outputs;
 use std::fmt;
 use std::str::FromStr;
@@ -181,7 +182,6 @@ pub(crate) struct GlobalStep<'a, B: LinearAlgebra> {
     pub springs: &'a [[usize; 2]],
     pub r: &'a [f64],
     pub k: f64,
-    pub A: &'a B::Matrix,
     pub Q: &'a B::Matrix,
     /// `y = M ŷ / Δt² + f_ext`.
     pub y: &'a [[f64; 3]],
@@ -209,7 +209,7 @@ impl<B: LinearAlgebra> GlobalStep<'_, B> {
     /// The global step from the `d` of the last local step: `p ← Q⁻¹ (k Aᵀ d
     /// + y + w CᵀC V)`.
     fn global_step(&mut self, p: &mut [[f64; 3]]) {
-        B::transpose_mul_points(self.A, self.d, self.b);
+        incidence_transpose_mul_points(self.springs, self.d, self.b); // Aᵀd, A from the springs
         let pin_rhs = self
             .exact_pins
             .as_ref()
