@@ -177,7 +177,7 @@ pub type Observer<'o> = &'o mut dyn FnMut(&Iterate<'_>);
 
 /// The global step: the plain iteration `p ← Q⁻¹ b(p)` and solves with the
 /// prefactored `Q`.
-#[allow(non_snake_case)] // the handout's A and Q
+#[allow(non_snake_case)] // the handout's Q
 pub(crate) struct GlobalStep<'a, B: LinearAlgebra> {
     pub springs: &'a [[usize; 2]],
     pub r: &'a [f64],
