@@ -340,11 +340,15 @@ fn every_method_reaches_newtons_minimiser_on_the_small_scenes() {
 }
 
 #[test]
-fn anderson_and_lbfgs_never_raise_the_energy_and_chebyshev_undoes_each_rise() {
+fn anderson_lbfgs_and_chebyshev_never_raise_the_energy() {
     for scene in ["flag.json", "skirt.json"] {
         for steps in [0, 10] {
             let simulation = simulation_after(scene, steps);
-            for method in [StepMethod::Anderson, StepMethod::Lbfgs] {
+            for method in [
+                StepMethod::Anderson,
+                StepMethod::Lbfgs,
+                StepMethod::Chebyshev,
+            ] {
                 let (rows, _) = trace(&simulation, control(method, 30, None));
                 for pair in rows.windows(2) {
                     assert!(
@@ -356,19 +360,6 @@ fn anderson_and_lbfgs_never_raise_the_energy_and_chebyshev_undoes_each_rise() {
                         pair[1].1
                     );
                 }
-            }
-            // Chebyshev learns of an overshoot one iteration late (the next
-            // local step measures it) and then goes back below the iterate
-            // before it.
-            let (rows, _) = trace(&simulation, control(StepMethod::Chebyshev, 30, None));
-            for triple in rows.windows(3) {
-                let [before, rise, after] = [triple[0].1, triple[1].1, triple[2].1];
-                assert!(
-                    rise <= before || after <= before,
-                    "{scene} step {}: chebyshev's rise at iteration {} was not undone: {before:e} → {rise:e} → {after:e}",
-                    steps + 1,
-                    triple[1].0,
-                );
             }
         }
     }
