@@ -121,3 +121,14 @@ fn a_relaxation_outside_its_range_is_a_usage_error() {
         );
     }
 }
+
+#[test]
+fn a_tolerance_without_steps_is_a_usage_error() {
+    let output = masssprings(&["converge", &data("net.json"), "--tolerance", "0.5"]);
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("--tolerance needs --steps"),
+        "{}",
+        stderr(&output)
+    );
+}

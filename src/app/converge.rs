@@ -170,6 +170,11 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
         ..SimulationOptions::default()
     };
     convergence_flags::apply(&args, &mut sim_options)?;
+    if sim_options.tolerance.is_some() && args.count("steps", 0, 0)? == 0 {
+        return Err(AppError::Usage(
+            "--tolerance needs --steps S (one step's curves always run every iteration)".into(),
+        ));
+    }
     let path = |name: &str| -> Result<Option<PathBuf>, AppError> {
         Ok(args.text(name).filter(|s| !s.is_empty()).map(PathBuf::from))
     };
