@@ -128,12 +128,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let yardsticks = YARDSTICKS.map(|i| plain_reference.samples.get(i).map(|s| s.energy));
     let mut control = request.control;
     if control.rho.is_none() {
-        // what Chebyshev's first step would measure, from this step's plain run
-        let norms: Vec<f64> = plain_reference.samples[1..]
-            .iter()
-            .map(|s| s.step_norm)
-            .collect();
-        control.rho = Some(estimate_rho(&norms));
+        control.rho = Some(rho_from(&plain_reference));
         eprintln!(
             "converge: ρ = {:.4} (estimated from the plain iteration)",
             control.rho.unwrap_or(0.0)
@@ -252,6 +247,13 @@ fn trace(
     })
 }
 
+/// The `ρ` Chebyshev's first step would measure, from a plain run's step
+/// norms.
+fn rho_from(plain: &Curve) -> f64 {
+    let norms: Vec<f64> = plain.samples[1..].iter().map(|s| s.step_norm).collect();
+    estimate_rho(&norms)
+}
+
 /// `‖a − b‖` over all coordinates.
 fn distance(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
     a.iter()
@@ -352,8 +354,7 @@ fn run_over_steps(request: &Request, steps: usize) -> Result<(), AppError> {
         let plain = trace(&simulation, &control, StepMethod::Plain, YARDSTICKS[0])?;
         let target = plain.samples.last().map_or(0.0, |s| s.energy);
         if control.rho.is_none() {
-            let norms: Vec<f64> = plain.samples[1..].iter().map(|s| s.step_norm).collect();
-            control.rho = Some(estimate_rho(&norms));
+            control.rho = Some(rho_from(&plain));
         }
         for (m, &method) in request.methods.iter().enumerate() {
             let curve = trace(&simulation, &control, method, control.iterations)?;
@@ -422,8 +423,7 @@ fn run_over_steps_to_tolerance(
     for step in 1..=steps {
         if control.rho.is_none() {
             let plain = trace(&simulation, &control, StepMethod::Plain, YARDSTICKS[0])?;
-            let norms: Vec<f64> = plain.samples[1..].iter().map(|s| s.step_norm).collect();
-            control.rho = Some(estimate_rho(&norms));
+            control.rho = Some(rho_from(&plain));
         }
         let (plain_report, ms) = timed_step(&mut plain_runner, &simulation, &plain_50)?;
         plain_ms.push(ms);

@@ -182,16 +182,22 @@ impl StepEnergy<'_> {
     /// # Panics
     /// When `p` or `g` does not have one row per vertex.
     pub fn gradient(&self, p: &[[f64; 3]], g: &mut [[f64; 3]]) {
-        self.change_and_gradient(p, g);
+        self.gradient_and_spring_sum(p, g);
     }
 
-    /// `E(p) − E(p⁰)` and `g = ∇E(p)` together: one pass over the vertices
-    /// and one over the springs, which a line search that needs both at
-    /// each trial point (L-BFGS) pays once instead of twice.
+    /// `E(p) − E(p⁰)` and `g = ∇E(p)` together: the springs' part of both
+    /// comes from one pass, which a line search that needs both at each
+    /// trial point (L-BFGS) pays once instead of twice.
     ///
     /// # Panics
     /// When `p` or `g` does not have one row per vertex.
     pub fn change_and_gradient(&self, p: &[[f64; 3]], g: &mut [[f64; 3]]) -> EnergyChange {
+        let spring_sum = self.gradient_and_spring_sum(p, g);
+        self.change_given_springs(p, spring_sum)
+    }
+
+    /// `g = ∇E(p)`, returning the spring pass's `S` on the way.
+    fn gradient_and_spring_sum(&self, p: &[[f64; 3]], g: &mut [[f64; 3]]) -> f64 {
         assert!(p.len() == self.start.len() && g.len() == p.len());
         let inverse_dt2 = 1.0 / (self.delta_t * self.delta_t);
         for (((gi, pi), y), (&mi, f)) in g
@@ -207,7 +213,7 @@ impl StepEnergy<'_> {
         for (&c, t) in self.pinned.iter().zip(self.pin_targets) {
             g[c] = std::array::from_fn(|x| g[c][x] + self.w * (p[c][x] - t[x]));
         }
-        self.change_given_springs(p, spring_sum)
+        spring_sum
     }
 }
 
