@@ -8,8 +8,9 @@
 
 mod common;
 
-use common::{assignment_scene, grid_scene, grid_sides, q_matrix, right_hand_side};
+use common::{assignment_scene, grid_scene, grid_sides, q_matrix};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use masssprings::linalg::benchmark_right_hand_side as right_hand_side;
 use masssprings::linalg::sparse::{Method, Ordering, SparseCholesky, SymbolicCholesky};
 use std::hint::black_box;
 use std::time::Duration;

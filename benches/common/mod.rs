@@ -63,17 +63,3 @@ pub fn grid_sides() -> Vec<usize> {
     }
     sides
 }
-
-/// A fixed, varied n×3 right-hand side.
-pub fn right_hand_side(n: usize) -> Vec<[f64; 3]> {
-    (0..n)
-        .map(|i| {
-            let t = i as f64;
-            [
-                1.0 + (t * 0.37).sin(),
-                (t * 0.11).cos(),
-                0.5 - (t * 0.23).sin(),
-            ]
-        })
-        .collect()
-}

@@ -4,6 +4,7 @@
 use super::args::{Args, CommandSpec, Flag};
 use super::timing::{median_seconds, Repeats};
 use super::AppError;
+use masssprings::linalg::benchmark_right_hand_side;
 use masssprings::linalg::matrix_market::{self, MatrixMarket};
 use masssprings::linalg::sparse::{
     CscMatrix, Method, Ordering, Relaxation, SparseCholesky, SymbolicCholesky, Triangle,
@@ -120,7 +121,7 @@ pub(super) fn read_symmetric_lower(path: &Path) -> Result<CscMatrix, AppError> {
 fn read_or_make_rhs(path: &Path, n: usize) -> Result<Vec<[f64; 3]>, AppError> {
     let rhs_path = path.with_extension("b.mtx");
     if !rhs_path.exists() {
-        return Ok(varied_rhs(n));
+        return Ok(benchmark_right_hand_side(n));
     }
     match matrix_market::read(&rhs_path)? {
         MatrixMarket::Dense(b) if b.nrows() == n && b.ncols() == 3 => {
@@ -131,20 +132,6 @@ fn read_or_make_rhs(path: &Path, n: usize) -> Result<Vec<[f64; 3]>, AppError> {
             rhs_path.display()
         ))),
     }
-}
-
-/// A fixed, varied n×3 right-hand side.
-pub(super) fn varied_rhs(n: usize) -> Vec<[f64; 3]> {
-    (0..n)
-        .map(|i| {
-            let t = i as f64;
-            [
-                1.0 + (t * 0.37).sin(),
-                (t * 0.11).cos(),
-                0.5 - (t * 0.23).sin(),
-            ]
-        })
-        .collect()
 }
 
 /// Times each step of the pipeline on the lower triangle `lower` and

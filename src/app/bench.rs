@@ -37,12 +37,13 @@
 //! against `n` on log-log axes ([`plot`](super::render::plot)), each
 //! series labelled with its fitted exponent. Progress goes to stderr.
 
-use super::analyze::{analyze, varied_rhs};
+use super::analyze::analyze;
 use super::args::{Args, CommandSpec, Flag};
 use super::render::plot::{Figure, Panel, Scale, Series};
 use super::timing::{median_seconds, Repeats};
 use super::AppError;
 use masssprings::files::write_file;
+use masssprings::linalg::benchmark_right_hand_side;
 use masssprings::linalg::sparse::{Method, Ordering, Relaxation, Triangle};
 use masssprings::mesh::procedural;
 use masssprings::sim::local_step::project_springs;
@@ -347,7 +348,7 @@ fn measure_one(side: usize, steps: usize) -> Result<SizeReport, AppError> {
         .sum();
     drop(simulation);
     eprintln!("{name}: ordering, symbolic, numeric, solve");
-    let rhs = varied_rhs(lower.ncols());
+    let rhs = benchmark_right_hand_side(lower.ncols());
     let a = analyze(
         &lower,
         &rhs,

@@ -15,3 +15,20 @@ pub mod matrix_market;
 pub mod sparse;
 
 pub use error::LinalgError;
+
+/// The fixed, varied `n × 3` right-hand side every solve benchmark uses
+/// (`analyze`, `bench`, the criterion benches; the peers' harnesses under
+/// `benches/peers/` write the same formula), so that their figures are
+/// for the same solve.
+pub fn benchmark_right_hand_side(n: usize) -> Vec<[f64; 3]> {
+    (0..n)
+        .map(|i| {
+            let t = i as f64;
+            [
+                1.0 + (t * 0.37).sin(),
+                (t * 0.11).cos(),
+                0.5 - (t * 0.23).sin(),
+            ]
+        })
+        .collect()
+}
