@@ -552,3 +552,49 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn a_tolerance_changes_neither_the_iterates_nor_the_report() {
+    // With a tolerance, the local step at each iterate also makes the
+    // gradient the rule tests, the step's start shares one pass with the
+    // initial gradient, and the methods report the energy they measured:
+    // none of it may change what is computed.
+    for pins in [Pins::Penalty, Pins::Exact] {
+        let options = SimulationOptions {
+            pins,
+            ..SimulationOptions::default()
+        };
+        let mut simulation = simulation_with("flag.json", options);
+        for _ in 0..2 {
+            simulation.step().unwrap();
+        }
+        for method in StepMethod::ALL {
+            let run = |tolerance| {
+                let mut copy = simulation.clone();
+                let mut last = (f64::NAN, f64::NAN);
+                let mut g = vec![[0.0; 3]; copy.positions().len()];
+                let mut record = |it: &Iterate<'_>| {
+                    it.energy.gradient(it.positions, &mut g);
+                    let norm = masssprings::sim::energy::free_norm(&g, it.pinned);
+                    last = (it.energy.change(it.positions).total(), norm);
+                };
+                let report = copy
+                    .step_with(&control(method, 7, tolerance), Some(&mut record))
+                    .unwrap();
+                (report, copy.positions().to_vec(), last)
+            };
+            let (free, free_positions, (energy, _)) = run(None);
+            let (tested, tested_positions, _) = run(Some(1e-14));
+            let what = format!("{method}, {pins:?}");
+            assert_eq!(free_positions, tested_positions, "{what}");
+            assert_eq!(
+                (free.iterations, tested.iterations, tested.stop),
+                (7, 7, Stop::Iterations),
+                "{what}"
+            );
+            assert_eq!(free.energy_decrease, -energy, "{what}");
+            assert_eq!(tested.energy_decrease, -energy, "{what}");
+            assert_eq!(free.relative_gradient, tested.relative_gradient, "{what}");
+        }
+    }
+}

@@ -182,7 +182,7 @@ impl StepEnergy<'_> {
     /// # Panics
     /// When `p` or `g` does not have one row per vertex.
     pub fn gradient(&self, p: &[[f64; 3]], g: &mut [[f64; 3]]) {
-        self.gradient_and_spring_sum(p, g);
+        self.gradient_and_spring_sum(p, g, None);
     }
 
     /// `E(p) − E(p⁰)` and `g = ∇E(p)` together: the springs' part of both
@@ -192,12 +192,46 @@ impl StepEnergy<'_> {
     /// # Panics
     /// When `p` or `g` does not have one row per vertex.
     pub fn change_and_gradient(&self, p: &[[f64; 3]], g: &mut [[f64; 3]]) -> EnergyChange {
-        let spring_sum = self.gradient_and_spring_sum(p, g);
+        let spring_sum = self.gradient_and_spring_sum(p, g, None);
         self.change_given_springs(p, spring_sum)
     }
 
-    /// `g = ∇E(p)`, returning the spring pass's `S` on the way.
-    fn gradient_and_spring_sum(&self, p: &[[f64; 3]], g: &mut [[f64; 3]]) -> f64 {
+    /// The local step at `p` (its `dₑ` into `d`, bit for bit
+    /// [`project_springs`](super::local_step::project_springs)'s) and
+    /// `E(p) − E(p⁰)`, with `g = ∇E(p)` too when `g` is given: a method
+    /// that tests every iterate against a tolerance gets the gradient from
+    /// the pass over the springs that its next global step needs anyway.
+    ///
+    /// # Panics
+    /// When `p` or `g` does not have one row per vertex, or `d` one row per
+    /// spring.
+    pub fn change_with_local_step(
+        &self,
+        p: &[[f64; 3]],
+        d: &mut [[f64; 3]],
+        g: Option<&mut [[f64; 3]]>,
+    ) -> EnergyChange {
+        let spring_sum = match g {
+            Some(g) => self.gradient_and_spring_sum(p, g, Some(d)),
+            None => self.springs().measure(
+                p,
+                Outputs {
+                    d: Some(d),
+                    gradient: None,
+                },
+            ),
+        };
+        self.change_given_springs(p, spring_sum)
+    }
+
+    /// `g = ∇E(p)` (and the local step's `d`, when asked), returning the
+    /// spring pass's `S` on the way.
+    fn gradient_and_spring_sum(
+        &self,
+        p: &[[f64; 3]],
+        g: &mut [[f64; 3]],
+        d: Option<&mut [[f64; 3]]>,
+    ) -> f64 {
         assert!(p.len() == self.start.len() && g.len() == p.len());
         let inverse_dt2 = 1.0 / (self.delta_t * self.delta_t);
         for (((gi, pi), y), (&mi, f)) in g
@@ -209,7 +243,7 @@ impl StepEnergy<'_> {
             *gi = std::array::from_fn(|c| mi * (pi[c] - y[c]) * inverse_dt2 - f[c]);
         }
         let gradient = Some(&mut *g);
-        let spring_sum = self.springs().measure(p, Outputs { d: None, gradient });
+        let spring_sum = self.springs().measure(p, Outputs { d, gradient });
         for (&c, t) in self.pinned.iter().zip(self.pin_targets) {
             g[c] = std::array::from_fn(|x| g[c][x] + self.w * (p[c][x] - t[x]));
         }

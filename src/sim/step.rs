@@ -21,6 +21,11 @@
 //! took off and the relative gradient where it stopped. After a method's
 //! first step, a step allocates nothing.
 //!
+//! The initial gradient `∇E(p⁰)` (the rule's yardstick) and the local step
+//! at `p⁰` come from one pass over the springs, and a method that measured
+//! the energy of its last iterate hands it to the report, so that a short
+//! step (a few iterations to a tolerance) does not pay twice for its ends.
+//!
 //! Cost per iteration: `O(m)` local step, `O(m + n)` for `b`,
 //! `O(nnz(L))` for the solve (sparse; `O(n²)` dense).
 //! Source: Liu et al. 2013, Algorithm 1 (§4); the assignment
@@ -29,8 +34,8 @@
 use super::backend::{Dense, LinearAlgebra, Sparse};
 use super::energy::{free_norm, start_lengths, StepEnergy};
 use super::methods::{
-    anderson, chebyshev, lbfgs, newton, plain, GlobalStep, Monitor, Observer, Outcome, StepContext,
-    StepControl, StepMethod, Stop,
+    anderson, chebyshev, lbfgs, newton, plain, GlobalStep, Gradient, Monitor, Observer, Outcome,
+    StepContext, StepControl, StepMethod, Stop,
 };
 use super::precomputation::{mass_mul_points, MassSpringSystem};
 use super::SimulationError;
@@ -136,7 +141,14 @@ pub fn solve_step<B: LinearAlgebra>(
         start: u_cur,
         start_lengths: &buffers.start_lengths,
     };
-    energy.gradient(u_cur, &mut buffers.gradient);
+    // ∇E(p⁰), and with penalty pins (p⁰ = u_cur) the local step at p⁰ in
+    // the same pass, which the method's first global step then uses.
+    let start_measured = exact_pins.is_none();
+    if start_measured {
+        energy.change_with_local_step(u_cur, &mut buffers.d, Some(&mut buffers.gradient));
+    } else {
+        energy.gradient(u_cur, &mut buffers.gradient);
+    }
     let initial_gradient = free_norm(&buffers.gradient, is_pinned);
     let mut context = StepContext {
         energy,
@@ -155,6 +167,7 @@ pub fn solve_step<B: LinearAlgebra>(
             d: &mut buffers.d,
             b: &mut buffers.b,
         },
+        start_measured,
     };
     let mut monitor = Monitor::new(
         control.tolerance,
@@ -163,7 +176,11 @@ pub fn solve_step<B: LinearAlgebra>(
         observer,
     );
     context.global.hold_pins(u_next); // exact pins start at their (maybe moved) targets
-    monitor.after(0, &context, u_next, None);
+    let start = match start_measured {
+        true => Gradient::InRoom, // u_next = u_cur, whose gradient the room holds
+        false => Gradient::Unknown,
+    };
+    monitor.after(0, &context, u_next, start);
     let workspaces = &mut buffers.methods;
     let outcome: Outcome = match control.method {
         StepMethod::Plain => plain::solve(&mut context, control, u_next, &mut monitor),
@@ -189,7 +206,9 @@ pub fn solve_step<B: LinearAlgebra>(
     }
     let relative_gradient =
         monitor.final_relative_gradient(&context.energy, context.pinned, u_next);
-    let energy_decrease = -context.energy.change(u_next).total();
+    let energy_decrease = -outcome
+        .energy
+        .unwrap_or_else(|| context.energy.change(u_next).total());
     if !(energy_decrease.is_finite() && relative_gradient.is_finite()) {
         return Err(SimulationError::EnergyNotFinite);
     }

@@ -31,7 +31,10 @@
 //! vertices, and a rejection one more local step.
 //!
 //! Cost per iteration: one plain iteration, one pass over the vertices for
-//! the energy (and a second local step after a rejection), and `O(m n)` for the inner products and the combination.
+//! the energy (and a second local step after a rejection), and `O(m n)`
+//! for the inner products and the combination. With a tolerance, the same
+//! local step also makes the gradient the rule tests (its spring forces
+//! added on the way, one more pass over the vertices).
 //!
 //! Sources: D. G. Anderson, "Iterative procedures for nonlinear integral
 //! equations", J. ACM 12(4), 1965; H. F. Walker & P. Ni, "Anderson
@@ -41,7 +44,7 @@
 //! Simulation", ACM TOG 37(4), 2018, Algorithm 1 (the energy safeguard).
 
 use super::block_vector::subtract;
-use super::{Monitor, Outcome, StepContext, StepControl, Stop, MAX_WINDOW};
+use super::{Gradient, Monitor, Outcome, StepContext, StepControl, Stop, MAX_WINDOW};
 use crate::linalg::dense::{DenseCholesky, DenseMatrix};
 use crate::sim::backend::LinearAlgebra;
 
@@ -217,14 +220,14 @@ pub(crate) fn solve<B: LinearAlgebra>(
     work.clear();
     // The local step at each accepted iterate is made when it is accepted
     // (it measures the energy that decides), and used by the next global step.
-    let mut energy = context.local_step_measuring(p);
+    let mut energy = context.local_step_at_start(p, monitor.room_for_gradient());
     for iteration in 1..=control.iterations {
         context.global_step(&mut work.g);
         work.push(p);
         let accelerated = work.held > 0 && work.extrapolate(p);
         let accepted = accelerated && {
             context.global.hold_pins(p);
-            let candidate = context.local_step_measuring(p);
+            let candidate = context.local_step_measuring(p, monitor.room_for_gradient());
             let lower = candidate <= energy;
             if lower {
                 energy = candidate;
@@ -235,15 +238,16 @@ pub(crate) fn solve<B: LinearAlgebra>(
             // the safeguard: the plain iterate (whose energy cannot be
             // higher), and a fresh history
             p.copy_from_slice(&work.g);
-            energy = context.local_step_measuring(p);
+            energy = context.local_step_measuring(p, monitor.room_for_gradient());
             if accelerated {
                 work.clear();
             }
         }
         work.retire_g();
-        if monitor.after(iteration, context, p, None) {
-            return Outcome::new(iteration, Stop::Tolerance);
+        // the last local step was made at `p`
+        if monitor.after(iteration, context, p, Gradient::InRoom) {
+            return Outcome::measured(iteration, Stop::Tolerance, energy);
         }
     }
-    Outcome::new(control.iterations, Stop::Iterations)
+    Outcome::measured(control.iterations, Stop::Iterations, energy)
 }

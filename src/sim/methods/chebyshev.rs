@@ -44,7 +44,9 @@
 //! the vertices, and a restart one more local step.
 //!
 //! Cost per iteration: one plain iteration, one pass over the vertices for
-//! the energy, and vector updates and copies `O(n)`.
+//! the energy, and vector updates `O(n)`. With a tolerance, the same local
+//! step also makes the gradient the rule tests (its spring forces added on
+//! the way, one more pass over the vertices).
 //!
 //! Source: H. Wang, "A Chebyshev Semi-Iterative Approach for Accelerating
 //! Projective and Position-based Dynamics", ACM TOG 34(6), 2015, §4–5 (the
@@ -52,7 +54,7 @@
 //! Computations*, 4th ed., §11.2.8 (the semi-iterative method).
 
 use super::block_vector::{norm, subtract};
-use super::{Monitor, Outcome, StepContext, StepControl, Stop};
+use super::{Gradient, Monitor, Outcome, StepContext, StepControl, Stop};
 use crate::sim::backend::LinearAlgebra;
 
 /// The relaxation `γ` of each plain step when none is given (measured:
@@ -132,7 +134,7 @@ pub(crate) fn solve<B: LinearAlgebra>(
     work.previous.copy_from_slice(p);
     // The local step at each iterate is made when it is reached (it
     // measures the energy that decides), and used by the next global step.
-    let mut energy = context.local_step_measuring(p);
+    let mut energy = context.local_step_at_start(p, monitor.room_for_gradient());
     let mut outcome = Outcome::new(control.iterations, Stop::Iterations);
     for iteration in 1..=control.iterations {
         context.global_step(&mut work.plain);
@@ -142,31 +144,35 @@ pub(crate) fn solve<B: LinearAlgebra>(
                 rho = estimate.record(iteration, &work.current, &work.plain, &mut work.spare);
                 work.estimated_rho = work.estimated_rho.or(rho);
                 work.take_plain();
-                energy = context.local_step_measuring(&work.current);
+                energy = context.local_step_measuring(&work.current, monitor.room_for_gradient());
             }
             Some(radius) => {
                 k += 1;
                 omega_k = omega(k, radius, omega_k);
                 extrapolate(context, work, omega_k, control.relaxation);
-                let candidate = context.local_step_measuring(&work.previous);
+                let candidate =
+                    context.local_step_measuring(&work.previous, monitor.room_for_gradient());
                 if candidate <= energy {
                     std::mem::swap(&mut work.current, &mut work.previous);
                     energy = candidate;
                 } else {
                     // overshoot: the plain iterate, and the recurrence restarts
                     work.take_plain();
-                    energy = context.local_step_measuring(&work.current);
+                    energy =
+                        context.local_step_measuring(&work.current, monitor.room_for_gradient());
                     k = 0;
                 }
             }
         }
-        if monitor.after(iteration, context, &work.current, None) {
-            outcome = Outcome::new(iteration, Stop::Tolerance);
+        // the last local step was made at `work.current`
+        if monitor.after(iteration, context, &work.current, Gradient::InRoom) {
+            outcome.iterations = iteration;
+            outcome.stop = Stop::Tolerance;
             break;
         }
     }
     p.copy_from_slice(&work.current);
-    outcome
+    Outcome::measured(outcome.iterations, outcome.stop, energy)
 }
 
 impl Workspace {

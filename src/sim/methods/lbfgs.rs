@@ -49,7 +49,7 @@
 
 use super::block_vector::{add_scaled, dot, moved, scale, subtract};
 use super::line_search::{line_search, Search};
-use super::{Monitor, Outcome, StepContext, StepControl, Stop, MAX_WINDOW};
+use super::{Gradient, Monitor, Outcome, StepContext, StepControl, Stop, MAX_WINDOW};
 use crate::sim::backend::LinearAlgebra;
 
 /// L-BFGS's history and work arrays.
@@ -178,17 +178,21 @@ pub(crate) fn solve<B: LinearAlgebra>(
 ) -> Outcome {
     work.held = 0;
     work.oldest = 0;
-    context.energy.gradient(p, &mut work.gradient);
+    if context.start_measured {
+        work.gradient.copy_from_slice(monitor.start_gradient());
+    } else {
+        context.energy.gradient(p, &mut work.gradient);
+    }
     let mut energy = 0.0; // E(p) − E(p⁰)
     let mut last_step_length: f64 = 1.0;
     for iteration in 1..=control.iterations {
         let Some(slope) = descent_direction(context, work) else {
-            return Outcome::new(iteration - 1, Stop::Stalled);
+            return Outcome::measured(iteration - 1, Stop::Stalled, energy);
         };
         let first = last_step_length.max(1.0);
         let Some((t, new_energy)) = search_along_direction(context, work, p, first, slope, energy)
         else {
-            return Outcome::new(iteration - 1, Stop::Stalled);
+            return Outcome::measured(iteration - 1, Stop::Stalled, energy);
         };
         last_step_length = t;
         energy = new_energy;
@@ -207,11 +211,11 @@ pub(crate) fn solve<B: LinearAlgebra>(
         if s_y > 0.0 {
             work.commit(s_y);
         }
-        if monitor.after(iteration, context, p, Some(&work.gradient)) {
-            return Outcome::new(iteration, Stop::Tolerance);
+        if monitor.after(iteration, context, p, Gradient::Given(&work.gradient)) {
+            return Outcome::measured(iteration, Stop::Tolerance, energy);
         }
     }
-    Outcome::new(control.iterations, Stop::Iterations)
+    Outcome::measured(control.iterations, Stop::Iterations, energy)
 }
 
 /// The line search along `work.direction` from `p`. Each trial point is

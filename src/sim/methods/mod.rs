@@ -36,7 +36,6 @@ use super::energy::{free_norm, StepEnergy};
 use super::exact_pins::ExactPins;
 use super::local_step::project_springs;
 use super::signed_incidence::incidence_transpose_mul_points;
-use super::spring_pass::Outputs;
 use std::fmt;
 use std::str::FromStr;
 
@@ -146,17 +145,33 @@ pub enum Stop {
     Stalled,
 }
 
-/// What a method reports: iterations run and why it stopped.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// What a method reports: iterations run, why it stopped, and the energy
+/// where it stopped when it knows it.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Outcome {
     pub iterations: usize,
     pub stop: Stop,
+    /// `E(p) − E(p⁰)` at the returned `p`, when the method measured it
+    /// there (the step's report then needs no pass of its own).
+    pub energy: Option<f64>,
 }
 
 impl Outcome {
     /// Stopped by `stop` after `iterations`.
     pub fn new(iterations: usize, stop: Stop) -> Self {
-        Outcome { iterations, stop }
+        Outcome {
+            iterations,
+            stop,
+            energy: None,
+        }
+    }
+
+    /// The same, with the energy measured at the returned iterate.
+    pub fn measured(iterations: usize, stop: Stop, energy: f64) -> Self {
+        Outcome {
+            energy: Some(energy),
+            ..Outcome::new(iterations, stop)
+        }
     }
 }
 
@@ -274,28 +289,61 @@ pub(crate) struct StepContext<'a, B: LinearAlgebra> {
     /// `pinned[i]`: is vertex `i` pinned?
     pub pinned: &'a [bool],
     pub global: GlobalStep<'a, B>,
+    /// Did the step make the local step at its start `p⁰` already (its
+    /// `d` in place, `∇E(p⁰)` in the monitor's room)? It does when `p⁰` is
+    /// where the step begins, so that the initial gradient and the first
+    /// local step share one pass ([`StepContext::local_step_at_start`]).
+    pub start_measured: bool,
 }
 
 impl<B: LinearAlgebra> StepContext<'_, B> {
+    /// [`StepContext::local_step_measuring`] at the step's start `p⁰`,
+    /// unless the step made it already; returns `E(p⁰) − E(p⁰) = 0`.
+    pub fn local_step_at_start(
+        &mut self,
+        p: &[[f64; 3]],
+        gradient: Option<&mut [[f64; 3]]>,
+    ) -> f64 {
+        if self.start_measured {
+            return 0.0;
+        }
+        self.local_step_measuring(p, gradient)
+    }
+
     /// The local step at `p` (its `d` is kept for the next
     /// [`StepContext::global_step`]), returning `E(p) − E(p⁰)`: the local
     /// step's pass over the springs measures the energy on the way
     /// ([`spring_pass`](crate::sim::spring_pass)), so an iterate's energy
     /// costs one more pass over the vertices only. Peng et al. 2018 test
     /// each accelerated iterate this way.
-    pub fn local_step_measuring(&mut self, p: &[[f64; 3]]) -> f64 {
-        let d = Some(&mut *self.global.d);
-        let spring_sum = self
-            .energy
-            .springs()
-            .measure(p, Outputs { d, gradient: None });
-        self.energy.change_given_springs(p, spring_sum).total()
+    ///
+    /// With `gradient` (the [`Monitor`]'s room, when its stopping rule will
+    /// test `p`) the same pass also makes `∇E(p)`.
+    pub fn local_step_measuring(
+        &mut self,
+        p: &[[f64; 3]],
+        gradient: Option<&mut [[f64; 3]]>,
+    ) -> f64 {
+        let d = &mut *self.global.d;
+        self.energy.change_with_local_step(p, d, gradient).total()
     }
 
     /// `out ← G(p)` from the `d` of the last local step, made at `p`.
     pub fn global_step(&mut self, out: &mut [[f64; 3]]) {
         self.global.global_step(out);
     }
+}
+
+/// What [`Monitor::after`] knows of `∇E` at the iterate it is shown.
+#[derive(Clone, Copy)]
+pub(crate) enum Gradient<'g> {
+    /// Nothing: the monitor computes it if its rule needs it.
+    Unknown,
+    /// The method's own.
+    Given(&'g [[f64; 3]]),
+    /// The local step made at the iterate filled the monitor's room
+    /// ([`Monitor::room_for_gradient`]) with it.
+    InRoom,
 }
 
 /// The stopping rule and the observer, consulted after every iteration.
@@ -326,16 +374,31 @@ impl<'a, 'o> Monitor<'a, 'o> {
         }
     }
 
+    /// Room for `∇E` at the next iterate, when the stopping rule will test
+    /// it (`None` without a tolerance): a method whose local step at that
+    /// iterate can make the gradient on the way fills it there, then tells
+    /// [`Monitor::after`] so with [`Gradient::InRoom`].
+    pub fn room_for_gradient(&mut self) -> Option<&mut [[f64; 3]]> {
+        self.tolerance.map(|_| &mut *self.gradient)
+    }
+
+    /// `∇E(p⁰)`, when the step measured its start
+    /// ([`StepContext::start_measured`]) and no iteration has been recorded
+    /// since.
+    pub fn start_gradient(&self) -> &[[f64; 3]] {
+        self.gradient
+    }
+
     /// After iteration `iteration` reached `p`: shows it to the observer,
-    /// and says whether the tolerance is met. `gradient` is `∇E(p)` when the
-    /// method has it; otherwise it is computed, only if there is a
+    /// and says whether the tolerance is met. `gradient` says what is known
+    /// of `∇E(p)`; when nothing is, it is computed, only if there is a
     /// tolerance to test.
     pub fn after<B: LinearAlgebra>(
         &mut self,
         iteration: usize,
         context: &StepContext<'_, B>,
         p: &[[f64; 3]],
-        gradient: Option<&[[f64; 3]]>,
+        gradient: Gradient<'_>,
     ) -> bool {
         if let Some(observer) = self.observer.as_mut() {
             observer(&Iterate {
@@ -350,8 +413,9 @@ impl<'a, 'o> Monitor<'a, 'o> {
             return false;
         };
         let norm = match gradient {
-            Some(g) => free_norm(g, context.pinned),
-            None => {
+            Gradient::Given(g) => free_norm(g, context.pinned),
+            Gradient::InRoom => free_norm(self.gradient, context.pinned),
+            Gradient::Unknown => {
                 context.energy.gradient(p, self.gradient);
                 free_norm(self.gradient, context.pinned)
             }

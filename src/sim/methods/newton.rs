@@ -34,7 +34,7 @@
 
 use super::block_vector::{dot, moved, scale};
 use super::line_search::{energy_along, line_search, Search};
-use super::{Monitor, Outcome, StepContext, StepControl, Stop};
+use super::{Gradient, Monitor, Outcome, StepContext, StepControl, Stop};
 use crate::linalg::sparse::{Method, Ordering, SparseCholesky, SymbolicCholesky};
 use crate::linalg::LinalgError;
 use crate::sim::backend::LinearAlgebra;
@@ -198,7 +198,7 @@ pub(crate) fn solve<B: LinearAlgebra>(
         energy = new_energy;
         work.relax(t);
         context.energy.gradient(p, &mut work.gradient);
-        if monitor.after(iteration, context, p, Some(&work.gradient)) {
+        if monitor.after(iteration, context, p, Gradient::Given(&work.gradient)) {
             return Outcome::new(iteration, Stop::Tolerance);
         }
     }
