@@ -254,11 +254,14 @@ impl<B: LinearAlgebra> GlobalStep<'_, B> {
     }
 
     /// `out ← Q x` (with exact pins: `(k AᵀA + M/Δt²) x`, pinned rows 0).
+    /// `Q` is symmetric, so `Q x = Qᵀ x`: the transposed product sums each
+    /// row of `out` in registers, where `Q x` column by column would add
+    /// into rows of `out` scattered over memory.
     pub fn mul_q(&self, x: &[[f64; 3]], out: &mut [[f64; 3]]) {
         match self.exact_pins.as_ref() {
-            None => B::mul_points(self.Q, x, out),
+            None => B::transpose_mul_points(self.Q, x, out),
             Some(exact) => {
-                B::mul_points(&exact.q_without_pins, x, out);
+                B::transpose_mul_points(&exact.q_without_pins, x, out);
                 for &c in self.pinned {
                     out[c] = [0.0; 3];
                 }
