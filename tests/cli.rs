@@ -43,6 +43,7 @@ fn analyze_reports_every_key_and_a_small_residual() {
         "numeric_s",
         "solve_s",
         "residual",
+        "backward_error",
     ] {
         assert!(report.get(key).is_some(), "missing {key} in {report}");
     }
@@ -55,6 +56,9 @@ fn analyze_reports_every_key_and_a_small_residual() {
             .nnz()
     );
     assert!(report["residual"].as_f64().unwrap() < 1e-12, "{report}");
+    // Cholesky is backward stable: a few units of roundoff (2⁻⁵³ ≈ 1.1e-16)
+    let backward_error = report["backward_error"].as_f64().unwrap();
+    assert!((0.0..1e-15).contains(&backward_error), "{report}");
     let natural = json(&masssprings(&[
         "analyze",
         path.to_str().unwrap(),
@@ -343,6 +347,7 @@ fn bench_reports_every_key_and_slopes_fitted_to_its_own_figures() {
         }
         assert!(size["nnz_l"].as_u64() <= size["nnz_l_stored"].as_u64());
         assert!(size["residual"].as_f64().unwrap() < 1e-12, "{size}");
+        assert!(size["backward_error"].as_f64().unwrap() < 1e-15, "{size}");
     }
     for key in times.iter().chain(&["peak_bytes"]) {
         let points: Vec<(f64, f64)> = sizes

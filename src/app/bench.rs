@@ -108,6 +108,8 @@ struct SizeReport {
     solve_gbps: f64,
     /// `‖Q X − B‖ / ‖B‖` of the timed solve.
     residual: f64,
+    /// Its normwise backward error (`analyze`'s).
+    backward_error: f64,
 }
 
 /// The fitted exponents, `null` with fewer than two sizes.
@@ -381,6 +383,7 @@ fn measure_one(side: usize, steps: usize) -> Result<SizeReport, AppError> {
         bytes_per_vertex: peak_bytes as f64 / a.n as f64,
         solve_gbps: solve_bytes(a.nnz_l_stored, rows_kept) / a.solve_s / 1e9,
         residual: a.residual,
+        backward_error: a.backward_error,
     })
 }
 
@@ -467,12 +470,12 @@ fn write_csv(out: &mut dyn Write, sizes: &[SizeReport]) -> std::io::Result<()> {
         out,
         "side,n,nnz_q,nnz_l,nnz_l_stored,flops,ordering_s,symbolic_s,numeric_s,solve_s,step_s,\
          local_step_s,atd_s,solve_share,local_step_share,atd_share,\
-         precompute_s,peak_bytes,bytes_per_vertex,solve_gbps,residual"
+         precompute_s,peak_bytes,bytes_per_vertex,solve_gbps,residual,backward_error"
     )?;
     for s in sizes {
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             s.side,
             s.n,
             s.nnz_q,
@@ -493,7 +496,8 @@ fn write_csv(out: &mut dyn Write, sizes: &[SizeReport]) -> std::io::Result<()> {
             s.peak_bytes,
             s.bytes_per_vertex,
             s.solve_gbps,
-            s.residual
+            s.residual,
+            s.backward_error
         )?;
     }
     Ok(())
