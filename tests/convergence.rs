@@ -7,7 +7,7 @@ use common::*;
 use masssprings::mesh::load_scene;
 use masssprings::sim::energy::{start_lengths, StepEnergy};
 use masssprings::sim::hessian::Hessian;
-use masssprings::sim::methods::Iterate;
+use masssprings::sim::methods::{Iterate, Start};
 use masssprings::sim::simulation::{Pins, SimulationOptions};
 use masssprings::sim::{
     Simulation, SimulationError, Sparse, StepControl, StepMethod, Stop, DELTA_T,
@@ -559,33 +559,46 @@ fn a_tolerance_changes_neither_the_iterates_nor_the_report() {
     // gradient the rule tests, the step's start shares one pass with the
     // initial gradient, and the methods report the energy they measured:
     // none of it may change what is computed.
-    for pins in [Pins::Penalty, Pins::Exact] {
+    // (The flag after 12 steps: its inertial prediction is below pᵗ in
+    // energy, so the inertial start begins there.)
+    for (pins, start) in [
+        (Pins::Penalty, Start::Current),
+        (Pins::Exact, Start::Current),
+        (Pins::Penalty, Start::Inertial),
+        (Pins::Exact, Start::Inertial),
+    ] {
         let options = SimulationOptions {
             pins,
             ..SimulationOptions::default()
         };
         let mut simulation = simulation_with("flag.json", options);
-        for _ in 0..2 {
+        for _ in 0..12 {
             simulation.step().unwrap();
         }
         for method in StepMethod::ALL {
             let run = |tolerance| {
                 let mut copy = simulation.clone();
-                let mut last = (f64::NAN, f64::NAN);
+                let (mut last, mut initial) = ((f64::NAN, f64::NAN), f64::NAN);
                 let mut g = vec![[0.0; 3]; copy.positions().len()];
                 let mut record = |it: &Iterate<'_>| {
+                    if it.iteration == 0 {
+                        it.energy.gradient(it.energy.start, &mut g);
+                        initial = masssprings::sim::energy::free_norm(&g, it.pinned);
+                    }
                     it.energy.gradient(it.positions, &mut g);
                     let norm = masssprings::sim::energy::free_norm(&g, it.pinned);
-                    last = (it.energy.change(it.positions).total(), norm);
+                    last = (it.energy.change(it.positions).total(), norm / initial);
                 };
-                let report = copy
-                    .step_with(&control(method, 7, tolerance), Some(&mut record))
-                    .unwrap();
+                let control = StepControl {
+                    start,
+                    ..control(method, 7, tolerance)
+                };
+                let report = copy.step_with(&control, Some(&mut record)).unwrap();
                 (report, copy.positions().to_vec(), last)
             };
-            let (free, free_positions, (energy, _)) = run(None);
+            let (free, free_positions, (energy, relative_gradient)) = run(None);
             let (tested, tested_positions, _) = run(Some(1e-14));
-            let what = format!("{method}, {pins:?}");
+            let what = format!("{method}, {pins:?}, {start:?}");
             assert_eq!(free_positions, tested_positions, "{what}");
             assert_eq!(
                 (free.iterations, tested.iterations, tested.stop),
@@ -594,7 +607,54 @@ fn a_tolerance_changes_neither_the_iterates_nor_the_report() {
             );
             assert_eq!(free.energy_decrease, -energy, "{what}");
             assert_eq!(tested.energy_decrease, -energy, "{what}");
-            assert_eq!(free.relative_gradient, tested.relative_gradient, "{what}");
+            assert_eq!(free.relative_gradient, relative_gradient, "{what}");
+            assert_eq!(tested.relative_gradient, relative_gradient, "{what}");
+        }
+    }
+}
+
+#[test]
+fn the_inertial_start_begins_at_the_prediction_only_when_it_is_lower() {
+    // From rest the prediction 2pᵗ − pᵗ⁻¹ is pᵗ itself; after 12 steps
+    // of the flag it is below pᵗ in energy, and the step begins exactly there.
+    for (steps, expect_prediction) in [(0, false), (12, true)] {
+        let simulation = simulation_after("flag.json", steps);
+        assert_eq!(
+            simulation.positions() == simulation.previous_positions(),
+            steps == 0,
+            "the flag moves"
+        );
+        let prediction: Vec<[f64; 3]> = simulation
+            .positions()
+            .iter()
+            .zip(simulation.previous_positions())
+            .map(|(c, p)| std::array::from_fn(|x| 2.0 * c[x] - p[x]))
+            .collect();
+        for method in StepMethod::ALL {
+            let mut copy = simulation.clone();
+            let mut first = None;
+            let mut record = |it: &Iterate<'_>| {
+                if it.iteration == 0 {
+                    first = Some((
+                        it.positions.to_vec(),
+                        it.energy.change(it.positions).total(),
+                    ));
+                }
+            };
+            let control = StepControl {
+                start: Start::Inertial,
+                ..control(method, 3, None)
+            };
+            copy.step_with(&control, Some(&mut record)).unwrap();
+            let (positions, energy) = first.unwrap();
+            let what = format!("{method} after {steps} steps");
+            assert!(energy <= 0.0, "{what}: {energy}");
+            let expected = match expect_prediction {
+                true => &prediction[..],
+                false => simulation.positions(),
+            };
+            assert_eq!(positions, expected, "{what}");
+            assert_eq!(energy < 0.0, expect_prediction, "{what}");
         }
     }
 }

@@ -1,12 +1,12 @@
 //! The flags that choose how each step is solved, shared by `simulate`,
 //! `render`, `view` and `converge`: `--method`, `--tolerance`,
-//! `--iterations`, `--rho`, `--relaxation`, `--window`, `--pins`. A command lists the ones it accepts
-//! in its flag table ([`super::args::CommandSpec`]); [`apply`] reads those
+//! `--iterations`, `--rho`, `--relaxation`, `--window`, `--start`, `--pins`. A command lists
+//! the ones it accepts in its flag table ([`super::args::CommandSpec`]); [`apply`] reads those
 //! that were declared.
 
 use super::args::{Args, Flag};
 use super::AppError;
-use masssprings::sim::methods::MAX_WINDOW;
+use masssprings::sim::methods::{Start, MAX_WINDOW};
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::StepMethod;
 
@@ -42,6 +42,13 @@ pub const WINDOW: Flag = Flag::value(
     "W",
     "Anderson's and L-BFGS's history length, 1 to 100.",
 );
+pub const START: Flag = Flag::value(
+    "start",
+    "S",
+    "Where each step's iterations start: current (the positions at the step's start, the \
+     assignment's; default) or inertial (2 pᵗ − pᵗ⁻¹, where the cloth's momentum takes it, \
+     when its energy is lower).",
+);
 
 pub const PINS: Flag = Flag::value(
     "pins",
@@ -64,6 +71,11 @@ pub fn apply(args: &Args, options: &mut SimulationOptions) -> Result<(), AppErro
     if args.declares("pins") {
         let name = args.choice("pins", "penalty", &["penalty", "exact"])?;
         options.pins = name.parse().map_err(AppError::Usage)?;
+    }
+    if args.declares("start") {
+        let names = [Start::Current, Start::Inertial].map(Start::name);
+        let name = args.choice("start", options.start.name(), &names)?;
+        options.start = name.parse().map_err(AppError::Usage)?;
     }
     if args.declares("iterations") {
         options.iterations = args.count("iterations", options.iterations, 1)?;

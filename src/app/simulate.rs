@@ -15,7 +15,7 @@
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{
-    self, ITERATIONS, METHOD, PINS, RELAXATION, RHO, TOLERANCE, WINDOW,
+    self, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START, TOLERANCE, WINDOW,
 };
 use super::factorization_flags::{self, FACTORIZATION, ORDERING};
 use super::limits::precompute;
@@ -44,6 +44,8 @@ struct Summary {
     /// How each step was solved, and how well.
     method: &'static str,
     tolerance: Option<f64>,
+    /// Where each step's iterations started (`current` or `inertial`).
+    start: &'static str,
     iterations_median: f64,
     relative_gradient_median: f64,
 }
@@ -101,6 +103,7 @@ time and the total time.",
         ITERATIONS,
         RHO,
         RELAXATION,
+        START,
         WINDOW,
         PINS,
         ORDERING,
@@ -215,6 +218,7 @@ fn simulate<B: LinearAlgebra>(
         backend: B::NAME,
         method: options.method.name(),
         tolerance: options.tolerance,
+        start: options.start.name(),
         iterations_median: iterations.median(),
         relative_gradient_median: gradients.median(),
     })
@@ -408,7 +412,10 @@ fn print_summary(scene_path: &Path, s: &Summary) {
     println!("steps            {}", s.steps);
     println!("step (median)    {:.6} s", s.step_median_s);
     let tolerance = s.tolerance.map_or("none".into(), |t| format!("{t:e}"));
-    println!("method           {} (tolerance {tolerance})", s.method);
+    println!(
+        "method           {} (tolerance {tolerance}, start {})",
+        s.method, s.start
+    );
     println!("iterations       {} per step (median)", s.iterations_median);
     println!(
         "rel. gradient    {:.3e} at the end of a step (median)",

@@ -7,7 +7,7 @@
 
 use super::backend::{LinearAlgebra, SparseFactorization};
 use super::forces::{bounding_box_diagonal, external_forces};
-use super::methods::{Observer, StepControl, StepMethod, DEFAULT_WINDOW};
+use super::methods::{Observer, Start, StepControl, StepMethod, DEFAULT_WINDOW};
 use super::precomputation::{fast_mass_springs_precomputation_with, MassSpringSystem, DELTA_T};
 use super::step::{solve_step, StepReport, ITERATIONS};
 use super::SimulationError;
@@ -34,6 +34,8 @@ pub struct SimulationOptions {
     pub relaxation: f64,
     /// Anderson's and L-BFGS's history window.
     pub window: usize,
+    /// Where each step's iterations start.
+    pub start: Start,
     /// Pins by the assignment's penalty, or as exact constraints.
     pub pins: Pins,
     /// The sparse backend's fill-reducing ordering (AMD, or the natural
@@ -76,6 +78,7 @@ impl SimulationOptions {
             rho: self.rho,
             relaxation: self.relaxation,
             window: self.window,
+            start: self.start,
         }
     }
 }
@@ -91,6 +94,7 @@ impl Default for SimulationOptions {
             rho: None,
             relaxation: crate::sim::methods::chebyshev::DEFAULT_RELAXATION,
             window: DEFAULT_WINDOW,
+            start: Start::Current,
             pins: Pins::Penalty,
             ordering: Ordering::default(),
             factorization: Method::default(),

@@ -35,7 +35,7 @@ use super::backend::{Dense, LinearAlgebra, Sparse};
 use super::energy::{free_norm, start_lengths, StepEnergy};
 use super::methods::{
     anderson, chebyshev, lbfgs, newton, plain, GlobalStep, Gradient, Monitor, Observer, Outcome,
-    StepContext, StepControl, StepMethod, Stop,
+    Start, StepContext, StepControl, StepMethod, Stop,
 };
 use super::precomputation::{mass_mul_points, MassSpringSystem};
 use super::SimulationError;
@@ -141,15 +141,15 @@ pub fn solve_step<B: LinearAlgebra>(
         start: u_cur,
         start_lengths: &buffers.start_lengths,
     };
-    // ∇E(p⁰), and with penalty pins (p⁰ = u_cur) the local step at p⁰ in
-    // the same pass, which the method's first global step then uses.
-    let start_measured = exact_pins.is_none();
-    if start_measured {
-        energy.change_with_local_step(u_cur, &mut buffers.d, Some(&mut buffers.gradient));
-    } else {
-        energy.gradient(u_cur, &mut buffers.gradient);
-    }
-    let initial_gradient = free_norm(&buffers.gradient, is_pinned);
+    let (initial_gradient, start_measured, start_energy) = first_iterate(
+        &energy,
+        control.start,
+        exact_pins.is_some(),
+        is_pinned,
+        u_next,
+        &mut buffers.d,
+        &mut buffers.gradient,
+    );
     let mut context = StepContext {
         energy,
         pinned: is_pinned,
@@ -168,6 +168,7 @@ pub fn solve_step<B: LinearAlgebra>(
             b: &mut buffers.b,
         },
         start_measured,
+        start_energy,
     };
     let mut monitor = Monitor::new(
         control.tolerance,
@@ -175,9 +176,8 @@ pub fn solve_step<B: LinearAlgebra>(
         &mut buffers.gradient,
         observer,
     );
-    context.global.hold_pins(u_next); // exact pins start at their (maybe moved) targets
     let start = match start_measured {
-        true => Gradient::InRoom, // u_next = u_cur, whose gradient the room holds
+        true => Gradient::InRoom, // ∇E at the first iterate is in the room
         false => Gradient::Unknown,
     };
     monitor.after(0, &context, u_next, start);
@@ -219,6 +219,56 @@ pub fn solve_step<B: LinearAlgebra>(
         energy_decrease,
         relative_gradient,
     })
+}
+
+/// Sets `u_next` (holding `pᵗ`) to the first iterate: `pᵗ`, or with
+/// [`Start::Inertial`] the inertial prediction `ŷ` (the energy's
+/// `inertial_target`) when its energy is below `pᵗ`'s; exact pins at their
+/// targets. Returns `‖∇E(pᵗ)‖` over the free vertices (the rule's
+/// yardstick), whether the local step at the first iterate is made (its
+/// `d`, and its gradient in `gradient`), and `E − E(pᵗ)` there.
+///
+/// The passes are shared: with the assignment's start and penalty pins,
+/// one pass makes `∇E(pᵗ)` and the local step at `pᵗ`; the inertial start
+/// tests `ŷ` with the pass that makes the local step there.
+#[allow(clippy::too_many_arguments)]
+fn first_iterate(
+    energy: &StepEnergy<'_>,
+    start: Start,
+    exact_pins: bool,
+    is_pinned: &[bool],
+    u_next: &mut [[f64; 3]],
+    d: &mut [[f64; 3]],
+    gradient: &mut [[f64; 3]],
+) -> (f64, bool, f64) {
+    let hold_pins = |p: &mut [[f64; 3]]| {
+        if exact_pins {
+            for (&c, &t) in energy.pinned.iter().zip(energy.pin_targets) {
+                p[c] = t;
+            }
+        }
+    };
+    if start == Start::Current && !exact_pins {
+        energy.change_with_local_step(energy.start, d, Some(gradient));
+        return (free_norm(gradient, is_pinned), true, 0.0);
+    }
+    energy.gradient(energy.start, gradient);
+    let initial_gradient = free_norm(gradient, is_pinned);
+    if start == Start::Inertial {
+        u_next.copy_from_slice(energy.inertial_target);
+        hold_pins(u_next);
+        let change = energy.change_with_local_step(u_next, d, Some(gradient));
+        if change.total() < 0.0 {
+            return (initial_gradient, true, change.total());
+        }
+        u_next.copy_from_slice(energy.start);
+    }
+    hold_pins(u_next); // exact pins start at their (maybe moved) targets
+    let start_energy = match exact_pins {
+        true => energy.change(u_next).total(),
+        false => 0.0, // u_next = pᵗ
+    };
+    (initial_gradient, false, start_energy)
 }
 
 /// Makes the work arrays of `control`'s method the first time it runs (or

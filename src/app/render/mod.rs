@@ -41,7 +41,7 @@ mod tests_common;
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{
-    self, ITERATIONS, METHOD, PINS, RELAXATION, RHO, TOLERANCE, WINDOW,
+    self, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START, TOLERANCE, WINDOW,
 };
 use super::limits::{check_frames, precompute};
 use super::progress::Progress;
@@ -142,6 +142,7 @@ point mass (always drawn for scenes made only of springs).",
         ITERATIONS,
         RHO,
         RELAXATION,
+        START,
         WINDOW,
         PINS,
     ],

@@ -26,7 +26,7 @@ mod watchers;
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{
-    self, ITERATIONS, METHOD, PINS, RELAXATION, RHO, TOLERANCE, WINDOW,
+    self, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START, TOLERANCE, WINDOW,
 };
 use super::factorization_flags::{self, FACTORIZATION, ORDERING};
 use super::limits::precompute;
@@ -88,6 +88,7 @@ shift-drag to pull a vertex. Ctrl-C stops it.",
         ITERATIONS,
         RHO,
         RELAXATION,
+        START,
         WINDOW,
         PINS,
         ORDERING,

@@ -183,7 +183,7 @@ pub(crate) fn solve<B: LinearAlgebra>(
     } else {
         context.energy.gradient(p, &mut work.gradient);
     }
-    let mut energy = 0.0; // E(p) − E(p⁰)
+    let mut energy = context.start_energy; // E(p) − E(p⁰)
     let mut last_step_length: f64 = 1.0;
     for iteration in 1..=control.iterations {
         let Some(slope) = descent_direction(context, work) else {

@@ -96,6 +96,41 @@ impl FromStr for StepMethod {
     }
 }
 
+/// Where a step's iterations start.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
+pub enum Start {
+    /// At `pᵗ`, the positions at the step's start: the assignment's.
+    #[default]
+    Current,
+    /// At the inertial prediction `ŷ = 2pᵗ − pᵗ⁻ᐞᵗ`, where the cloth
+    /// would go by its momentum alone, when its energy is below `pᵗ`'s
+    /// (otherwise at `pᵗ`). Projective dynamics starts there (Bouaziz et
+    /// al. 2014, Algorithm 1); on a cloth in steady motion it is already
+    /// close to the minimiser.
+    Inertial,
+}
+
+impl Start {
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Start::Current => "current",
+            Start::Inertial => "inertial",
+        }
+    }
+}
+
+impl FromStr for Start {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, String> {
+        [Start::Current, Start::Inertial]
+            .into_iter()
+            .find(|s| s.name() == text)
+            .ok_or_else(|| format!("unknown start '{text}' (expected current or inertial)"))
+    }
+}
+
 /// How one step is solved: the method and when to stop.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StepControl {
@@ -112,6 +147,8 @@ pub struct StepControl {
     pub relaxation: f64,
     /// Anderson's and L-BFGS's history: the last `window` iterates.
     pub window: usize,
+    /// Where the iterations start.
+    pub start: Start,
 }
 
 /// The history window of Anderson and L-BFGS when none is given.
@@ -129,6 +166,7 @@ impl Default for StepControl {
             rho: None,
             relaxation: chebyshev::DEFAULT_RELAXATION,
             window: DEFAULT_WINDOW,
+            start: Start::Current,
         }
     }
 }
@@ -292,23 +330,26 @@ pub(crate) struct StepContext<'a, B: LinearAlgebra> {
     /// `pinned[i]`: is vertex `i` pinned?
     pub pinned: &'a [bool],
     pub global: GlobalStep<'a, B>,
-    /// Did the step make the local step at its start `p⁰` already (its
-    /// `d` in place, `∇E(p⁰)` in the monitor's room)? It does when `p⁰` is
-    /// where the step begins, so that the initial gradient and the first
-    /// local step share one pass ([`StepContext::local_step_at_start`]).
+    /// Did the step make the local step at the first iterate already (its
+    /// `d` in place, `∇E` there in the monitor's room)? So that the first
+    /// iterate's local step shares its pass with the initial gradient (at
+    /// `pᵗ`) or with the test of the inertial start
+    /// ([`StepContext::local_step_at_start`]).
     pub start_measured: bool,
+    /// `E − E(pᵗ)` at the first iterate (0 when it is `pᵗ`).
+    pub start_energy: f64,
 }
 
 impl<B: LinearAlgebra> StepContext<'_, B> {
-    /// [`StepContext::local_step_measuring`] at the step's start `p⁰`,
-    /// unless the step made it already; returns `E(p⁰) − E(p⁰) = 0`.
+    /// [`StepContext::local_step_measuring`] at the first iterate `p`,
+    /// unless the step made it already; returns `E(p) − E(pᵗ)`.
     pub fn local_step_at_start(
         &mut self,
         p: &[[f64; 3]],
         gradient: Option<&mut [[f64; 3]]>,
     ) -> f64 {
         if self.start_measured {
-            return 0.0;
+            return self.start_energy;
         }
         self.local_step_measuring(p, gradient)
     }

@@ -165,7 +165,7 @@ pub(crate) fn solve<B: LinearAlgebra>(
     context.energy.gradient(p, &mut work.gradient);
     work.damping_scale.fill(0.0);
     work.set_damping_scale(&context.energy);
-    let mut energy = 0.0; // E(p) − E(p⁰)
+    let mut energy = context.start_energy; // E(p) − E(p⁰)
     for iteration in 1..=control.iterations {
         work.hessian.assemble(&context.energy, p);
         if context.global.exact() {
