@@ -370,6 +370,11 @@ impl<B: LinearAlgebra> Simulation<B> {
         self.options.tolerance = tolerance;
     }
 
+    /// Where later steps start their iterations.
+    pub fn set_start(&mut self, start: Start) {
+        self.options.start = start;
+    }
+
     /// Back to rest, time 0, nothing dragged.
     ///
     /// # Errors

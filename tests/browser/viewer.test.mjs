@@ -248,6 +248,9 @@ test('the method picker and the convergence plot', async () => {
     await page.evaluate(() => document.activeElement.blur()); // keys go to the page again
     await page.keyboard.press('m'); // the next method
     await waitForStatus((s) => s.method === 'anderson', 'Anderson');
+    await page.check('#start'); // start each step from the momentum's prediction
+    await waitForStatus((s) => s.start === 'inertial' && s.method === 'anderson', 'inertial start');
+    await page.evaluate(() => document.activeElement.blur());
     const before = (await status()).steps;
     for (let i = 1; i <= 3; i++) {
       await page.click('#step');
@@ -258,9 +261,13 @@ test('the method picker and the convergence plot', async () => {
     const last = s.history.slice(-3);
     assert.ok(last.every((r) => r.iterations <= s.iterations && Number.isFinite(r.relative_gradient)),
       JSON.stringify(last));
+    assert.ok(await page.isChecked('#start'));
   } finally {
+    await page.uncheck('#start');
+    await waitForStatus((s) => s.start === 'current', 'the assignment\'s start again');
     await page.selectOption('#method', 'plain');
     await waitForStatus((s) => s.method === 'plain', 'plain again');
+    await page.evaluate(() => document.activeElement.blur()); // keys go to the page again
   }
 });
 

@@ -51,10 +51,13 @@ pub enum Command {
     LoadScene { scene: usize },
     /// Solve later steps by `method` (one of [`Status::methods`]), stopping
     /// at relative gradient `tolerance` (`null`: run every iteration).
-    /// Nothing is refactored: every method uses the same `Q`.
+    /// Nothing is refactored: every method uses the same `Q`. `start`
+    /// (`current` or `inertial`, see `--start`) is kept when absent.
     SetMethod {
         method: String,
         tolerance: Option<f64>,
+        #[serde(default)]
+        start: Option<String>,
     },
 }
 
@@ -118,6 +121,8 @@ pub struct Status {
     pub methods: Vec<&'static str>,
     /// The relative gradient a step stops at (`None`: every iteration).
     pub tolerance: Option<f64>,
+    /// Where a step's iterations start (`current` or `inertial`).
+    pub start: &'static str,
     /// How long the last rebuild and refactorization of `Q` took
     /// (milliseconds), after a parameter change or a drag; `None` before any.
     pub refactor_ms: Option<f64>,
@@ -248,7 +253,19 @@ mod tests {
             parse(r#"{"command":"set_method","method":"lbfgs","tolerance":null}"#).unwrap(),
             Command::SetMethod {
                 method: "lbfgs".into(),
-                tolerance: None
+                tolerance: None,
+                start: None
+            }
+        );
+        assert_eq!(
+            parse(
+                r#"{"command":"set_method","method":"plain","tolerance":0.5,"start":"inertial"}"#
+            )
+            .unwrap(),
+            Command::SetMethod {
+                method: "plain".into(),
+                tolerance: Some(0.5),
+                start: Some("inertial".into())
             }
         );
         assert_eq!(

@@ -19,6 +19,7 @@ use super::display_mesh::display_mesh;
 use super::watchers::Watchers;
 use masssprings::mesh::bounding_box::BoundingBox;
 use masssprings::mesh::Scene;
+use masssprings::sim::methods::Start;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{LinearAlgebra, Simulation, StepMethod, StepReport, Stop};
 use std::path::PathBuf;
@@ -292,19 +293,27 @@ impl<B: LinearAlgebra> SimulationThread<B> {
                 iterations,
             } => self.set_parameters(k, delta_t, mass_scale, iterations),
             Command::LoadScene { scene } => self.load_scene(scene),
-            Command::SetMethod { method, tolerance } => self.set_method(&method, tolerance),
+            Command::SetMethod {
+                method,
+                tolerance,
+                start,
+            } => self.set_method(&method, tolerance, start.as_deref()),
         }
     }
 
-    /// Another method or tolerance for later steps.
-    fn set_method(&mut self, method: &str, tolerance: Option<f64>) -> Reply {
+    /// Another method, tolerance or start for later steps.
+    fn set_method(&mut self, method: &str, tolerance: Option<f64>, start: Option<&str>) -> Reply {
         let method: StepMethod = method.parse()?;
         if let Some(t) = tolerance {
             if !(t > 0.0 && t < 1.0) {
                 return Err(format!("tolerance {t}: expected between 0 and 1"));
             }
         }
+        let start: Option<Start> = start.map(str::parse).transpose()?;
         self.simulation.set_method(method, tolerance);
+        if let Some(start) = start {
+            self.simulation.set_start(start);
+        }
         Ok(())
     }
 
@@ -373,6 +382,7 @@ impl<B: LinearAlgebra> SimulationThread<B> {
             wind: current.wind,
             method: current.method,
             tolerance: current.tolerance,
+            start: current.start,
             ..SimulationOptions::default()
         };
         let simulation = Simulation::<B>::from_scene(&scene, options)
@@ -535,6 +545,7 @@ impl<B: LinearAlgebra> SimulationThread<B> {
         status.iterations = self.simulation.options().iterations;
         status.method = self.simulation.options().method.name();
         status.tolerance = self.simulation.options().tolerance;
+        status.start = self.simulation.options().start.name();
         status.refactor_ms = self.refactor.map(|d| 1e3 * d.as_secs_f64());
         status.scene_index = self.scene_index;
     }

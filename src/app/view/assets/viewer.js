@@ -770,7 +770,7 @@ function updateOverlay() {
   const lines = [
     `${s.scene} · ${s.backend} · n ${s.n} · springs ${s.springs}`,
     `k ${formatNumber(s.k)} · Δt ${s.delta_t.toFixed(4)} s · mass ×${formatNumber(s.mass_scale)}`,
-    `${s.method} · ≤ ${s.iterations} iterations · ${tolerance}`,
+    `${s.method} · ≤ ${s.iterations} iterations · ${tolerance} · start ${s.start === 'inertial' ? 'from momentum' : 'where it is'}`,
     s.refactor_ms === null ? 'Q factored once, when the scene loaded'
       : `Q rebuilt and refactored in ${s.refactor_ms.toFixed(1)} ms`,
     `${s.ms_per_step.toFixed(2)} ms/step · ${s.steps_per_second.toFixed(1)} steps/s`,
@@ -844,7 +844,7 @@ function drawPlot() {
 // ---------------------------------------------------------------------------
 // The controls panel: buttons (the keys' commands), the scene picker, and
 // sliders for k (log scale), Δt, the mass scale (log scale) and the
-// iterations, plus the method and the tolerance. A slider shows its value
+// iterations, plus the method, the tolerance and the start. A slider shows its value
 // while it moves and sends set_parameters when let go.
 
 const controls = {
@@ -858,6 +858,7 @@ const controls = {
   scene: document.getElementById('scene'),
   method: document.getElementById('method'),
   tolerance: document.getElementById('tolerance'),
+  start: document.getElementById('start'),
 };
 
 /** Each slider: how its position maps to the parameter and back. */
@@ -889,6 +890,7 @@ function sendMethod() {
     command: 'set_method',
     method: controls.method.value,
     tolerance: tolerance > 0 ? 10 ** -tolerance : null,
+    start: controls.start.checked ? 'inertial' : 'current',
   });
 }
 
@@ -912,6 +914,7 @@ controls.scene.addEventListener('change', () => {
 });
 controls.method.addEventListener('change', sendMethod);
 controls.tolerance.addEventListener('change', sendMethod);
+controls.start.addEventListener('change', sendMethod);
 controls.tolerance.addEventListener('input', () => {
   document.getElementById('tolerance-value').textContent = toleranceText(Number(controls.tolerance.value));
 });
@@ -936,6 +939,7 @@ function syncControls() {
     controls.method.replaceChildren(...s.methods.map((name) => new Option(name, name)));
   }
   if (document.activeElement !== controls.method) controls.method.value = s.method;
+  if (document.activeElement !== controls.start) controls.start.checked = s.start === 'inertial';
   if (document.activeElement !== controls.tolerance) {
     const decades = s.tolerance === null ? 0 : Math.round(-Math.log10(s.tolerance));
     controls.tolerance.value = String(decades);
