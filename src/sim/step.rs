@@ -21,10 +21,13 @@
 //! took off and the relative gradient where it stopped. After a method's
 //! first step, a step allocates nothing.
 //!
-//! The initial gradient `∇E(p⁰)` (the rule's yardstick) and the local step
-//! at `p⁰` come from one pass over the springs, and a method that measured
-//! the energy of its last iterate hands it to the report, so that a short
-//! step (a few iterations to a tolerance) does not pay twice for its ends.
+//! The iterations start at `pᵗ` (the assignment's start) or, with
+//! `--start inertial`, at the inertial prediction `2pᵗ − pᵗ⁻ᐞᵗ` when its
+//! energy is lower ([`Start`]). The initial gradient `∇E(pᵗ)` (the rule's
+//! yardstick) and the local step at the first iterate share passes over the
+//! springs, and a method that measured the energy of its last iterate hands
+//! it to the report, so that a short step (a few iterations to a tolerance)
+//! does not pay twice for its ends.
 //!
 //! Cost per iteration: `O(m)` local step, `O(m + n)` for `b`,
 //! `O(nnz(L))` for the solve (sparse; `O(n²)` dense).
@@ -141,7 +144,7 @@ pub fn solve_step<B: LinearAlgebra>(
         start: u_cur,
         start_lengths: &buffers.start_lengths,
     };
-    let (initial_gradient, start_measured, start_energy) = first_iterate(
+    let first = first_iterate(
         &energy,
         control.start,
         exact_pins.is_some(),
@@ -167,16 +170,16 @@ pub fn solve_step<B: LinearAlgebra>(
             d: &mut buffers.d,
             b: &mut buffers.b,
         },
-        start_measured,
-        start_energy,
+        start_measured: first.measured,
+        start_energy: first.energy,
     };
     let mut monitor = Monitor::new(
         control.tolerance,
-        initial_gradient,
+        first.initial_gradient,
         &mut buffers.gradient,
         observer,
     );
-    let start = match start_measured {
+    let start = match first.measured {
         true => Gradient::InRoom, // ∇E at the first iterate is in the room
         false => Gradient::Unknown,
     };
@@ -221,17 +224,25 @@ pub fn solve_step<B: LinearAlgebra>(
     })
 }
 
+/// What [`first_iterate`] knows when the iterations begin.
+struct FirstIterate {
+    /// `‖∇E(pᵗ)‖` over the free vertices: the stopping rule's yardstick.
+    initial_gradient: f64,
+    /// Is the local step at the first iterate made (its `d` in place, its
+    /// gradient in the monitor's room)?
+    measured: bool,
+    /// `E − E(pᵗ)` at the first iterate.
+    energy: f64,
+}
+
 /// Sets `u_next` (holding `pᵗ`) to the first iterate: `pᵗ`, or with
 /// [`Start::Inertial`] the inertial prediction `ŷ` (the energy's
 /// `inertial_target`) when its energy is below `pᵗ`'s; exact pins at their
-/// targets. Returns `‖∇E(pᵗ)‖` over the free vertices (the rule's
-/// yardstick), whether the local step at the first iterate is made (its
-/// `d`, and its gradient in `gradient`), and `E − E(pᵗ)` there.
+/// targets.
 ///
 /// The passes are shared: with the assignment's start and penalty pins,
 /// one pass makes `∇E(pᵗ)` and the local step at `pᵗ`; the inertial start
 /// tests `ŷ` with the pass that makes the local step there.
-#[allow(clippy::too_many_arguments)]
 fn first_iterate(
     energy: &StepEnergy<'_>,
     start: Start,
@@ -240,7 +251,7 @@ fn first_iterate(
     u_next: &mut [[f64; 3]],
     d: &mut [[f64; 3]],
     gradient: &mut [[f64; 3]],
-) -> (f64, bool, f64) {
+) -> FirstIterate {
     let hold_pins = |p: &mut [[f64; 3]]| {
         if exact_pins {
             for (&c, &t) in energy.pinned.iter().zip(energy.pin_targets) {
@@ -250,7 +261,11 @@ fn first_iterate(
     };
     if start == Start::Current && !exact_pins {
         energy.change_with_local_step(energy.start, d, Some(gradient));
-        return (free_norm(gradient, is_pinned), true, 0.0);
+        return FirstIterate {
+            initial_gradient: free_norm(gradient, is_pinned),
+            measured: true,
+            energy: 0.0,
+        };
     }
     energy.gradient(energy.start, gradient);
     let initial_gradient = free_norm(gradient, is_pinned);
@@ -259,16 +274,23 @@ fn first_iterate(
         hold_pins(u_next);
         let change = energy.change_with_local_step(u_next, d, Some(gradient));
         if change.total() < 0.0 {
-            return (initial_gradient, true, change.total());
+            return FirstIterate {
+                initial_gradient,
+                measured: true,
+                energy: change.total(),
+            };
         }
         u_next.copy_from_slice(energy.start);
     }
     hold_pins(u_next); // exact pins start at their (maybe moved) targets
-    let start_energy = match exact_pins {
-        true => energy.change(u_next).total(),
-        false => 0.0, // u_next = pᵗ
-    };
-    (initial_gradient, false, start_energy)
+    FirstIterate {
+        initial_gradient,
+        measured: false,
+        energy: match exact_pins {
+            true => energy.change(u_next).total(),
+            false => 0.0, // u_next = pᵗ
+        },
+    }
 }
 
 /// Makes the work arrays of `control`'s method the first time it runs (or
