@@ -426,7 +426,7 @@ impl<'a, 'o> Monitor<'a, 'o> {
         self.tolerance.map(|_| &mut *self.gradient)
     }
 
-    /// `∇E(p⁰)`, when the step measured its start
+    /// `∇E` at the first iterate, when the step measured it there
     /// ([`StepContext::start_measured`]) and no iteration has been recorded
     /// since.
     pub fn start_gradient(&self) -> &[[f64; 3]] {
