@@ -2,7 +2,8 @@
 //! header and one row per method and iteration, iteration 0 included, with
 //! energies that start at 0; the plot is a PNG; `--steps` prints medians;
 //! `--steps --tolerance` solves every step by the stopping rule and says how
-//! many steps reached plain-50's energy.
+//! many steps reached plain-50's energy; `simulate --start` reports where
+//! steps start and refuses a start it does not know.
 #[path = "common/cli.rs"]
 mod cli;
 
@@ -133,4 +134,23 @@ fn a_tolerance_without_steps_is_a_usage_error() {
         "{}",
         stderr(&output)
     );
+}
+
+#[test]
+fn simulate_reports_where_steps_start_and_refuses_an_unknown_start() {
+    let output = masssprings(&[
+        "simulate",
+        &data("net.json"),
+        "--steps",
+        "3",
+        "--start",
+        "inertial",
+        "--json",
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let report: serde_json::Value = serde_json::from_str(&stdout(&output)).unwrap();
+    assert_eq!(report["start"], "inertial", "{report}");
+    let output = masssprings(&["simulate", &data("net.json"), "--start", "momentum"]);
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+    assert!(stderr(&output).contains("--start"), "{}", stderr(&output));
 }

@@ -73,7 +73,7 @@ pub fn apply(args: &Args, options: &mut SimulationOptions) -> Result<(), AppErro
         options.pins = name.parse().map_err(AppError::Usage)?;
     }
     if args.declares("start") {
-        let names = [Start::Current, Start::Inertial].map(Start::name);
+        let names = Start::ALL.map(Start::name);
         let name = args.choice("start", options.start.name(), &names)?;
         options.start = name.parse().map_err(AppError::Usage)?;
     }

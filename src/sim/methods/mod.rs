@@ -111,6 +111,9 @@ pub enum Start {
 }
 
 impl Start {
+    /// Both starts.
+    pub const ALL: [Start; 2] = [Start::Current, Start::Inertial];
+
     /// The name on the command line.
     pub fn name(self) -> &'static str {
         match self {
@@ -124,7 +127,7 @@ impl FromStr for Start {
     type Err = String;
 
     fn from_str(text: &str) -> Result<Self, String> {
-        [Start::Current, Start::Inertial]
+        Start::ALL
             .into_iter()
             .find(|s| s.name() == text)
             .ok_or_else(|| format!("unknown start '{text}' (expected current or inertial)"))
