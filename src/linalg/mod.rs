@@ -5,12 +5,14 @@
 //! * [`sparse`]: triplets → CSC, CSC operations, orderings (AMD), the sparse
 //!   Cholesky pipeline (analyse once, factor, solve).
 //! * [`matrix_market`]: reading and writing Matrix Market files.
+//! * [`huge_pages`]: asking Linux for 2 MB pages under large arrays.
 //!
 //! The pipeline from triplets to a solve is walked through in
 //! `docs/sparse-cholesky.md`.
 
 pub mod dense;
 pub mod error;
+pub mod huge_pages;
 pub mod matrix_market;
 pub mod sparse;
 

@@ -28,6 +28,7 @@ use super::symbolic::SymbolicCholesky;
 use super::triangular_solve::{self, FactorView};
 use super::up_looking::{factor_up_looking, FailedPivot, UpLookingWorkspace};
 use crate::linalg::error::LinalgError;
+use crate::linalg::huge_pages::advise_huge_pages;
 
 /// How the numeric factorization is computed (both give the same `L` up to
 /// rounding).
@@ -164,6 +165,9 @@ impl SparseCholesky {
             solve_buffer: vec![0.0; 4 * n],
             factored: false,
         };
+        // the arrays every solve streams and gathers from (src/linalg/huge_pages.rs)
+        advise_huge_pages(&mut cholesky.values);
+        advise_huge_pages(&mut cholesky.solve_buffer);
         cholesky.refactor(a)?;
         Ok(cholesky)
     }
