@@ -89,6 +89,20 @@ pub trait LinearAlgebra {
     /// `b ← Q⁻¹ b` for an n×3 block.
     fn solve_points(factorization: &mut Self::Factorization, b: &mut [[f64; 3]]);
 
+    /// `x ← Q⁻¹ b` for the n×3 block `b` whose row `i` is `b_row(i)`. By
+    /// default `b` is written into `x` and solved in place; the sparse
+    /// backend makes each row where its solve reads it.
+    fn solve_points_from(
+        factorization: &mut Self::Factorization,
+        b_row: impl Fn(usize) -> [f64; 3],
+        x: &mut [[f64; 3]],
+    ) {
+        for (i, row) in x.iter_mut().enumerate() {
+            *row = b_row(i);
+        }
+        Self::solve_points(factorization, x);
+    }
+
     /// Bytes a matrix holds (its arrays' lengths), for the memory figures.
     fn matrix_bytes(a: &Self::Matrix) -> usize;
 
@@ -221,6 +235,14 @@ impl LinearAlgebra for Sparse {
 
     fn solve_points(factorization: &mut SparseCholesky, b: &mut [[f64; 3]]) {
         factorization.solve_points_in_place(b)
+    }
+
+    fn solve_points_from(
+        factorization: &mut SparseCholesky,
+        b_row: impl Fn(usize) -> [f64; 3],
+        x: &mut [[f64; 3]],
+    ) {
+        factorization.solve_points_from(b_row, x)
     }
 
     fn matrix_bytes(a: &CscMatrix) -> usize {

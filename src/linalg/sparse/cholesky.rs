@@ -261,28 +261,59 @@ impl SparseCholesky {
         self.solve_block::<3, 4>(b);
     }
 
+    /// `x ← A⁻¹ b` for an n×3 block whose row `i` is `b_row(i)`: the same
+    /// as writing `b` and [`SparseCholesky::solve_points_in_place`], but
+    /// each row is made where the solve reads it (already permuted) and the
+    /// solution goes straight to `x`, with no pass over a `b` of its own.
+    ///
+    /// # Panics
+    /// When `x.len() != n`, or after a failed refactorization.
+    pub fn solve_points_from(&mut self, b_row: impl Fn(usize) -> [f64; 3], x: &mut [[f64; 3]]) {
+        self.check_ready(x.len());
+        self.fill_buffer::<3, 4>(b_row);
+        self.sweep::<4>();
+        self.drain_buffer::<3, 4>(x);
+    }
+
     /// `b ← Pᵀ L⁻ᵀ L⁻¹ P b` for a block of `W` columns, computed in a
     /// buffer whose rows are padded to `LANES ≥ W` values.
     fn solve_block<const W: usize, const LANES: usize>(&mut self, b: &mut [[f64; W]]) {
+        self.check_ready(b.len());
+        self.fill_buffer::<W, LANES>(|i| b[i]);
+        self.sweep::<LANES>();
+        self.drain_buffer::<W, LANES>(b);
+    }
+
+    /// Panics unless the values are a factor and `rows` is its order.
+    fn check_ready(&self, rows: usize) {
         assert!(
             self.factored,
             "solve with a factorization whose last refactor failed"
         );
         let n = self.symbolic.n();
-        assert_eq!(
-            b.len(),
-            n,
-            "right-hand side has {} rows, the matrix {n}",
-            b.len()
-        );
+        assert_eq!(rows, n, "right-hand side has {rows} rows, the matrix {n}");
+    }
+
+    /// The buffer's row `i` ← `b_row(perm[i])`, padded with zeros: `P b`.
+    fn fill_buffer<const W: usize, const LANES: usize>(
+        &mut self,
+        b_row: impl Fn(usize) -> [f64; W],
+    ) {
+        let n = self.symbolic.n();
         let (buffer, _) = self.solve_buffer[..LANES * n].as_chunks_mut::<LANES>();
         let perm = self.symbolic.permutation().perm();
         for (row, &old) in buffer.iter_mut().zip(perm) {
-            row[..W].copy_from_slice(&b[old]); // P b
+            row[..W].copy_from_slice(&b_row(old));
             row[W..].fill(0.0);
         }
+    }
+
+    /// `L⁻ᵀ L⁻¹` applied to the buffer, column by column or supernode by
+    /// supernode.
+    fn sweep<const LANES: usize>(&mut self) {
+        let n = self.symbolic.n();
+        let (buffer, _) = self.solve_buffer[..LANES * n].as_chunks_mut::<LANES>();
         match self.workspace {
-            // L⁻ᵀ L⁻¹ P b, column by column or supernode by supernode
             Workspace::Simplicial(..) => {
                 let l = FactorView {
                     col_ptr: self.symbolic.col_ptr(),
@@ -295,8 +326,15 @@ impl SparseCholesky {
                 supernodal_solve::solve_in_place(&self.symbolic, &self.values, buffer)
             }
         }
+    }
+
+    /// `x[perm[i]]` ← the buffer's row `i`: `Pᵀ …`.
+    fn drain_buffer<const W: usize, const LANES: usize>(&self, x: &mut [[f64; W]]) {
+        let n = self.symbolic.n();
+        let (buffer, _) = self.solve_buffer[..LANES * n].as_chunks::<LANES>();
+        let perm = self.symbolic.permutation().perm();
         for (row, &old) in buffer.iter().zip(perm) {
-            b[old].copy_from_slice(&row[..W]); // Pᵀ …
+            x[old].copy_from_slice(&row[..W]);
         }
     }
 

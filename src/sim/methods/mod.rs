@@ -250,7 +250,7 @@ pub(crate) struct GlobalStep<'a, B: LinearAlgebra> {
     pub pin_targets: &'a [[f64; 3]],
     /// The local step's `d`, one row per spring.
     pub d: &'a mut [[f64; 3]],
-    /// `b`, then `Q⁻¹ b`.
+    /// `Aᵀd` (with exact pins: then `b`, then `Q_ff⁻¹ b`).
     pub b: &'a mut [[f64; 3]],
 }
 
@@ -266,21 +266,21 @@ impl<B: LinearAlgebra> GlobalStep<'_, B> {
     /// + y + w CᵀC V)`.
     fn global_step(&mut self, p: &mut [[f64; 3]]) {
         incidence_transpose_mul_points(self.springs, self.d, self.b); // Aᵀd, A from the springs
-        let pin_rhs = self
-            .exact_pins
-            .as_ref()
-            .map_or(self.pin_rhs, |e| &e.pin_rhs);
-        for ((b, y), pin) in self.b.iter_mut().zip(self.y).zip(pin_rhs) {
+        let Some(exact) = self.exact_pins.as_mut() else {
+            // b = k Aᵀd + y + w CᵀC V, made row by row as the solve reads it
+            let (k, a_t_d, y, pin_rhs) = (self.k, &*self.b, self.y, self.pin_rhs);
+            let b_row = |i: usize| -> [f64; 3] {
+                std::array::from_fn(|c| k * a_t_d[i][c] + y[i][c] + pin_rhs[i][c])
+            };
+            B::solve_points_from(self.factorization, b_row, p);
+            return;
+        };
+        for ((b, y), pin) in self.b.iter_mut().zip(self.y).zip(&exact.pin_rhs) {
             *b = std::array::from_fn(|c| self.k * b[c] + y[c] + pin[c]);
         }
-        match self.exact_pins.as_mut() {
-            None => B::solve_points(self.factorization, self.b),
-            Some(exact) => {
-                exact.solve(self.b);
-                for (&c, &t) in self.pinned.iter().zip(self.pin_targets) {
-                    self.b[c] = t;
-                }
-            }
+        exact.solve(self.b);
+        for (&c, &t) in self.pinned.iter().zip(self.pin_targets) {
+            self.b[c] = t;
         }
         p.copy_from_slice(self.b);
     }
