@@ -66,10 +66,7 @@ pub(super) fn symmetric_pattern(matrix: &CscMatrix) -> Result<SymmetricPattern, 
     // Pass 1: row lengths.
     let mut cursor = vec![0; n];
     let mut length = vec![0i32; n];
-    let mirrored_pairs = for_each_edge(matrix, &mut cursor, |i, j| {
-        length[i] += 1;
-        length[j] += 1;
-    });
+    let mirrored_pairs = for_each_edge(matrix, &mut cursor, &mut RowLengths(&mut length));
     let mut start = Vec::with_capacity(n);
     let mut used = 0usize;
     for &len in &length {
@@ -94,12 +91,11 @@ pub(super) fn symmetric_pattern(matrix: &CscMatrix) -> Result<SymmetricPattern, 
     } else {
         lists.resize(used, 0);
         let mut end = start.clone();
-        for_each_edge(matrix, &mut cursor, |i, j| {
-            lists[end[i] as usize] = j as i32;
-            end[i] += 1;
-            lists[end[j] as usize] = i as i32;
-            end[j] += 1;
-        });
+        let mut rows = RowFiller {
+            lists: &mut lists,
+            end: &mut end,
+        };
+        for_each_edge(matrix, &mut cursor, &mut rows);
         for (&s, &e) in start.iter().zip(&end) {
             let row = &mut lists[s as usize..e as usize];
             if !row.is_sorted() {
@@ -116,14 +112,68 @@ pub(super) fn symmetric_pattern(matrix: &CscMatrix) -> Result<SymmetricPattern, 
     })
 }
 
-/// Calls `edge(i, j)` once for every off-diagonal edge `{i, j}` of the
-/// pattern of `A + Aᵀ` (rows of each column of `A` must be sorted, as a
+/// What a walk over the edges of `A + Aᵀ` does with them.
+trait EdgeVisitor {
+    /// The edge `{i, j}`.
+    fn edge(&mut self, i: usize, j: usize);
+    /// The edges `{i, j}` for every `i` in `rows`, in order: the lower
+    /// entries of column `j` that no cursor reached. Row `j`'s side is kept
+    /// in a register here, where one edge at a time would make each
+    /// addition to row `j` wait for the one before it, through memory.
+    fn edges_to(&mut self, j: usize, rows: &[usize]);
+}
+
+/// The first walk: counts each row's length.
+struct RowLengths<'a>(&'a mut [i32]);
+
+impl EdgeVisitor for RowLengths<'_> {
+    fn edge(&mut self, i: usize, j: usize) {
+        self.0[i] += 1;
+        self.0[j] += 1;
+    }
+
+    fn edges_to(&mut self, j: usize, rows: &[usize]) {
+        for &i in rows {
+            self.0[i] += 1;
+        }
+        self.0[j] += rows.len() as i32;
+    }
+}
+
+/// The second walk: appends each edge to both of its rows, `end[i]` being
+/// where row `i` continues.
+struct RowFiller<'a> {
+    lists: &'a mut [i32],
+    end: &'a mut [i32],
+}
+
+impl EdgeVisitor for RowFiller<'_> {
+    fn edge(&mut self, i: usize, j: usize) {
+        self.lists[self.end[i] as usize] = j as i32;
+        self.end[i] += 1;
+        self.lists[self.end[j] as usize] = i as i32;
+        self.end[j] += 1;
+    }
+
+    fn edges_to(&mut self, j: usize, rows: &[usize]) {
+        let row_j = self.end[j] as usize;
+        for (t, &i) in rows.iter().enumerate() {
+            self.lists[self.end[i] as usize] = j as i32;
+            self.end[i] += 1;
+            self.lists[row_j + t] = i as i32;
+        }
+        self.end[j] += rows.len() as i32;
+    }
+}
+
+/// Shows `visitor` every off-diagonal edge `{i, j}` of the pattern of
+/// `A + Aᵀ` once (rows of each column of `A` must be sorted, as a
 /// [`CscMatrix`] guarantees) and returns how many edges were stored both
 /// ways, as `A(i, j)` and `A(j, i)`. `cursor` is an `n`-vector of workspace.
 fn for_each_edge(
     matrix: &CscMatrix,
     cursor: &mut [usize],
-    mut edge: impl FnMut(usize, usize),
+    visitor: &mut impl EdgeVisitor,
 ) -> usize {
     let (col_ptr, row_idx) = (matrix.col_ptr(), matrix.row_idx());
     let mut mirrored_pairs = 0;
@@ -138,7 +188,7 @@ fn for_each_edge(
                 break;
             }
             // A(j, k), strictly upper: an edge.
-            edge(j, k);
+            visitor.edge(j, k);
             p += 1;
             // Column j's lower part up to row k: unmirrored entries are edges.
             let mut q = cursor[j];
@@ -152,7 +202,7 @@ fn for_each_edge(
                     mirrored_pairs += 1; // A(k, j) mirrors A(j, k)
                     break;
                 }
-                edge(i, j);
+                visitor.edge(i, j);
             }
             cursor[j] = q;
         }
@@ -161,9 +211,7 @@ fn for_each_edge(
     }
     // Lower entries never reached by a cursor have no mirror.
     for j in 0..matrix.ncols() {
-        for &i in &row_idx[cursor[j]..col_ptr[j + 1]] {
-            edge(i, j);
-        }
+        visitor.edges_to(j, &row_idx[cursor[j]..col_ptr[j + 1]]);
     }
     mirrored_pairs
 }
