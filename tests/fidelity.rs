@@ -60,14 +60,14 @@ fn repository(relative: &str) -> PathBuf {
 /// Aggregate tolerances at the original skirt's step 10: (centroid,
 /// relative RMS), re-measured in `../shared/reference/README.md`: the
 /// reference itself, rebuilt with fused multiply-add, is 3.8e-4 and 1.3e-3
-/// away there. Ours is 7.2e-4 and 1.5e-3 away (`docs/fidelity.md`).
+/// away there. Ours is 5.6e-4 and 8.2e-4 away (`docs/fidelity.md`).
 const SKIRT_STEP_10: (f64, f64) = (3e-3, 5e-3);
 
 /// The same for the bundled skirt (`data/skirt.json`, another mesh), where
 /// the README's bound was not measured. There the reference rebuilt with
 /// fused multiply-add (same ordering, same code) is 1.3e-4 and 5.4e-4 away,
 /// but every correct variant of ours, which eliminates in another order,
-/// lands farther: the default path (AMD, supernodal) 3.5e-3 and 1.8e-2,
+/// lands farther: the default path (AMD, supernodal) 3.3e-3 and 1.7e-2,
 /// AMD simplicial 1.2e-3 and 6.3e-3, natural order 7.3e-3 to 8.1e-3 and
 /// 3.9e-2 to 4.3e-2; by step 100 every one is within 2.5e-4 and 3e-5.
 /// So the bound here is the spread of those variants, and step 100 is held
