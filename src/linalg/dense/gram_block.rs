@@ -136,12 +136,12 @@ fn plain_sums(
 #[cfg(target_arch = "x86_64")]
 mod avx2 {
     use super::BLOCK_COLUMNS;
+    use std::arch::x86_64::*;
 
     /// Columns of `X` at and above which the tiles prefetch.
     const LONG: usize = 64;
     /// How many columns ahead they prefetch.
     const AHEAD: usize = 16;
-    use std::arch::x86_64::*;
 
     /// Tiles of eight rows (two registers per column), then the last rows
     /// one at a time.
@@ -166,13 +166,10 @@ mod avx2 {
             // SAFETY: every column reaches row first + rows (checked above),
             // and the tile's stores stay inside block (4 · rows values).
             unsafe {
-                match prefetch {
-                    true => {
-                        tile_of_eight::<true>(values, column_base, first + r, ys, block, rows, r)
-                    }
-                    false => {
-                        tile_of_eight::<false>(values, column_base, first + r, ys, block, rows, r)
-                    }
+                if prefetch {
+                    tile_of_eight::<true>(values, column_base, first + r, ys, block, rows, r)
+                } else {
+                    tile_of_eight::<false>(values, column_base, first + r, ys, block, rows, r)
                 }
             };
             r += 8;
