@@ -3,7 +3,7 @@
 //! Every memory access goes through a translation from virtual to physical
 //! address, cached in the TLB. With 4 KB pages the TLB of a core here
 //! (2,048 entries in its second level) covers 8 MB; grid-316's `L` is 35 MB
-//! and grid-1000's 500 MB, and each solve streams it twice while gathering
+//! and grid-1000's 450 MB, and each solve streams it twice while gathering
 //! rows of the right-hand side from all over an `n × 4` buffer (32 MB at
 //! grid-1000). So the solve keeps missing the TLB: once per 4 KB of `L`,
 //! and on many gathered rows. With 2 MB pages the same TLB covers 4 GB.
