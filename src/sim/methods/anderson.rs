@@ -148,20 +148,43 @@ impl Workspace {
     }
 
     /// The Gram row `Δf_slot · Δf_j` and `Δf_j · f` for every held `j`, in
-    /// one pass that reads each `Δf_j` once.
+    /// one pass that reads each `Δf_j` once. The vectors are read as flat
+    /// arrays four values at a time, each product summed in four lanes
+    /// (as [`dot`](super::block_vector::dot) does), so that the additions
+    /// run four to an instruction and do not wait on each other.
     fn inner_products(&mut self, slot: usize) {
         let held = self.held;
-        let mut row = [[0.0; 2]; MAX_WINDOW]; // (Δf_slot · Δf_j, Δf_j · f)
-        let (newest, f) = (&self.delta_f[slot], &self.f);
-        for i in 0..f.len() {
-            for (sums, delta_f) in row.iter_mut().zip(&self.delta_f[..held]) {
-                for c in 0..3 {
-                    sums[0] += newest[i][c] * delta_f[i][c];
-                    sums[1] += delta_f[i][c] * f[i][c];
+        // lanes of (Δf_slot · Δf_j, Δf_j · f)
+        let mut lanes = [[[0.0; 4]; 2]; MAX_WINDOW];
+        let (newest, f) = (self.delta_f[slot].as_flattened(), self.f.as_flattened());
+        let columns: [&[f64]; MAX_WINDOW] = std::array::from_fn(|j| {
+            self.delta_f
+                .get(j)
+                .filter(|_| j < held)
+                .map_or(&[][..], |v| v.as_flattened())
+        });
+        let quads = newest.len() / 4;
+        for q in 0..quads {
+            let (a, b) = (&newest[4 * q..4 * q + 4], &f[4 * q..4 * q + 4]);
+            for (sums, delta_f) in lanes.iter_mut().zip(&columns[..held]) {
+                let d = &delta_f[4 * q..4 * q + 4];
+                for lane in 0..4 {
+                    sums[0][lane] += a[lane] * d[lane];
+                    sums[1][lane] += d[lane] * b[lane];
                 }
             }
         }
-        for (j, [product, with_f]) in row.into_iter().take(held).enumerate() {
+        for (j, sums) in lanes.iter().enumerate().take(held) {
+            let tail = |v: &[f64], w: &[f64]| -> f64 {
+                v[4 * quads..]
+                    .iter()
+                    .zip(&w[4 * quads..])
+                    .map(|(x, y)| x * y)
+                    .sum()
+            };
+            let total = |l: [f64; 4]| (l[0] + l[1]) + (l[2] + l[3]);
+            let product = total(sums[0]) + tail(newest, columns[j]);
+            let with_f = total(sums[1]) + tail(columns[j], f);
             self.gram[(slot, j)] = product;
             self.gram[(j, slot)] = product;
             self.delta_f_dot_f[j] = with_f;
