@@ -154,40 +154,41 @@ impl Workspace {
     /// run four to an instruction and do not wait on each other.
     fn inner_products(&mut self, slot: usize) {
         let held = self.held;
-        // lanes of (Δf_slot · Δf_j, Δf_j · f)
-        let mut lanes = [[[0.0; 4]; 2]; MAX_WINDOW];
         let (newest, f) = (self.delta_f[slot].as_flattened(), self.f.as_flattened());
         let columns: [&[f64]; MAX_WINDOW] = std::array::from_fn(|j| {
-            self.delta_f
-                .get(j)
-                .filter(|_| j < held)
-                .map_or(&[][..], |v| v.as_flattened())
+            if j < held {
+                self.delta_f[j].as_flattened()
+            } else {
+                &[]
+            }
         });
+        // four lanes of (Δf_slot · Δf_j, Δf_j · f) for each j
+        let mut lanes = [[[0.0; 4]; 2]; MAX_WINDOW];
         let quads = newest.len() / 4;
-        for q in 0..quads {
-            let (a, b) = (&newest[4 * q..4 * q + 4], &f[4 * q..4 * q + 4]);
-            for (sums, delta_f) in lanes.iter_mut().zip(&columns[..held]) {
-                let d = &delta_f[4 * q..4 * q + 4];
+        for q in (0..4 * quads).step_by(4) {
+            let (a, b) = (&newest[q..q + 4], &f[q..q + 4]);
+            for (sums, column) in lanes.iter_mut().zip(&columns[..held]) {
+                let d = &column[q..q + 4];
                 for lane in 0..4 {
                     sums[0][lane] += a[lane] * d[lane];
                     sums[1][lane] += d[lane] * b[lane];
                 }
             }
         }
-        for (j, sums) in lanes.iter().enumerate().take(held) {
-            let tail = |v: &[f64], w: &[f64]| -> f64 {
-                v[4 * quads..]
-                    .iter()
-                    .zip(&w[4 * quads..])
-                    .map(|(x, y)| x * y)
-                    .sum()
-            };
-            let total = |l: [f64; 4]| (l[0] + l[1]) + (l[2] + l[3]);
-            let product = total(sums[0]) + tail(newest, columns[j]);
-            let with_f = total(sums[1]) + tail(columns[j], f);
+        // the lanes added, and the last values that did not fill four
+        let total = |l: [f64; 4], x: &[f64], y: &[f64]| -> f64 {
+            let tail: f64 = x[4 * quads..]
+                .iter()
+                .zip(&y[4 * quads..])
+                .map(|(u, v)| u * v)
+                .sum();
+            (l[0] + l[1]) + (l[2] + l[3]) + tail
+        };
+        for (j, [with_newest, with_f]) in lanes.into_iter().take(held).enumerate() {
+            let product = total(with_newest, newest, columns[j]);
             self.gram[(slot, j)] = product;
             self.gram[(j, slot)] = product;
-            self.delta_f_dot_f[j] = with_f;
+            self.delta_f_dot_f[j] = total(with_f, columns[j], f);
         }
     }
 
