@@ -301,8 +301,11 @@ impl SymbolicCholesky {
         }
     }
 
-    /// The rows of supernode `s`: those of its first column.
-    #[inline]
+    /// The rows of supernode `s`: those of its first column. (Always
+    /// inlined: the solves ask once per supernode, and when it was a call,
+    /// which `#[inline]` did not prevent inside the AVX2 solve, the step
+    /// took 21–23% longer on the flag and the skirt, `docs/performance.md`.)
+    #[inline(always)]
     pub fn supernode_rows(&self, s: usize) -> &[u32] {
         match &self.rows {
             FactorRows::PerColumn(rows) => {
