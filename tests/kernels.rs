@@ -8,6 +8,9 @@
 //! * `project_springs_portable` against `project_springs` (four springs per
 //!   AVX2 instruction when present): the same operations lane by lane, so
 //!   the same bits;
+//! * `project_springs_into_transpose` (the local step and `Aᵀd` in one
+//!   pass, what the plain iteration runs) against `project_springs_portable`
+//!   then `incidence_transpose_mul_points`: the same bits;
 //! * the spring pass (`Springs::measure`, AVX2 when present, against
 //!   `measure_portable`): `d` the local step's bits, the energy sum and the
 //!   spring forces against their definitions;
@@ -24,7 +27,10 @@ use masssprings::linalg::sparse::triangular_solve::{
     FactorView,
 };
 use masssprings::linalg::sparse::{Method, Ordering, SparseCholesky, SymbolicCholesky};
-use masssprings::sim::local_step::{project_springs, project_springs_portable};
+use masssprings::sim::local_step::{
+    project_springs, project_springs_into_transpose, project_springs_portable,
+};
+use masssprings::sim::signed_incidence::incidence_transpose_mul_points;
 use masssprings::sim::spring_pass::{Outputs, Springs};
 use proptest::prelude::*;
 
@@ -109,6 +115,24 @@ fn simplicial_factor(a: &masssprings::linalg::sparse::CscMatrix) -> SparseCholes
     SparseCholesky::factor(symbolic, a, Method::Simplicial).unwrap()
 }
 
+/// Positions, springs (self-loops and zero lengths included) and rest
+/// lengths of a random small network.
+#[allow(clippy::type_complexity)]
+fn spring_network() -> impl Strategy<Value = (Vec<[f64; 3]>, Vec<[usize; 2]>, Vec<f64>)> {
+    (2usize..20)
+        .prop_flat_map(|n| {
+            (
+                prop::collection::vec(prop::array::uniform3(-10.0f64..10.0), n),
+                prop::collection::vec(prop::array::uniform2(0..n), 0..40),
+                prop::collection::vec(0.0f64..3.0, 40),
+            )
+        })
+        .prop_map(|(p, springs, r)| {
+            let m = springs.len();
+            (p, springs, r[..m].to_vec())
+        })
+}
+
 proptest! {
     #![proptest_config(proptest_config(300))]
 
@@ -130,14 +154,7 @@ proptest! {
 
     #[test]
     fn spring_projection_portable_and_fast_give_the_same_bits(
-        (p, springs, r) in (2usize..20).prop_flat_map(|n| (
-            prop::collection::vec(prop::array::uniform3(-10.0f64..10.0), n),
-            prop::collection::vec(prop::array::uniform2(0..n), 0..40),
-            prop::collection::vec(0.0f64..3.0, 40),
-        )).prop_map(|(p, springs, r)| {
-            let m = springs.len();
-            (p, springs, r[..m].to_vec())
-        })
+        (p, springs, r) in spring_network()
     ) {
         let m = springs.len();
         let (mut portable, mut fast) = (vec![[f64::NAN; 3]; m], vec![[f64::NAN; 3]; m]);
@@ -151,6 +168,23 @@ proptest! {
             let d_length = portable[e].iter().map(|x| x * x).sum::<f64>().sqrt();
             let want = if length > 0.0 { r[e] } else { 0.0 };
             prop_assert!((d_length - want).abs() <= 1e-12 * (1.0 + want), "spring {}: |d| = {} vs r = {}", e, d_length, r[e]);
+        }
+    }
+
+    #[test]
+    fn local_step_into_transpose_gives_the_bits_of_the_two_passes(
+        (p, springs, r) in spring_network()
+    ) {
+        let (m, n) = (springs.len(), p.len());
+        let mut d = vec![[f64::NAN; 3]; m];
+        project_springs_portable(&springs, &r, &p, &mut d);
+        let mut two_passes = vec![[f64::NAN; 3]; n];
+        incidence_transpose_mul_points(&springs, &d, &mut two_passes);
+        let mut one_pass = vec![[f64::NAN; 3]; n]; // it must overwrite these
+        project_springs_into_transpose(&springs, &r, &p, &mut one_pass);
+        for i in 0..n {
+            let bits = |row: [f64; 3]| row.map(f64::to_bits);
+            prop_assert_eq!(bits(one_pass[i]), bits(two_passes[i]), "vertex {}", i);
         }
     }
 

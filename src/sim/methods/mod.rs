@@ -34,7 +34,7 @@ pub mod plain;
 use super::backend::LinearAlgebra;
 use super::energy::{free_norm, StepEnergy};
 use super::exact_pins::ExactPins;
-use super::local_step::project_springs;
+use super::local_step::project_springs_into_transpose;
 use super::signed_incidence::incidence_transpose_mul_points;
 use std::fmt;
 use std::str::FromStr;
@@ -258,14 +258,20 @@ impl<B: LinearAlgebra> GlobalStep<'_, B> {
     /// One local/global iteration, in place: `p ← Q⁻¹ (k Aᵀ d(p) + y + w CᵀC V)`
     /// (with exact pins: the free rows from `Q_ff`, the pins at their targets).
     pub fn iterate_in_place(&mut self, p: &mut [[f64; 3]]) {
-        project_springs(self.springs, self.r, p, self.d);
-        self.global_step(p);
+        // the local step and Aᵀd in one pass, d not kept
+        project_springs_into_transpose(self.springs, self.r, p, self.b);
+        self.global_step_from_transpose(p);
     }
 
     /// The global step from the `d` of the last local step: `p ← Q⁻¹ (k Aᵀ d
     /// + y + w CᵀC V)`.
     fn global_step(&mut self, p: &mut [[f64; 3]]) {
         incidence_transpose_mul_points(self.springs, self.d, self.b); // Aᵀd, A from the springs
+        self.global_step_from_transpose(p);
+    }
+
+    /// The global step with `Aᵀd` already in `b`.
+    fn global_step_from_transpose(&mut self, p: &mut [[f64; 3]]) {
         let Some(exact) = self.exact_pins.as_mut() else {
             // b = k Aᵀd + y + w CᵀC V, made row by row as the solve reads it
             let (k, a_t_d, y, pin_rhs) = (self.k, &*self.b, self.y, self.pin_rhs);
