@@ -12,7 +12,8 @@
 //!   pass, what the plain iteration runs) against `project_springs_portable`
 //!   then `incidence_transpose_mul_points`: the same bits;
 //! * the spring pass (`Springs::measure`, AVX2 when present, against
-//!   `measure_portable`): `d` the local step's bits, the energy sum and the
+//!   `measure_portable`): `d` the local step's bits, `Aᵀd` the scatter's
+//!   bits, the energy sum and the
 //!   spring forces against their definitions;
 //! * `back_substitution_sparse` (one sum, the textbook loop) against
 //!   `back_substitution_sparse_two_sums` (two partial sums), and both
@@ -207,14 +208,33 @@ proptest! {
         project_springs_portable(&springs, &r, &p, &mut local);
         let (mut d_portable, mut d_fast) = (vec![[f64::NAN; 3]; m], vec![[f64::NAN; 3]; m]);
         let (mut g_portable, mut g_fast) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
+        let (mut t_portable, mut t_fast) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
         let sum_portable = pass.measure_portable(
             &p,
-            Outputs { d: Some(&mut d_portable), gradient: Some(&mut g_portable) },
+            Outputs {
+                d: Some(&mut d_portable),
+                gradient: Some(&mut g_portable),
+                transpose: Some(&mut t_portable),
+            },
             0,
         );
-        let sum_fast = pass.measure(&p, Outputs { d: Some(&mut d_fast), gradient: Some(&mut g_fast) });
+        let sum_fast = pass.measure(&p, Outputs {
+            d: Some(&mut d_fast),
+            gradient: Some(&mut g_fast),
+            transpose: Some(&mut t_fast),
+        });
         prop_assert_eq!(&d_portable, &local);
         prop_assert_eq!(&d_fast, &local);
+        // Aᵀd: the bits of the scatter of the local step's d
+        let mut a_t_d = vec![[0.0; 3]; n];
+        incidence_transpose_mul_points(&springs, &local, &mut a_t_d);
+        let bits = |rows: &[[f64; 3]]| rows.iter().map(|row| row.map(f64::to_bits)).collect::<Vec<_>>();
+        prop_assert_eq!(bits(&t_portable), bits(&a_t_d));
+        prop_assert_eq!(bits(&t_fast), bits(&a_t_d));
+        // Aᵀd alone, without d or the gradient: the same bits
+        let mut t_alone = vec![[0.0; 3]; n];
+        pass.measure(&p, Outputs { transpose: Some(&mut t_alone), ..Outputs::default() });
+        prop_assert_eq!(bits(&t_alone), bits(&a_t_d));
         // the definitions: S = Σ (l − r)² − (l⁰ − r)², g = Σ ±k (v − d)
         let mut sum = 0.0;
         let mut scale = 0.0;

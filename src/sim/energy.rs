@@ -196,41 +196,44 @@ impl StepEnergy<'_> {
         self.change_given_springs(p, spring_sum)
     }
 
-    /// The local step at `p` (its `dₑ` into `d`, bit for bit
-    /// [`project_springs`](super::local_step::project_springs)'s) and
-    /// `E(p) − E(p⁰)`, with `g = ∇E(p)` too when `g` is given: a method
-    /// that tests every iterate against a tolerance gets the gradient from
-    /// the pass over the springs that its next global step needs anyway.
+    /// The local step at `p`, kept as what the global step reads of it,
+    /// `a_t_d = Aᵀd` (the `dₑ` bit for bit
+    /// [`project_springs`](super::local_step::project_springs)'s, summed
+    /// as [`incidence_transpose_mul_points`](super::signed_incidence::incidence_transpose_mul_points)
+    /// sums them), and `E(p) − E(p⁰)`, with `g = ∇E(p)` too when `g` is
+    /// given: a method that tests every iterate against a tolerance gets
+    /// the gradient from the pass over the springs that its next global
+    /// step needs anyway.
     ///
     /// # Panics
-    /// When `p` or `g` does not have one row per vertex, or `d` one row per
-    /// spring.
+    /// When `p`, `a_t_d` or `g` does not have one row per vertex.
     pub fn change_with_local_step(
         &self,
         p: &[[f64; 3]],
-        d: &mut [[f64; 3]],
+        a_t_d: &mut [[f64; 3]],
         g: Option<&mut [[f64; 3]]>,
     ) -> EnergyChange {
+        a_t_d.fill([0.0; 3]);
         let spring_sum = match g {
-            Some(g) => self.gradient_and_spring_sum(p, g, Some(d)),
+            Some(g) => self.gradient_and_spring_sum(p, g, Some(a_t_d)),
             None => self.springs().measure(
                 p,
                 Outputs {
-                    d: Some(d),
-                    gradient: None,
+                    transpose: Some(a_t_d),
+                    ..Outputs::default()
                 },
             ),
         };
         self.change_given_springs(p, spring_sum)
     }
 
-    /// `g = ∇E(p)` (and the local step's `d`, when asked), returning the
-    /// spring pass's `S` on the way.
+    /// `g = ∇E(p)` (and the local step's `Aᵀd` added into `a_t_d`, when
+    /// asked), returning the spring pass's `S` on the way.
     fn gradient_and_spring_sum(
         &self,
         p: &[[f64; 3]],
         g: &mut [[f64; 3]],
-        d: Option<&mut [[f64; 3]]>,
+        a_t_d: Option<&mut [[f64; 3]]>,
     ) -> f64 {
         assert!(p.len() == self.start.len() && g.len() == p.len());
         let inverse_dt2 = 1.0 / (self.delta_t * self.delta_t);
@@ -243,7 +246,12 @@ impl StepEnergy<'_> {
             *gi = std::array::from_fn(|c| mi * (pi[c] - y[c]) * inverse_dt2 - f[c]);
         }
         let gradient = Some(&mut *g);
-        let spring_sum = self.springs().measure(p, Outputs { d, gradient });
+        let outputs = Outputs {
+            d: None,
+            gradient,
+            transpose: a_t_d,
+        };
+        let spring_sum = self.springs().measure(p, outputs);
         for (&c, t) in self.pinned.iter().zip(self.pin_targets) {
             g[c] = std::array::from_fn(|x| g[c][x] + self.w * (p[c][x] - t[x]));
         }

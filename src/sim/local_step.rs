@@ -85,7 +85,7 @@ pub fn project_springs_into_transpose(
 /// `out[i] += dₑ`, `out[j] −= dₑ` for spring `e = (i, j)`, nothing for a
 /// spring from a vertex to itself (a zero row of `A`).
 #[inline(always)]
-fn add_to_transpose([i, j]: [usize; 2], d_e: [f64; 3], out: &mut [[f64; 3]]) {
+pub(crate) fn add_to_transpose([i, j]: [usize; 2], d_e: [f64; 3], out: &mut [[f64; 3]]) {
     if i != j {
         for c in 0..3 {
             out[i][c] += d_e[c];

@@ -93,10 +93,10 @@ pub(crate) struct StepBuffers {
     pub inertia: Vec<[f64; 3]>,
     /// `y = M (2 U_cur − U_prev)/Δt² + f_ext`.
     pub y: Vec<[f64; 3]>,
-    /// `b = k Aᵀd + y + w CᵀC V`, then the solution of `Q p = b`.
+    /// The last local step's `Aᵀd` (the spring directions `d` themselves
+    /// are never stored); with exact pins then `b = k Aᵀd + y + w CᵀC V`
+    /// and the solution of `Q_ff p = b`.
     pub b: Vec<[f64; 3]>,
-    /// The spring directions of the local step, one per spring.
-    pub d: Vec<[f64; 3]>,
     /// `∇E` where the stopping rule needs it.
     pub gradient: Vec<[f64; 3]>,
     /// Each spring's length where the step starts.
@@ -313,8 +313,8 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
                     + bytes(&buffers.gradient[..]),
             ),
             (
-                "step buffers: d, start lengths",
-                bytes(&buffers.d[..]) + bytes(&buffers.start_lengths[..]),
+                "step buffers: start lengths",
+                bytes(&buffers.start_lengths[..]),
             ),
             ("exact pins: Q without pins, Q_ff factor", exact),
         ]
@@ -399,7 +399,6 @@ pub fn fast_mass_springs_precomputation_with<B: LinearAlgebra>(
             inertia: vec![[0.0; 3]; n],
             y: vec![[0.0; 3]; n],
             b: vec![[0.0; 3]; n],
-            d: vec![[0.0; 3]; springs.len()],
             gradient: vec![[0.0; 3]; n],
             start_lengths: vec![0.0; springs.len()],
             methods: MethodWorkspaces::default(),

@@ -11,6 +11,7 @@
 //! S  = Σₑ (lₑ − l⁰ₑ) ((lₑ − rₑ) + (l⁰ₑ − rₑ))   ½ k S = the springs' E(p) − E(p⁰)
 //! dₑ = rₑ (vₑ / lₑ)                            the local step (0 when lₑ = 0)
 //! gᵢ += k (vₑ − dₑ),  gⱼ −= k (vₑ − dₑ)        ∇ of ½ k (lₑ − rₑ)², e = (i, j)
+//! tᵢ += dₑ,  tⱼ −= dₑ                          t = Aᵀd, the global step's part of b
 //! ```
 //!
 //! The energy term is the difference of two squares written as a difference
@@ -19,7 +20,9 @@
 //! rounding of `l` itself, so the sum keeps the digits that tell two nearby
 //! iterates apart, even though the springs' energy itself is large. `d` is
 //! computed exactly as [`local_step`](super::local_step) computes it, bit for
-//! bit, and the spring force `k (v − d) = k (1 − r/l) v` is the derivative
+//! bit, and added into `Aᵀd` in the same order as
+//! [`incidence_transpose_mul_points`](super::signed_incidence::incidence_transpose_mul_points)
+//! adds it (the same bits), and the spring force `k (v − d) = k (1 − r/l) v` is the derivative
 //! of `½ k (l − r)²` in `v`.
 //!
 //! On a CPU with AVX2 (checked at run time) the springs go four at a time,
@@ -53,6 +56,16 @@ pub struct Outputs<'o> {
     pub d: Option<&'o mut [[f64; 3]]>,
     /// A gradient to which the spring forces are added, one row per vertex.
     pub gradient: Option<&'o mut [[f64; 3]]>,
+    /// `Aᵀd`, one row per vertex, to which each `dₑ` is added (at `i`)
+    /// and from which it is subtracted (at `j`); start it at zero.
+    pub transpose: Option<&'o mut [[f64; 3]]>,
+}
+
+impl Outputs<'_> {
+    /// Is `d` needed for any of them?
+    fn want_d(&self) -> bool {
+        self.d.is_some() || self.gradient.is_some() || self.transpose.is_some()
+    }
 }
 
 impl Springs<'_> {
@@ -67,6 +80,10 @@ impl Springs<'_> {
         assert!(self.r.len() == m && self.start_lengths.len() == m);
         assert!(outputs.d.as_ref().is_none_or(|d| d.len() == m));
         assert!(outputs.gradient.as_ref().is_none_or(|g| g.len() == p.len()));
+        assert!(outputs
+            .transpose
+            .as_ref()
+            .is_none_or(|t| t.len() == p.len()));
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU supports the features the function is compiled for.
@@ -83,7 +100,7 @@ impl Springs<'_> {
             let v = [p[i][0] - p[j][0], p[i][1] - p[j][1], p[i][2] - p[j][2]];
             let length = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
             sum += energy_term(length, self.start_lengths[e], self.r[e]);
-            if outputs.d.is_none() && outputs.gradient.is_none() {
+            if !outputs.want_d() {
                 continue;
             }
             let d = if length > 0.0 {
@@ -97,6 +114,9 @@ impl Springs<'_> {
             if let Some(g) = outputs.gradient.as_deref_mut() {
                 add_force(g, i, j, std::array::from_fn(|c| self.k * (v[c] - d[c])));
             }
+            if let Some(t) = outputs.transpose.as_deref_mut() {
+                add_to_transpose([i, j], d, t);
+            }
         }
         sum
     }
@@ -107,6 +127,8 @@ impl Springs<'_> {
 pub fn energy_term(length: f64, start_length: f64, rest: f64) -> f64 {
     (length - start_length) * ((length - rest) + (start_length - rest))
 }
+
+use super::local_step::add_to_transpose;
 
 /// `gᵢ += f`, `gⱼ −= f`.
 #[inline(always)]
@@ -119,7 +141,7 @@ fn add_force(g: &mut [[f64; 3]], i: usize, j: usize, f: [f64; 3]) {
 
 #[cfg(target_arch = "x86_64")]
 mod avx2 {
-    use super::{add_force, Outputs, Springs};
+    use super::{add_force, add_to_transpose, Outputs, Springs};
     use crate::sim::local_step::avx2::spring_vectors;
     use std::arch::x86_64::*;
 
@@ -134,7 +156,7 @@ mod avx2 {
             k,
         } = *springs;
         let groups = list.len() / 4;
-        let want_d = outputs.d.is_some() || outputs.gradient.is_some();
+        let want_d = outputs.want_d();
         let mut sums = _mm256_setzero_pd();
         for group in 0..groups {
             let e = 4 * group;
@@ -161,10 +183,18 @@ mod avx2 {
             let keep = _mm256_and_pd(rest, positive);
             let d_lanes: [__m256d; 3] =
                 std::array::from_fn(|c| _mm256_mul_pd(keep, _mm256_div_pd(v[c], divisor)));
-            if let Some(out) = outputs.d.as_deref_mut() {
+            if outputs.d.is_some() || outputs.transpose.is_some() {
                 let d = lanes_of(d_lanes);
-                for lane in 0..4 {
-                    out[e + lane] = [d[0][lane], d[1][lane], d[2][lane]];
+                let d_of = |lane: usize| [d[0][lane], d[1][lane], d[2][lane]];
+                if let Some(out) = outputs.d.as_deref_mut() {
+                    for lane in 0..4 {
+                        out[e + lane] = d_of(lane);
+                    }
+                }
+                if let Some(t) = outputs.transpose.as_deref_mut() {
+                    for (lane, &spring) in s.iter().enumerate() {
+                        add_to_transpose(spring, d_of(lane), t);
+                    }
                 }
             }
             if let Some(g) = outputs.gradient.as_deref_mut() {

@@ -150,7 +150,7 @@ pub fn solve_step<B: LinearAlgebra>(
         exact_pins.is_some(),
         is_pinned,
         u_next,
-        &mut buffers.d,
+        &mut buffers.b,
         &mut buffers.gradient,
     );
     let mut context = StepContext {
@@ -167,7 +167,6 @@ pub fn solve_step<B: LinearAlgebra>(
             exact_pins: exact_pins.as_mut(),
             pinned,
             pin_targets,
-            d: &mut buffers.d,
             b: &mut buffers.b,
         },
         start_measured: first.measured,
@@ -228,7 +227,7 @@ pub fn solve_step<B: LinearAlgebra>(
 struct FirstIterate {
     /// `‖∇E(pᵗ)‖` over the free vertices: the stopping rule's yardstick.
     initial_gradient: f64,
-    /// Is the local step at the first iterate made (its `d` in place, its
+    /// Is the local step at the first iterate made (its `Aᵀd` in place, its
     /// gradient in the monitor's room)?
     measured: bool,
     /// `E − E(pᵗ)` at the first iterate.
@@ -249,7 +248,7 @@ fn first_iterate(
     exact_pins: bool,
     is_pinned: &[bool],
     u_next: &mut [[f64; 3]],
-    d: &mut [[f64; 3]],
+    a_t_d: &mut [[f64; 3]],
     gradient: &mut [[f64; 3]],
 ) -> FirstIterate {
     let hold_pins = |p: &mut [[f64; 3]]| {
@@ -260,7 +259,7 @@ fn first_iterate(
         }
     };
     if start == Start::Current && !exact_pins {
-        energy.change_with_local_step(energy.start, d, Some(gradient));
+        energy.change_with_local_step(energy.start, a_t_d, Some(gradient));
         return FirstIterate {
             initial_gradient: free_norm(gradient, is_pinned),
             measured: true,
@@ -272,7 +271,7 @@ fn first_iterate(
     if start == Start::Inertial {
         u_next.copy_from_slice(energy.inertial_target);
         hold_pins(u_next);
-        let change = energy.change_with_local_step(u_next, d, Some(gradient));
+        let change = energy.change_with_local_step(u_next, a_t_d, Some(gradient));
         if change.total() < 0.0 {
             return FirstIterate {
                 initial_gradient,

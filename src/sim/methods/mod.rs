@@ -35,7 +35,6 @@ use super::backend::LinearAlgebra;
 use super::energy::{free_norm, StepEnergy};
 use super::exact_pins::ExactPins;
 use super::local_step::project_springs_into_transpose;
-use super::signed_incidence::incidence_transpose_mul_points;
 use std::fmt;
 use std::str::FromStr;
 
@@ -248,9 +247,9 @@ pub(crate) struct GlobalStep<'a, B: LinearAlgebra> {
     pub exact_pins: Option<&'a mut ExactPins<B>>,
     pub pinned: &'a [usize],
     pub pin_targets: &'a [[f64; 3]],
-    /// The local step's `d`, one row per spring.
-    pub d: &'a mut [[f64; 3]],
-    /// `Aᵀd` (with exact pins: then `b`, then `Q_ff⁻¹ b`).
+    /// The last local step's `Aᵀd` (the local step keeps only that of
+    /// `d`; with exact pins the global step then turns it into `b`, then
+    /// `Q_ff⁻¹ b`).
     pub b: &'a mut [[f64; 3]],
 }
 
@@ -258,20 +257,14 @@ impl<B: LinearAlgebra> GlobalStep<'_, B> {
     /// One local/global iteration, in place: `p ← Q⁻¹ (k Aᵀ d(p) + y + w CᵀC V)`
     /// (with exact pins: the free rows from `Q_ff`, the pins at their targets).
     pub fn iterate_in_place(&mut self, p: &mut [[f64; 3]]) {
-        // the local step and Aᵀd in one pass, d not kept
+        // the local step, kept as Aᵀd (one pass, d itself never stored)
         project_springs_into_transpose(self.springs, self.r, p, self.b);
-        self.global_step_from_transpose(p);
+        self.global_step(p);
     }
 
-    /// The global step from the `d` of the last local step: `p ← Q⁻¹ (k Aᵀ d
-    /// + y + w CᵀC V)`.
+    /// The global step from the last local step's `Aᵀd` in `b`: `p ← Q⁻¹
+    /// (k Aᵀ d + y + w CᵀC V)`.
     fn global_step(&mut self, p: &mut [[f64; 3]]) {
-        incidence_transpose_mul_points(self.springs, self.d, self.b); // Aᵀd, A from the springs
-        self.global_step_from_transpose(p);
-    }
-
-    /// The global step with `Aᵀd` already in `b`.
-    fn global_step_from_transpose(&mut self, p: &mut [[f64; 3]]) {
         let Some(exact) = self.exact_pins.as_mut() else {
             // b = k Aᵀd + y + w CᵀC V, made row by row as the solve reads it
             let (k, a_t_d, y, pin_rhs) = (self.k, &*self.b, self.y, self.pin_rhs);
@@ -340,7 +333,7 @@ pub(crate) struct StepContext<'a, B: LinearAlgebra> {
     pub pinned: &'a [bool],
     pub global: GlobalStep<'a, B>,
     /// Did the step make the local step at the first iterate already (its
-    /// `d` in place, `∇E` there in the monitor's room)? So that the first
+    /// `Aᵀd` in place, `∇E` there in the monitor's room)? So that the first
     /// iterate's local step shares its pass with the initial gradient (at
     /// `pᵗ`) or with the test of the inertial start
     /// ([`StepContext::local_step_at_start`]).
@@ -377,11 +370,13 @@ impl<B: LinearAlgebra> StepContext<'_, B> {
         p: &[[f64; 3]],
         gradient: Option<&mut [[f64; 3]]>,
     ) -> f64 {
-        let d = &mut *self.global.d;
-        self.energy.change_with_local_step(p, d, gradient).total()
+        let a_t_d = &mut *self.global.b;
+        self.energy
+            .change_with_local_step(p, a_t_d, gradient)
+            .total()
     }
 
-    /// `out ← G(p)` from the `d` of the last local step, made at `p`.
+    /// `out ← G(p)` from the last local step (its `Aᵀd`), made at `p`.
     pub fn global_step(&mut self, out: &mut [[f64; 3]]) {
         self.global.global_step(out);
     }
