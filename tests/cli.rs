@@ -340,6 +340,7 @@ fn bench_reports_every_key_and_slopes_fitted_to_its_own_figures() {
             ("solve_s", "solve_share"),
             ("local_step_s", "local_step_share"),
             ("atd_s", "atd_share"),
+            ("springs_pass_s", "springs_pass_share"),
         ] {
             let (time, share) = (size[time].as_f64().unwrap(), size[share].as_f64().unwrap());
             assert!(time > 0.0, "{size}");

@@ -8,19 +8,22 @@
 //!    then the process's peak resident memory (`VmHWM` of
 //!    `/proc/self/status`): what a simulation of that size needs. A fresh
 //!    process per size, so that sizes do not share a high-water mark;
-//! 2. the two passes over the springs of one local/global iteration, on
-//!    that simulation's springs and positions (medians): the local step
-//!    (`d`, [`project_springs`]) and `Aᵀd` (from the spring list,
-//!    [`incidence_transpose_mul_points`]);
+//! 2. the pass over the springs of one local/global iteration, on that
+//!    simulation's springs and positions (medians): the local step with
+//!    `Aᵀd` formed as it goes, as the plain iteration runs it
+//!    ([`project_springs_into_transpose`]), and, apart, the textbook's two
+//!    passes it replaces: the local step (`d`, [`project_springs`]) and
+//!    `Aᵀd` (from the spring list, [`incidence_transpose_mul_points`]);
 //! 3. the sparse Cholesky pipeline on that simulation's `Q`, phase by phase,
 //!    as `masssprings analyze` times it (medians): AMD ordering, symbolic
 //!    analysis, supernodal numeric factorization, a 3-column solve.
 //!
-//! An iteration of the step is the local step, `b = k Aᵀd + y + w CᵀC V`
-//! and the 3-column solve, so the report gives the solve, the local step
-//! and `Aᵀd` as shares of one iteration (a step's time over its
-//! [`ITERATIONS`]); the rest (`b`'s sum, copies, the step's energy and
-//! gradient at its start) is what the three shares leave.
+//! An iteration of the step is the local step with `Aᵀd`, then
+//! `b = k Aᵀd + y + w CᵀC V` and the 3-column solve, so the report gives the solve and
+//! the pass over the springs as shares of one iteration (a step's time
+//! over its [`ITERATIONS`]); the rest (`b`'s sum, copies, the step's
+//! energy and gradient at its start) is what the two shares leave. The
+//! two textbook passes are given as shares too, for comparison.
 //!
 //! The parent measures the machine's memory bandwidth itself (a STREAM
 //! triad, `a = b + s c` over 3 × 32 MB, best of 10, counting 24 bytes per
@@ -46,7 +49,7 @@ use masssprings::files::write_file;
 use masssprings::linalg::benchmark_right_hand_side;
 use masssprings::linalg::sparse::{Method, Ordering, Relaxation, Triangle};
 use masssprings::mesh::procedural;
-use masssprings::sim::local_step::project_springs;
+use masssprings::sim::local_step::{project_springs, project_springs_into_transpose};
 use masssprings::sim::signed_incidence::incidence_transpose_mul_points;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Simulation, Sparse, ITERATIONS};
@@ -90,15 +93,20 @@ struct SizeReport {
     solve_s: f64,
     /// One full time step (the assignment's 50 iterations).
     step_s: f64,
-    /// The local step of one iteration: `d` for every spring.
+    /// The local step of one iteration as a pass of its own: `d` for
+    /// every spring.
     local_step_s: f64,
-    /// `Aᵀd` of one iteration, from the spring list.
+    /// `Aᵀd` of one iteration as a pass of its own, from the spring list.
     atd_s: f64,
-    /// The solve, the local step and `Aᵀd` as shares of one iteration
-    /// (`step_s / 50`).
+    /// The pass over the springs the iteration runs: the local step with
+    /// `Aᵀd` formed as it goes.
+    springs_pass_s: f64,
+    /// The solve, the local step, `Aᵀd` and the springs' pass as shares of
+    /// one iteration (`step_s / 50`).
     solve_share: f64,
     local_step_share: f64,
     atd_share: f64,
+    springs_pass_share: f64,
     /// Building the simulation: springs, matrices, ordering, factorization.
     precompute_s: f64,
     /// `VmHWM` after precomputation and steps (0 where `/proc` is absent).
@@ -342,7 +350,7 @@ fn measure_one(side: usize, steps: usize) -> Result<SizeReport, AppError> {
     }
     let peak_bytes = peak_resident_bytes();
     eprintln!("{name}: local step, Aᵀd");
-    let (local_step_s, atd_s) = time_spring_passes(&simulation);
+    let (local_step_s, atd_s, springs_pass_s) = time_spring_passes(&simulation);
     let lower = simulation.system().q().triangle(Triangle::Lower);
     let symbolic = simulation.system().prefactorization.symbolic();
     let rows_kept = (0..symbolic.supernodes().len())
@@ -375,9 +383,11 @@ fn measure_one(side: usize, steps: usize) -> Result<SizeReport, AppError> {
         step_s,
         local_step_s,
         atd_s,
+        springs_pass_s,
         solve_share: a.solve_s / iteration_s,
         local_step_share: local_step_s / iteration_s,
         atd_share: atd_s / iteration_s,
+        springs_pass_share: springs_pass_s / iteration_s,
         precompute_s,
         peak_bytes,
         bytes_per_vertex: peak_bytes as f64 / a.n as f64,
@@ -387,9 +397,10 @@ fn measure_one(side: usize, steps: usize) -> Result<SizeReport, AppError> {
     })
 }
 
-/// Median times of the local step and of `Aᵀd` on `simulation`'s springs
-/// at its current positions (after its steps: a cloth in motion).
-fn time_spring_passes(simulation: &Simulation<Sparse>) -> (f64, f64) {
+/// Median times of the local step and of `Aᵀd` apart, and of the two in
+/// one pass, on `simulation`'s springs at its current positions (after its
+/// steps: a cloth in motion).
+fn time_spring_passes(simulation: &Simulation<Sparse>) -> (f64, f64, f64) {
     let system = simulation.system();
     let mut d = vec![[0.0; 3]; system.springs.len()];
     let mut atd = vec![[0.0; 3]; system.n()];
@@ -400,7 +411,10 @@ fn time_spring_passes(simulation: &Simulation<Sparse>) -> (f64, f64) {
     let (atd_s, _) = median_seconds(Repeats::Adaptive, || {
         incidence_transpose_mul_points(&system.springs, &d, &mut atd)
     });
-    (local_step_s, atd_s)
+    let (springs_pass_s, _) = median_seconds(Repeats::Adaptive, || {
+        project_springs_into_transpose(&system.springs, &system.r, positions, &mut atd)
+    });
+    (local_step_s, atd_s, springs_pass_s)
 }
 
 /// This process's peak resident set (`VmHWM`, Linux), in bytes; 0 where
@@ -469,13 +483,14 @@ fn write_csv(out: &mut dyn Write, sizes: &[SizeReport]) -> std::io::Result<()> {
     writeln!(
         out,
         "side,n,nnz_q,nnz_l,nnz_l_stored,flops,ordering_s,symbolic_s,numeric_s,solve_s,step_s,\
-         local_step_s,atd_s,solve_share,local_step_share,atd_share,\
+         local_step_s,atd_s,springs_pass_s,solve_share,local_step_share,atd_share,\
+         springs_pass_share,\
          precompute_s,peak_bytes,bytes_per_vertex,solve_gbps,residual,backward_error"
     )?;
     for s in sizes {
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             s.side,
             s.n,
             s.nnz_q,
@@ -489,9 +504,11 @@ fn write_csv(out: &mut dyn Write, sizes: &[SizeReport]) -> std::io::Result<()> {
             s.step_s,
             s.local_step_s,
             s.atd_s,
+            s.springs_pass_s,
             s.solve_share,
             s.local_step_share,
             s.atd_share,
+            s.springs_pass_share,
             s.precompute_s,
             s.peak_bytes,
             s.bytes_per_vertex,
@@ -556,24 +573,32 @@ fn print_table(report: &BenchReport) {
     print_iteration_shares(report);
 }
 
-/// One iteration (`step / 50`) and the shares of its solve, local step and
-/// `Aᵀd`.
+/// One iteration (`step / 50`) and the shares of its solve and its pass
+/// over the springs (the local step with `Aᵀd`), then those of the
+/// textbook's two passes apart.
 fn print_iteration_shares(report: &BenchReport) {
     println!(
-        "\n{:>9} {:>13} {:>16} {:>16} {:>16} {:>7}",
-        "grid", "iteration ms", "solve ms (%)", "local ms (%)", "Aᵀd ms (%)", "rest %"
+        "\n{:>9} {:>13} {:>16} {:>16} {:>7} {:>16} {:>16}",
+        "grid",
+        "iteration ms",
+        "solve ms (%)",
+        "springs ms (%)",
+        "rest %",
+        "apart: local",
+        "apart: Aᵀd"
     );
     let cell = |seconds: f64, share: f64| format!("{:.3} ({:.0}%)", 1e3 * seconds, 1e2 * share);
     for s in &report.sizes {
-        let rest = 1.0 - s.solve_share - s.local_step_share - s.atd_share;
+        let rest = 1.0 - s.solve_share - s.springs_pass_share;
         println!(
-            "{:>9} {:>13.3} {:>16} {:>16} {:>16} {:>6.0}%",
+            "{:>9} {:>13.3} {:>16} {:>16} {:>6.0}% {:>16} {:>16}",
             format!("grid-{}", s.side),
             1e3 * s.step_s / ITERATIONS as f64,
             cell(s.solve_s, s.solve_share),
+            cell(s.springs_pass_s, s.springs_pass_share),
+            1e2 * rest,
             cell(s.local_step_s, s.local_step_share),
             cell(s.atd_s, s.atd_share),
-            1e2 * rest
         );
     }
 }
