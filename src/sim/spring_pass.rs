@@ -1,6 +1,7 @@
 //! One pass over the springs that measures everything the step's methods
-//! need at a point `p`: the energy of the springs, the local step's `d` and
-//! the springs' part of the gradient.
+//! need at a point `p`: the energy of the springs, the local step's `d` (or
+//! `Aᵀd` straight away, which is all the global step reads of it) and the
+//! springs' part of the gradient.
 //!
 //! Each of these reads the same spring vector `vₑ = pᵢ − pⱼ` and its length
 //! `lₑ = ‖vₑ‖` (the square root is the slow part), so one pass computes all

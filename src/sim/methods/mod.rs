@@ -356,7 +356,7 @@ impl<B: LinearAlgebra> StepContext<'_, B> {
         self.local_step_measuring(p, gradient)
     }
 
-    /// The local step at `p` (its `d` is kept for the next
+    /// The local step at `p` (kept, as `Aᵀd`, for the next
     /// [`StepContext::global_step`]), returning `E(p) − E(p⁰)`: the local
     /// step's pass over the springs measures the energy on the way
     /// ([`spring_pass`](crate::sim::spring_pass)), so an iterate's energy
