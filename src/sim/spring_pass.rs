@@ -23,8 +23,8 @@
 //! computed exactly as [`local_step`](super::local_step) computes it, bit for
 //! bit, and added into `Aᵀd` in the same order as
 //! [`incidence_transpose_mul_points`](super::signed_incidence::incidence_transpose_mul_points)
-//! adds it (the same bits), and the spring force `k (v − d) = k (1 − r/l) v` is the derivative
-//! of `½ k (l − r)²` in `v`.
+//! adds it (the same bits); the spring force `k (v − d) = k (1 − r/l) v`
+//! is the derivative of `½ k (l − r)²` in `v`.
 //!
 //! On a CPU with AVX2 (checked at run time) the springs go four at a time,
 //! one per lane, as in the local step; elsewhere one at a time. The two
@@ -36,6 +36,8 @@
 //! Sources: Liu et al. 2013, §3 (the local step); the assignment's energy;
 //! Peng et al. 2018, §4 (the energy "computed as a by-product of the local
 //! step", which is what makes an energy test per iteration affordable).
+
+use super::local_step::add_to_transpose;
 
 /// The springs of one step, and what the pass needs to know about them.
 #[derive(Debug, Clone, Copy)]
@@ -128,8 +130,6 @@ impl Springs<'_> {
 pub fn energy_term(length: f64, start_length: f64, rest: f64) -> f64 {
     (length - start_length) * ((length - rest) + (start_length - rest))
 }
-
-use super::local_step::add_to_transpose;
 
 /// `gᵢ += f`, `gⱼ −= f`.
 #[inline(always)]
