@@ -222,19 +222,31 @@ pub(crate) mod avx2 {
         ($s:expr, $r:expr, $e:expr, $p:expr) => {{
             let (s, r, e) = ($s, $r, $e);
             let (v, length) = spring_vectors!(s, $p);
-            // zero-length springs: divide by 1, then multiply by 0
-            let positive = _mm256_cmp_pd::<_CMP_GT_OQ>(length, _mm256_setzero_pd());
-            let divisor = _mm256_blendv_pd(_mm256_set1_pd(1.0), length, positive);
             assert!(e + 4 <= r.len());
             // SAFETY: e + 4 ≤ r.len() (just checked).
             let rest = unsafe { _mm256_loadu_pd(r.as_ptr().add(e)) };
+            directions!(v, length, rest)
+        }};
+    }
+    use project_group_lanes;
+
+    /// `dₑ = rₑ (vₑ / lₑ)`, lane by lane, from the springs' vectors (one
+    /// register per coordinate), lengths and rest lengths; zero-length
+    /// springs divide by 1, then multiply by 0. The one definition the
+    /// local step and the spring pass both use, so that their `d` are the
+    /// same bits. A macro for the reason given at `spring_vectors`.
+    macro_rules! directions {
+        ($v:expr, $length:expr, $rest:expr) => {{
+            let (v, length, rest): ([__m256d; 3], __m256d, __m256d) = ($v, $length, $rest);
+            let positive = _mm256_cmp_pd::<_CMP_GT_OQ>(length, _mm256_setzero_pd());
+            let divisor = _mm256_blendv_pd(_mm256_set1_pd(1.0), length, positive);
             let keep = _mm256_and_pd(rest, positive);
             let d: [__m256d; 3] =
                 std::array::from_fn(|c| _mm256_mul_pd(keep, _mm256_div_pd(v[c], divisor)));
             d
         }};
     }
-    use project_group_lanes;
+    pub(crate) use directions;
 
     /// `[d₀, d₁, d₂, d₃]` for the four springs `s` numbered from `e`.
     macro_rules! project_group {

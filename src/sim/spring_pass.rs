@@ -143,7 +143,7 @@ fn add_force(g: &mut [[f64; 3]], i: usize, j: usize, f: [f64; 3]) {
 #[cfg(target_arch = "x86_64")]
 mod avx2 {
     use super::{add_force, add_to_transpose, Outputs, Springs};
-    use crate::sim::local_step::avx2::spring_vectors;
+    use crate::sim::local_step::avx2::{directions, spring_vectors};
     use std::arch::x86_64::*;
 
     /// [`Springs::measure`] four springs per instruction, the last `m mod 4`
@@ -178,12 +178,8 @@ mod avx2 {
             if !want_d {
                 continue;
             }
-            // d = r (v / l); zero-length springs: divide by 1, multiply by 0
-            let positive = _mm256_cmp_pd::<_CMP_GT_OQ>(length, _mm256_setzero_pd());
-            let divisor = _mm256_blendv_pd(_mm256_set1_pd(1.0), length, positive);
-            let keep = _mm256_and_pd(rest, positive);
-            let d_lanes: [__m256d; 3] =
-                std::array::from_fn(|c| _mm256_mul_pd(keep, _mm256_div_pd(v[c], divisor)));
+            // d = r (v / l), as the local step makes it
+            let d_lanes = directions!(v, length, rest);
             if outputs.d.is_some() || outputs.transpose.is_some() {
                 let d = lanes_of(d_lanes);
                 let d_of = |lane: usize| [d[0][lane], d[1][lane], d[2][lane]];
