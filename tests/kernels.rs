@@ -233,8 +233,10 @@ proptest! {
         prop_assert_eq!(bits(&t_fast), bits(&a_t_d));
         // Aᵀd alone, without d or the gradient: the same bits
         let mut t_alone = vec![[0.0; 3]; n];
-        pass.measure(&p, Outputs { transpose: Some(&mut t_alone), ..Outputs::default() });
+        let sum_alone =
+            pass.measure(&p, Outputs { transpose: Some(&mut t_alone), ..Outputs::default() });
         prop_assert_eq!(bits(&t_alone), bits(&a_t_d));
+        prop_assert_eq!(sum_alone, sum_fast);
         // the definitions: S = Σ (l − r)² − (l⁰ − r)², g = Σ ±k (v − d)
         let mut sum = 0.0;
         let mut scale = 0.0;

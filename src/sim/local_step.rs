@@ -169,7 +169,22 @@ pub(crate) mod avx2 {
         for g in 0..groups {
             let e = 4 * g;
             let s = &springs[e..e + 4];
-            let [dx, dy, dz] = project_group_lanes!(s, r, e, p);
+            let d = project_group_lanes!(s, r, e, p);
+            add_group_to_transpose!(s, d, out);
+        }
+        4 * groups
+    }
+
+    /// `out[i] += dₑ`, `out[j] −= dₑ` for the four springs `s = (i, j)`
+    /// whose `dₑ` are the lanes of `d` (one register per coordinate),
+    /// springs in order, nothing for a spring from a vertex to itself: the
+    /// additions of [`add_to_transpose`](super::add_to_transpose), with
+    /// `x` and `y` in one 128-bit addition. A macro for the reason given at
+    /// `spring_vectors`.
+    macro_rules! add_group_to_transpose {
+        ($s:expr, $d:expr, $out:expr) => {{
+            let (s, [dx, dy, dz], out): (&[[usize; 2]], [__m256d; 3], &mut [[f64; 3]]) =
+                ($s, $d, $out);
             // (x, y) of each spring as one 128-bit half: [dx₀ dy₀ dx₂ dy₂],
             // [dx₁ dy₁ dx₃ dy₃]; z as numbers
             let (even, odd) = (_mm256_unpacklo_pd(dx, dy), _mm256_unpackhi_pd(dx, dy));
@@ -189,14 +204,14 @@ pub(crate) mod avx2 {
                     add_row(&mut out[j], xy[k], z[k], true);
                 }
             }
-        }
-        4 * groups
+        }};
     }
+    pub(crate) use add_group_to_transpose;
 
     /// `row += (xy, z)`, or `row −= (xy, z)`: x and y in one 128-bit
     /// operation, the same additions as coordinate by coordinate.
     #[inline(always)]
-    fn add_row(row: &mut [f64; 3], xy: __m128d, z: f64, subtract: bool) {
+    pub(crate) fn add_row(row: &mut [f64; 3], xy: __m128d, z: f64, subtract: bool) {
         // SAFETY: row holds three f64, of which the first two are read
         // and written here.
         unsafe {
