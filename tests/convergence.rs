@@ -51,7 +51,12 @@ impl StepData {
 /// A random network with a random start, inertial target and forces, and
 /// a moderate pin weight (so that finite differences are well-conditioned).
 fn step_data() -> impl Strategy<Value = (StepData, Vec<[f64; 3]>)> {
-    network(7)
+    step_data_up_to(7)
+}
+
+/// [`step_data`] with up to `max_n` vertices.
+fn step_data_up_to(max_n: usize) -> impl Strategy<Value = (StepData, Vec<[f64; 3]>)> {
+    network(max_n)
         .prop_flat_map(|net| {
             let n = net.v.len();
             let points = move || prop::collection::vec(prop::array::uniform3(-0.3f64..0.3), n);
@@ -149,6 +154,35 @@ proptest! {
         let scale = oracle_energy(&data, &p).abs() + oracle_energy(&data, &data.start).abs() + 1.0;
         prop_assert!((change - oracle).abs() <= 1e-10 * scale, "{change} vs {oracle}");
         prop_assert_eq!(data.energy().change(&data.start).total(), 0.0);
+    }
+
+    #[test]
+    fn vertex_sums_four_at_a_time_agree_with_one_at_a_time((data, p) in step_data_up_to(30)) {
+        let energy = data.energy();
+        let fast = energy.vertex_sums(&p);
+        let portable = energy.vertex_sums_portable(&p, 0);
+        // each sum to the rounding of the sum of its terms' magnitudes
+        let mut scale = [0.0; 2];
+        for (i, pi) in p.iter().enumerate() {
+            let (p0, y, f) = (data.start[i], data.inertial_target[i], data.f_ext[i]);
+            for c in 0..3 {
+                let moved = (pi[c] - p0[c]).abs();
+                scale[0] += data.net.masses[i] * moved * ((pi[c] - y[c]).abs() + (p0[c] - y[c]).abs());
+                scale[1] += moved * f[c].abs();
+            }
+        }
+        for t in 0..2 {
+            prop_assert!(
+                (fast[t] - portable[t]).abs() <= 1e-13 * scale[t],
+                "sum {}: {} vs {} (scale {})", t, fast[t], portable[t], scale[t]
+            );
+        }
+        // from a vertex on: the sum of the rest
+        let tail = energy.vertex_sums_portable(&p, p.len() / 2);
+        let head_and_tail: f64 = p.iter().enumerate().skip(p.len() / 2)
+            .map(|(i, pi)| (0..3).map(|c| (pi[c] - data.start[i][c]) * data.f_ext[i][c]).sum::<f64>())
+            .sum();
+        prop_assert!((tail[1] - head_and_tail).abs() <= 1e-13 * scale[1]);
     }
 
     #[test]
