@@ -237,6 +237,11 @@ proptest! {
             pass.measure(&p, Outputs { transpose: Some(&mut t_alone), ..Outputs::default() });
         prop_assert_eq!(bits(&t_alone), bits(&a_t_d));
         prop_assert_eq!(sum_alone, sum_fast);
+        // the gradient alone (L-BFGS's pass): the same bits and sum
+        let mut g_alone = vec![[0.0; 3]; n];
+        let sum_g = pass.measure(&p, Outputs { gradient: Some(&mut g_alone), ..Outputs::default() });
+        prop_assert_eq!(bits(&g_alone), bits(&g_portable));
+        prop_assert_eq!(sum_g, sum_fast);
         // the definitions: S = Σ (l − r)² − (l⁰ − r)², g = Σ ±k (v − d)
         let mut sum = 0.0;
         let mut scale = 0.0;

@@ -170,19 +170,21 @@ pub(crate) mod avx2 {
             let e = 4 * g;
             let s = &springs[e..e + 4];
             let d = project_group_lanes!(s, r, e, p);
-            add_group_to_transpose!(s, d, out);
+            add_group_rows!(s, d, out, true);
         }
         4 * groups
     }
 
     /// `out[i] += dₑ`, `out[j] −= dₑ` for the four springs `s = (i, j)`
     /// whose `dₑ` are the lanes of `d` (one register per coordinate),
-    /// springs in order, nothing for a spring from a vertex to itself: the
-    /// additions of [`add_to_transpose`](super::add_to_transpose), with
-    /// `x` and `y` in one 128-bit addition. A macro for the reason given at
+    /// springs in order: with `skip_self`, nothing for a spring from a
+    /// vertex to itself (a zero row of `A`: the additions of
+    /// [`add_to_transpose`](super::add_to_transpose)); without, both (the
+    /// gradient's spring forces, as the portable pass adds them). `x` and
+    /// `y` go in one 128-bit addition. A macro for the reason given at
     /// `spring_vectors`.
-    macro_rules! add_group_to_transpose {
-        ($s:expr, $d:expr, $out:expr) => {{
+    macro_rules! add_group_rows {
+        ($s:expr, $d:expr, $out:expr, $skip_self:expr) => {{
             let (s, [dx, dy, dz], out): (&[[usize; 2]], [__m256d; 3], &mut [[f64; 3]]) =
                 ($s, $d, $out);
             // (x, y) of each spring as one 128-bit half: [dx₀ dy₀ dx₂ dy₂],
@@ -199,14 +201,14 @@ pub(crate) mod avx2 {
             unsafe { _mm256_storeu_pd(z.as_mut_ptr(), dz) };
             for k in 0..4 {
                 let [i, j] = s[k];
-                if i != j {
+                if !$skip_self || i != j {
                     add_row(&mut out[i], xy[k], z[k], false);
                     add_row(&mut out[j], xy[k], z[k], true);
                 }
             }
         }};
     }
-    pub(crate) use add_group_to_transpose;
+    pub(crate) use add_group_rows;
 
     /// `row += (xy, z)`, or `row −= (xy, z)`: x and y in one 128-bit
     /// operation, the same additions as coordinate by coordinate.
