@@ -1,0 +1,77 @@
+#!/usr/bin/env python3
+"""A stopping rule on the energy's progress, tried after the fact on the
+curves of `masssprings converge` (docs/convergence.md, "Stopping rules").
+
+The rule: stop at the first iteration k at which the energy fell, over the
+last w iterations, by at most w * T times everything it has fallen since the
+step's start:  E(k-w) - E(k) <= w * T * (E(0) - E(k)).
+
+For each scene, T and w it prints, per method, the median over the steps of
+the estimated time of a step stopped by the rule, as a fraction of plain-50's
+(iterations x the method's cost per iteration relative to plain's, over 50:
+the CSV's own elapsed_ms includes the observer's evaluations of the energy
+and gradient at every iterate, so it is not used), the median iterations,
+and on how many steps the rule stopped at or below plain-50's energy.
+
+Make the curves first (steps 1..30, flag and skirt):
+
+  for s in flag skirt; do for k in $(seq 1 30); do
+    masssprings converge data/$s.json --step $k --iterations 60 \\
+      --methods plain,chebyshev,anderson,lbfgs --csv DIR/$s-$k.csv
+  done; done
+  python3 benches/stopping_rules.py DIR [chebyshev=1.09 anderson=1.32 lbfgs=1.94]
+
+The default costs per iteration are those `cargo bench --bench
+iteration_cost` measured in session 17 on the flag.
+"""
+import csv
+import statistics
+import sys
+
+METHODS = ["chebyshev", "anderson", "lbfgs"]
+
+
+def load(path):
+    curves = {}
+    with open(path) as f:
+        for row in csv.DictReader(f):
+            curves.setdefault(row["method"], []).append(float(row["energy"]))
+    return curves
+
+
+def stop_at(energies, tolerance, window):
+    for k in range(window, len(energies)):
+        if energies[k - window] - energies[k] <= window * tolerance * -energies[k]:
+            return k
+    return len(energies) - 1
+
+
+def main():
+    folder = sys.argv[1]
+    cost = {"chebyshev": 1.09, "anderson": 1.32, "lbfgs": 1.94}
+    for arg in sys.argv[2:]:
+        name, value = arg.split("=")
+        cost[name] = float(value)
+    for scene in ["flag", "skirt"]:
+        steps = [load(f"{folder}/{scene}-{k}.csv") for k in range(1, 31)]
+        for window in [1, 2, 3]:
+            for tolerance in [0.2, 0.1, 0.05, 0.03]:
+                cells = []
+                for method in METHODS:
+                    times, iterations, reached = [], [], 0
+                    for curves in steps:
+                        plain_50 = curves["plain"][50]
+                        energies = curves[method]
+                        k = stop_at(energies, tolerance, window)
+                        iterations.append(k)
+                        times.append(k * cost[method] / 50)
+                        reached += energies[k] <= plain_50
+                    cells.append(
+                        f"{method} {statistics.median(times):.3f}"
+                        f" ({statistics.median(iterations):g}) {reached}/30"
+                    )
+                print(f"{scene} w={window} T={tolerance}: " + "  ".join(cells))
+
+
+if __name__ == "__main__":
+    main()
