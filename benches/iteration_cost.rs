@@ -50,7 +50,10 @@ fn options() -> Options {
     let mut args = std::env::args().skip(1);
     while let Some(arg) = args.next() {
         match arg.as_str() {
-            "--rounds" => options.rounds = args.next().and_then(|r| r.parse().ok()).unwrap_or(15),
+            "--rounds" => {
+                let rounds = args.next().and_then(|r| r.parse().ok()).filter(|&r| r > 0);
+                options.rounds = rounds.expect("--rounds takes a positive whole number");
+            }
             "--methods" => {
                 let list = args.next().unwrap_or_default();
                 options.methods = list.split(',').map(|m| m.parse().unwrap()).collect();
@@ -112,7 +115,7 @@ fn main() {
             }
         }
         println!(
-            "{} ({} rounds, steps 4 of each method's run):",
+            "{} ({} rounds, step 4 of each method's run):",
             path.display(),
             options.rounds
         );

@@ -194,7 +194,20 @@ mod avx2 {
         for group in 0..groups {
             let e = 4 * group;
             let s = &list[e..e + 4];
-            let (v, length, rest, term) = group_measures!(springs, s, e, p);
+            let (v, length) = spring_vectors!(s, p);
+            assert!(e + 4 <= springs.r.len() && e + 4 <= springs.start_lengths.len());
+            // SAFETY: e + 4 ≤ r.len(), start_lengths.len() (just checked).
+            let (rest, start) = unsafe {
+                (
+                    _mm256_loadu_pd(springs.r.as_ptr().add(e)),
+                    _mm256_loadu_pd(springs.start_lengths.as_ptr().add(e)),
+                )
+            };
+            // the energy term (l − l⁰)((l − r) + (l⁰ − r))
+            let term = _mm256_mul_pd(
+                _mm256_sub_pd(length, start),
+                _mm256_add_pd(_mm256_sub_pd(length, rest), _mm256_sub_pd(start, rest)),
+            );
             sums = _mm256_add_pd(sums, term);
             if !(D || G || T) {
                 continue;
@@ -220,31 +233,6 @@ mod avx2 {
         let [lanes] = lanes_of([sums]);
         ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3]), 4 * groups)
     }
-
-    /// `(v, l, r, term)` of the four springs `s` numbered from `e`: their
-    /// vectors (one register per coordinate), lengths, rest lengths and
-    /// [`energy_term`](super::energy_term)s, lane `k` for spring `s[k]`. A
-    /// macro for the reason given at `spring_vectors`.
-    macro_rules! group_measures {
-        ($springs:expr, $s:expr, $e:expr, $p:expr) => {{
-            let (springs, s, e): (&Springs<'_>, &[[usize; 2]], usize) = ($springs, $s, $e);
-            let (v, length) = spring_vectors!(s, $p);
-            assert!(e + 4 <= springs.r.len() && e + 4 <= springs.start_lengths.len());
-            // SAFETY: e + 4 ≤ r.len(), start_lengths.len() (just checked).
-            let (rest, start) = unsafe {
-                (
-                    _mm256_loadu_pd(springs.r.as_ptr().add(e)),
-                    _mm256_loadu_pd(springs.start_lengths.as_ptr().add(e)),
-                )
-            };
-            let term = _mm256_mul_pd(
-                _mm256_sub_pd(length, start),
-                _mm256_add_pd(_mm256_sub_pd(length, rest), _mm256_sub_pd(start, rest)),
-            );
-            (v, length, rest, term)
-        }};
-    }
-    use group_measures;
 
     /// The lanes of each register, as plain numbers.
     #[target_feature(enable = "avx2")]

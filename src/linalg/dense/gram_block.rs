@@ -73,7 +73,10 @@ pub fn gram_block(
 ) {
     let (ys, block) = prepare(values, column_base, first, width, rows, block, rows_of_y);
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx512f") {
+    if std::arch::is_x86_feature_detected!("avx512f")
+        && std::arch::is_x86_feature_detected!("avx2")
+        && std::arch::is_x86_feature_detected!("fma")
+    {
         // SAFETY: the CPU supports the features the function is compiled for.
         unsafe { avx512::gram_block(values, column_base, first, rows, ys, block) };
         return;
