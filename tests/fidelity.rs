@@ -311,6 +311,126 @@ fn bundled_flag_on_the_textbook_path_matches_the_default_path() {
     );
 }
 
+/// The plain iteration runs in the factor's order when nothing watches its
+/// iterates (`sim::methods::factor_order`), and in the vertices' order, as
+/// the textbook writes it, when an observer does: the two must be the same
+/// bits, step after step, on either sparse method and with a pin moved.
+#[test]
+fn plain_in_the_factor_order_gives_the_textbook_loop_bits() {
+    let simplicial = SimulationOptions {
+        factorization: Method::Simplicial,
+        ..SimulationOptions::default()
+    };
+    for (name, options) in [
+        ("flag", SimulationOptions::default()),
+        ("skirt", SimulationOptions::default()),
+        ("flag", simplicial),
+    ] {
+        let scene = Trajectory::bundled(name, false).scene();
+        let mut watched = Simulation::<Sparse>::from_scene(&scene, options).unwrap();
+        let mut unwatched = Simulation::<Sparse>::from_scene(&scene, options).unwrap();
+        let control = options.step_control();
+        for step in 1..=30 {
+            // drag a vertex from step 15 (a new pin: Q refactored, w CᵀC V
+            // changed), and move it at step 22 (w CᵀC V only)
+            for sim in [&mut watched, &mut unwatched] {
+                let vertex = sim.positions().len() / 2;
+                let [x, y, z] = sim.positions()[vertex];
+                match step {
+                    15 => sim.start_drag(vertex, [x + 0.05, y, z]).unwrap(),
+                    22 => sim.drag_to([x, y + 0.05, z]).unwrap(),
+                    _ => {}
+                }
+            }
+            watched.step_with(&control, Some(&mut |_| {})).unwrap();
+            unwatched.step().unwrap();
+            let same = watched
+                .positions()
+                .iter()
+                .flatten()
+                .zip(unwatched.positions().iter().flatten())
+                .all(|(a, b)| a.to_bits() == b.to_bits());
+            assert!(same, "{name}, step {step}: the two loops differ");
+        }
+        let held = |sim: &Simulation<Sparse>| {
+            let items = sim.system().bytes();
+            let item = items
+                .iter()
+                .find(|(item, _)| item.contains("factor's order"));
+            item.unwrap().1
+        };
+        assert!(
+            held(&unwatched) > 0,
+            "{name}: the factor-order loop never ran"
+        );
+    }
+}
+
+/// `factor_order::iterate` against the textbook loop written out here:
+/// local step into `Aᵀd`, `b = k Aᵀd + y + w CᵀC V`, solve with `Q`'s
+/// factor, in the vertices' order; the same bits after 50 iterations.
+#[test]
+fn factor_order_iterate_gives_the_bits_of_the_loop_as_written() {
+    use masssprings::sim::local_step::project_springs_into_transpose;
+    use masssprings::sim::methods::factor_order::{iterate, PlainProblem, Workspace};
+    for (name, method) in [("flag", Method::Supernodal), ("skirt", Method::Simplicial)] {
+        let options = SimulationOptions {
+            factorization: method,
+            ..SimulationOptions::default()
+        };
+        let scene = Trajectory::bundled(name, false).scene();
+        let sim = Simulation::<Sparse>::from_scene(&scene, options).unwrap();
+        let system = sim.system();
+        let n = scene.vertices.len();
+        // a right-hand side that pulls every vertex somewhere else
+        let y: Vec<[f64; 3]> = (0..n)
+            .map(|i| [(i % 7) as f64 - 3.0, -9.8 * (i % 3) as f64, 0.25])
+            .collect();
+        let start: Vec<[f64; 3]> = scene.vertices.clone();
+        let mut factor = system.prefactorization.clone();
+        let mut expected = start.clone();
+        let mut a_t_d = vec![[0.0; 3]; n];
+        for _ in 0..50 {
+            project_springs_into_transpose(&system.springs, &system.r, &expected, &mut a_t_d);
+            for i in 0..n {
+                expected[i] = std::array::from_fn(|c| {
+                    system.k * a_t_d[i][c] + y[i][c] + system.pin_rhs[i][c]
+                });
+            }
+            factor.solve_points_in_place(&mut expected);
+        }
+        let permutation = system.prefactorization.symbolic().permutation();
+        let work = Workspace::new(&system.springs, permutation.inverse());
+        let problem = PlainProblem {
+            r: &system.r,
+            k: system.k,
+            y: &y,
+            pin_rhs: &system.pin_rhs,
+            pinned: &system.pinned,
+            is_pinned: &system.is_pinned,
+        };
+        let mut factor = system.prefactorization.clone();
+        let (mut got, mut room) = (start.clone(), vec![[0.0; 3]; n]);
+        let ran = iterate(
+            &work,
+            &mut factor,
+            &problem,
+            &mut a_t_d,
+            &mut room,
+            &mut got,
+            50,
+        );
+        assert!(ran);
+        let same = expected
+            .iter()
+            .flatten()
+            .zip(got.iter().flatten())
+            .all(|(a, b)| a.to_bits() == b.to_bits());
+        assert!(same, "{name}: the loop in the factor's order differs");
+        assert!(max_distance(&start, &got) > 1e-3, "{name}: nothing moved");
+    }
+}
+
 #[test]
 fn every_bundled_scene_has_its_reference_files() {
     for name in [

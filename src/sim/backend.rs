@@ -103,6 +103,14 @@ pub trait LinearAlgebra {
         Self::solve_points(factorization, x);
     }
 
+    /// The sparse Cholesky factorization itself, for the plain iteration
+    /// that keeps its unknowns in the factor's order
+    /// ([`SparseCholesky::buffer_in_factor_order`]); `None` for the dense
+    /// backend, whose factor has no ordering.
+    fn as_sparse_cholesky(_factorization: &mut Self::Factorization) -> Option<&mut SparseCholesky> {
+        None
+    }
+
     /// Bytes a matrix holds (its arrays' lengths), for the memory figures.
     fn matrix_bytes(a: &Self::Matrix) -> usize;
 
@@ -243,6 +251,10 @@ impl LinearAlgebra for Sparse {
         x: &mut [[f64; 3]],
     ) {
         factorization.solve_points_from(b_row, x)
+    }
+
+    fn as_sparse_cholesky(factorization: &mut SparseCholesky) -> Option<&mut SparseCholesky> {
+        Some(factorization)
     }
 
     fn matrix_bytes(a: &CscMatrix) -> usize {

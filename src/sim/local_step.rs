@@ -75,12 +75,13 @@ pub fn project_springs(springs: &[[usize; 2]], r: &[f64], p: &[[f64; 3]], d: &mu
 /// # Panics
 /// When `r` does not have one entry per spring, or a spring names a
 /// vertex beyond `p` or `out`.
-pub fn project_springs_into_transpose(
+pub fn project_springs_into_transpose<const L: usize>(
     springs: &[[usize; 2]],
     r: &[f64],
-    p: &[[f64; 3]],
+    p: &[[f64; L]],
     out: &mut [[f64; 3]],
 ) {
+    const { assert!(L == 3 || L == 4, "rows of x, y, z, padded or not") };
     assert!(r.len() == springs.len() && out.len() == p.len());
     out.fill([0.0; 3]);
     let mut done = 0;
@@ -122,9 +123,14 @@ pub fn project_springs_portable(
     }
 }
 
-/// One spring: `r (pᵢ − pⱼ) / ‖pᵢ − pⱼ‖`, zero for a zero-length spring.
+/// One spring: `r (pᵢ − pⱼ) / ‖pᵢ − pⱼ‖`, zero for a zero-length spring
+/// (rows of `p` hold x, y, z, and possibly a padding value, not read).
 #[inline(always)]
-fn project_spring([i, j]: [usize; 2], rest_length: f64, p: &[[f64; 3]]) -> [f64; 3] {
+fn project_spring<const L: usize>(
+    [i, j]: [usize; 2],
+    rest_length: f64,
+    p: &[[f64; L]],
+) -> [f64; 3] {
     let v = [p[i][0] - p[j][0], p[i][1] - p[j][1], p[i][2] - p[j][2]];
     let length = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
     if length > 0.0 {
@@ -132,6 +138,12 @@ fn project_spring([i, j]: [usize; 2], rest_length: f64, p: &[[f64; 3]]) -> [f64;
     } else {
         [0.0; 3]
     }
+}
+
+/// The number of values in each row of `p`: 3 (x, y, z) or 4 (padded).
+#[inline(always)]
+pub(crate) const fn row_length<const L: usize>(_: &[[f64; L]]) -> usize {
+    L
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -159,10 +171,10 @@ pub(crate) mod avx2 {
     /// [`project_springs_into_transpose`](super::project_springs_into_transpose)
     /// for springs `0 .. 4·⌊m/4⌋`; returns how many springs it did.
     #[target_feature(enable = "avx2")]
-    pub fn project_groups_of_four_into_transpose(
+    pub fn project_groups_of_four_into_transpose<const L: usize>(
         springs: &[[usize; 2]],
         r: &[f64],
-        p: &[[f64; 3]],
+        p: &[[f64; L]],
         out: &mut [[f64; 3]],
     ) -> usize {
         let groups = springs.len() / 4;
@@ -287,14 +299,18 @@ pub(crate) mod avx2 {
     /// not be inlined into them, and its intrinsics would become calls).
     macro_rules! spring_vectors {
         ($s:expr, $p:expr) => {{
-            let (s, p): (&[[usize; 2]], &[[f64; 3]]) = ($s, $p);
-            // a row and the next one's x as one load, when a next row exists
+            let (s, p): (&[[usize; 2]], _) = ($s, $p);
+            let stride = $crate::sim::local_step::row_length(p);
+            // a row and the next one's x as one load, when a next row
+            // exists; a padded row (x, y, z, 0) is one load by itself
             let last = p.len().saturating_sub(1);
-            let v: [__m256d; 3] = if s[..4].iter().all(|&[i, j]| i < last && j < last) {
+            let whole = |i: usize| i < p.len() && (stride == 4 || i < last);
+            let v: [__m256d; 3] = if s[..4].iter().all(|&[i, j]| whole(i) && whole(j)) {
                 let base = p.as_ptr().cast::<f64>();
-                // SAFETY: rows i and i + 1 exist (checked), so the four
-                // values from row i's first lie inside p.
-                let row = |i: usize| unsafe { _mm256_loadu_pd(base.add(3 * i)) };
+                // SAFETY: row i exists and so does row i + 1 unless rows
+                // hold four values (checked), so the four values from row
+                // i's first lie inside p.
+                let row = |i: usize| unsafe { _mm256_loadu_pd(base.add(stride * i)) };
                 // [vx, vy, vz, −] of each spring, then the 4 × 4 transpose
                 let r: [__m256d; 4] =
                     std::array::from_fn(|k| _mm256_sub_pd(row(s[k][0]), row(s[k][1])));

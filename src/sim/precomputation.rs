@@ -276,7 +276,8 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
     /// What the system holds, in bytes (arrays' lengths), item by item:
     /// the memory figures of `docs/performance.md` and their test. The
     /// work arrays of a method other than `plain`, made when it first
-    /// runs, are not counted.
+    /// runs, are not counted; `plain`'s renumbered springs are, once a
+    /// step has made them.
     pub fn bytes(&self) -> Vec<(&'static str, usize)> {
         use std::mem::size_of_val as bytes;
         let buffers = &self.buffers;
@@ -317,6 +318,14 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
                 bytes(&buffers.start_lengths[..]),
             ),
             ("exact pins: Q without pins, Q_ff factor", exact),
+            (
+                "springs in the factor's order (plain)",
+                buffers
+                    .methods
+                    .factor_order
+                    .as_ref()
+                    .map_or(0, |w| w.bytes()),
+            ),
         ]
     }
 

@@ -37,8 +37,8 @@
 use super::backend::{Dense, LinearAlgebra, Sparse};
 use super::energy::{free_norm, start_lengths, StepEnergy};
 use super::methods::{
-    anderson, chebyshev, lbfgs, newton, plain, GlobalStep, Gradient, Monitor, Observer, Outcome,
-    Start, StepContext, StepControl, StepMethod, Stop,
+    anderson, chebyshev, factor_order, lbfgs, newton, plain, GlobalStep, Gradient, Monitor,
+    Observer, Outcome, Start, StepContext, StepControl, StepMethod, Stop,
 };
 use super::precomputation::{mass_mul_points, MassSpringSystem};
 use super::SimulationError;
@@ -185,7 +185,10 @@ pub fn solve_step<B: LinearAlgebra>(
     monitor.after(0, &context, u_next, start);
     let workspaces = &mut buffers.methods;
     let outcome: Outcome = match control.method {
-        StepMethod::Plain => plain::solve(&mut context, control, u_next, &mut monitor),
+        StepMethod::Plain => {
+            let work = workspaces.factor_order.as_ref();
+            plain::solve(&mut context, control, work, u_next, &mut monitor)
+        }
         StepMethod::Chebyshev => {
             let work = workspaces.chebyshev.as_mut().expect("prepared");
             chebyshev::solve(&mut context, control, work, u_next, &mut monitor)
@@ -301,7 +304,15 @@ fn prepare_workspace<B: LinearAlgebra>(
     let n = system.n();
     let workspaces = &mut system.buffers.methods;
     match control.method {
-        StepMethod::Plain => {}
+        StepMethod::Plain => {
+            if workspaces.factor_order.is_none() {
+                if let Some(cholesky) = B::as_sparse_cholesky(&mut system.prefactorization) {
+                    let new_index = cholesky.symbolic().permutation().inverse();
+                    let work = factor_order::Workspace::new(&system.springs, new_index);
+                    workspaces.factor_order = Some(work);
+                }
+            }
+        }
         StepMethod::Chebyshev => {
             workspaces
                 .chebyshev

@@ -21,6 +21,7 @@
 
 use super::csc::{CscMatrix, Triangle};
 use super::factor_loading::FactorLoading;
+use super::permutation::Permutation;
 use super::permute::PermutedTriangle;
 use super::supernodal::{factor_supernodal, SupernodalWorkspace};
 use super::supernodal_solve;
@@ -273,6 +274,35 @@ impl SparseCholesky {
         self.fill_buffer::<3, 4>(b_row);
         self.sweep::<4>();
         self.drain_buffer::<3, 4>(x);
+    }
+
+    /// The solve's own buffer of n×3 blocks in the factor's order, and
+    /// the permutation `P`: row `r` of the buffer is row `perm[r]` of a
+    /// block, as `(x, y, z, 0)`. A caller that keeps its unknowns there
+    /// from one solve to the next ([`SparseCholesky::solve_buffer_in_place`])
+    /// saves the permuted copies into and out of it (the plain iteration
+    /// does: `sim::methods::factor_order`). The buffer holds whatever the
+    /// last solve left.
+    ///
+    /// # Panics
+    /// After a failed refactorization.
+    pub fn buffer_in_factor_order(&mut self) -> (&Permutation, &mut [[f64; 4]]) {
+        let n = self.symbolic.n();
+        self.check_ready(n);
+        let (buffer, _) = self.solve_buffer[..4 * n].as_chunks_mut::<4>();
+        (self.symbolic.permutation(), buffer)
+    }
+
+    /// `x ← L⁻ᵀ L⁻¹ x` for the block `x` in the buffer of
+    /// [`SparseCholesky::buffer_in_factor_order`]: the solve with
+    /// `P A Pᵀ`, the permuted matrix, with no copy into or out of it. The
+    /// padding column (the fourth) stays 0 when it is 0.
+    ///
+    /// # Panics
+    /// After a failed refactorization.
+    pub fn solve_buffer_in_place(&mut self) {
+        self.check_ready(self.symbolic.n());
+        self.sweep::<4>();
     }
 
     /// `b ← Pᵀ L⁻ᵀ L⁻¹ P b` for a block of `W` columns, computed in a

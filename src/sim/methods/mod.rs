@@ -26,6 +26,7 @@
 pub mod anderson;
 pub mod block_vector;
 pub mod chebyshev;
+pub mod factor_order;
 pub mod lbfgs;
 pub mod line_search;
 pub mod newton;
@@ -422,6 +423,15 @@ impl<'a, 'o> Monitor<'a, 'o> {
         }
     }
 
+    /// The room for a gradient when nothing will need it before the step
+    /// ends (no tolerance, no observer), as scratch for the iterations.
+    pub fn unused_room(&mut self) -> Option<&mut [[f64; 3]]> {
+        match (self.tolerance, &self.observer) {
+            (None, None) => Some(&mut *self.gradient),
+            _ => None,
+        }
+    }
+
     /// Room for `∇E` at the next iterate, when the stopping rule will test
     /// it (`None` without a tolerance): a method whose local step at that
     /// iterate can make the gradient on the way fills it there, then tells
@@ -503,6 +513,8 @@ fn relative_gradient(norm: f64, initial: f64) -> f64 {
 /// The work arrays of each method, made the first time it runs.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct MethodWorkspaces {
+    /// `plain`'s springs in the factor's order (sparse backend only).
+    pub factor_order: Option<factor_order::Workspace>,
     pub chebyshev: Option<chebyshev::Workspace>,
     pub anderson: Option<anderson::Workspace>,
     pub lbfgs: Option<lbfgs::Workspace>,

@@ -24,18 +24,29 @@
 //! Source: Liu et al. 2013, Algorithm 1; the assignment,
 //! `fast_mass_springs_step_dense.cpp` / `_sparse.cpp`.
 
+use super::factor_order::{self, PlainProblem};
 use super::{Gradient, Monitor, Outcome, StepContext, StepControl, Stop};
 use crate::sim::backend::LinearAlgebra;
 
-/// Iterates from `p` (in place) until the control says stop.
+/// Iterates from `p` (in place) until the control says stop. With the
+/// sparse backend, penalty pins and nothing watching the iterates, the
+/// same iterations run in the factor's order ([`factor_order`], the same
+/// bits) with the springs of `work` (which the step makes for the sparse
+/// backend).
 pub(crate) fn solve<B: LinearAlgebra>(
     context: &mut StepContext<'_, B>,
     control: &StepControl,
+    work: Option<&factor_order::Workspace>,
     p: &mut [[f64; 3]],
     monitor: &mut Monitor<'_, '_>,
 ) -> Outcome {
     if monitor.room_for_gradient().is_some() {
         return solve_to_tolerance(context, control, p, monitor);
+    }
+    if let (Some(work), Some(room)) = (work, monitor.unused_room()) {
+        if in_factor_order(context, work, room, control.iterations, p) {
+            return Outcome::new(control.iterations, Stop::Iterations);
+        }
     }
     for iteration in 1..=control.iterations {
         context.global.iterate_in_place(p);
@@ -62,4 +73,32 @@ fn solve_to_tolerance<B: LinearAlgebra>(
         }
     }
     Outcome::measured(control.iterations, Stop::Iterations, energy)
+}
+
+/// `iterations` iterations in the factor's order, when the pins are
+/// penalties and the factorization is the sparse one; `false` (nothing
+/// done) otherwise.
+fn in_factor_order<B: LinearAlgebra>(
+    context: &mut StepContext<'_, B>,
+    work: &factor_order::Workspace,
+    room: &mut [[f64; 3]],
+    iterations: usize,
+    p: &mut [[f64; 3]],
+) -> bool {
+    let global = &mut context.global;
+    if global.exact() {
+        return false;
+    }
+    let Some(cholesky) = B::as_sparse_cholesky(global.factorization) else {
+        return false;
+    };
+    let problem = PlainProblem {
+        r: global.r,
+        k: global.k,
+        y: global.y,
+        pin_rhs: global.pin_rhs,
+        pinned: global.pinned,
+        is_pinned: context.pinned,
+    };
+    factor_order::iterate(work, cholesky, &problem, global.b, room, p, iterations)
 }
