@@ -305,7 +305,10 @@ fn prepare_workspace<B: LinearAlgebra>(
     let workspaces = &mut system.buffers.methods;
     match control.method {
         StepMethod::Plain => {
-            if workspaces.factor_order.is_none() {
+            // the loop in the factor's order runs with penalty pins and
+            // no tolerance (and no observer, known only later)
+            let in_factor_order = system.exact_pins.is_none() && control.tolerance.is_none();
+            if in_factor_order && workspaces.factor_order.is_none() {
                 if let Some(cholesky) = B::as_sparse_cholesky(&mut system.prefactorization) {
                     let new_index = cholesky.symbolic().permutation().inverse();
                     let work = factor_order::Workspace::new(&system.springs, new_index);

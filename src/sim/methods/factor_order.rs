@@ -42,13 +42,14 @@
 //! and by exact pins.
 //!
 //! Memory: the renumbered springs, 16 bytes per spring, made the first
-//! time a plain step runs; `P y` lives in the room the stopping rule keeps
+//! time a plain step runs with penalty pins and no tolerance; `P y` lives in the room the stopping rule keeps
 //! for a gradient, which a step with no tolerance does not use until it
 //! ends. Two leaner variants were slower on the flag (`simulate --steps
 //! 100`, medians of 16 interleaved runs on Zen 3): looking each end up in
 //! `pinv` as the springs are visited (no copy of the springs) was 1% slower
 //! than the textbook loop, and 32-bit renumbered springs 2.5% slower than
-//! these (this version: 4% faster than the textbook loop).
+//! these (this version: 3–4% faster than the textbook loop on the flag
+//! and the skirt).
 //!
 //! Source: the permuted solve of Davis, *Direct Methods for Sparse Linear
 //! Systems* (2006), §8.1 (`x = Pᵀ (L⁻ᵀ (L⁻¹ (P b)))`), with the
