@@ -22,6 +22,8 @@
 //! The pieces every method uses are here: `GlobalStep` (the plain
 //! iteration and solves with `Q`) and `Monitor` (the stopping rule and the
 //! per-iteration observer that `masssprings converge` listens to).
+//! [`factor_order`] runs `plain`'s iterations, to the bit, with the
+//! positions kept in the sparse factor's order, when nothing watches them.
 
 pub mod anderson;
 pub mod block_vector;
