@@ -37,7 +37,7 @@
 //! Used by `plain` with the sparse backend and penalty pins when nothing
 //! watches the iterates (no tolerance, no observer): the loop never forms
 //! `p` in the vertices' order until the step ends. The textbook loop stays
-//! in [`GlobalStep::iterate_in_place`](super::GlobalStep::iterate_in_place),
+//! in `GlobalStep::iterate_in_place` (`methods/mod.rs`),
 //! used with a tolerance, by `masssprings converge`, by the dense backend
 //! and by exact pins.
 //!
