@@ -359,9 +359,11 @@ fn plain_in_the_factor_order_gives_the_textbook_loop_bits() {
                 .find(|(item, _)| item.contains("factor's order"));
             item.unwrap().1
         };
+        // (made for both: whether the loop ran is not visible from here;
+        // `factor_order::iterate` itself is checked by the next test)
         assert!(
             held(&unwatched) > 0,
-            "{name}: the factor-order loop never ran"
+            "{name}: no springs in the factor's order were made"
         );
     }
 }
@@ -407,11 +409,10 @@ fn factor_order_iterate_gives_the_bits_of_the_loop_as_written() {
             y: &y,
             pin_rhs: &system.pin_rhs,
             pinned: &system.pinned,
-            is_pinned: &system.is_pinned,
         };
         let mut factor = system.prefactorization.clone();
         let (mut got, mut room) = (start.clone(), vec![[0.0; 3]; n]);
-        let ran = iterate(
+        iterate(
             &work,
             &mut factor,
             &problem,
@@ -420,7 +421,6 @@ fn factor_order_iterate_gives_the_bits_of_the_loop_as_written() {
             &mut got,
             50,
         );
-        assert!(ran);
         let same = expected
             .iter()
             .flatten()

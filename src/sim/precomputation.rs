@@ -499,7 +499,9 @@ pub(crate) fn mass_mul_points(m: &[f64], x: &[[f64; 3]], y: &mut [[f64; 3]]) {
 }
 
 /// `w Cᵀ targets`, where `targets` are the pinned positions (`C V` at rest,
-/// computed from `C` by the precomputation).
+/// computed from `C` by the precomputation). Rows of vertices that are not
+/// pinned are `+0.0` (an empty column's sum times `w > 0`), which the plain
+/// loop in the factor's order relies on (`methods::factor_order`).
 fn pin_right_hand_side<B: LinearAlgebra>(
     c: &B::Matrix,
     n: usize,

@@ -29,10 +29,10 @@
 //! row of `Aᵀd` receives the same additions in the same order, `b`'s rows
 //! are the same sums (`(k a + y) + pin`), and the solve sees the same
 //! buffer. So the positions are the same bits as the textbook loop's, which
-//! the tests check. `w CᵀC V` is zero outside the pinned rows, so it is read
-//! only there (each free row adds `+0.0`, exactly what adding its zero
-//! row did; a step that finds a free row not `+0.0` takes the textbook
-//! loop).
+//! the tests check. `w CᵀC V` is `+0.0` outside the pinned rows (as
+//! `precomputation::pin_right_hand_side` makes it), so it is read only
+//! there, and each free row adds `+0.0`, exactly what adding its zero row
+//! did.
 //!
 //! Used by `plain` with the sparse backend and penalty pins when nothing
 //! watches the iterates (no tolerance, no observer): the loop never forms
@@ -93,16 +93,14 @@ pub struct PlainProblem<'a> {
     pub k: f64,
     /// `y = M ŷ / Δt² + f_ext`.
     pub y: &'a [[f64; 3]],
-    /// `w CᵀC V`, zero outside the pinned rows.
+    /// `w CᵀC V`, `+0.0` outside the pinned rows.
     pub pin_rhs: &'a [[f64; 3]],
+    /// The pinned vertices (the rows where `w CᵀC V` is read).
     pub pinned: &'a [usize],
-    pub is_pinned: &'a [bool],
 }
 
 /// `iterations` plain iterations from `p`, in place, in the factor's order;
-/// `a_t_d` is room for `P Aᵀd` and `room` for `P y`. Returns `false`, and
-/// leaves `p` as it was, when `w CᵀC V` has a free row that is not `+0.0`
-/// (the textbook loop is then the one that gives its bits).
+/// `a_t_d` is room for `P Aᵀd` and `room` for `P y`.
 ///
 /// # Panics
 /// When a slice does not have one row per vertex (or per spring), or after
@@ -115,10 +113,8 @@ pub fn iterate(
     room: &mut [[f64; 3]],
     p: &mut [[f64; 3]],
     iterations: usize,
-) -> bool {
-    if !free_rows_are_zero(problem.pin_rhs, problem.is_pinned) {
-        return false;
-    }
+) {
+    debug_assert!(free_rows_are_zero(problem.pin_rhs, problem.pinned));
     let (permutation, x) = cholesky.buffer_in_factor_order();
     let perm = permutation.perm();
     let n = perm.len();
@@ -143,7 +139,6 @@ pub fn iterate(
     for (row, &old) in x.iter().zip(permutation.perm()) {
         p[old] = [row[0], row[1], row[2]];
     }
-    true
 }
 
 /// `x[r] = k (P Aᵀd)[r] + (P y)[r] + (P w CᵀC V)[r]`, padded with 0: the
@@ -169,12 +164,13 @@ fn right_hand_side(
     }
 }
 
-/// Is every free row of `w CᵀC V` exactly `+0.0`?
-fn free_rows_are_zero(pin_rhs: &[[f64; 3]], is_pinned: &[bool]) -> bool {
-    pin_rhs
-        .iter()
-        .zip(is_pinned)
-        .all(|(row, &pinned)| pinned || row.iter().all(|v| v.to_bits() == 0))
+/// Is every row of `w CᵀC V` outside `pinned` exactly `+0.0`? (Checked in
+/// debug builds: what the loop relies on.)
+fn free_rows_are_zero(pin_rhs: &[[f64; 3]], pinned: &[usize]) -> bool {
+    let free = |i: &usize| !pinned.contains(i);
+    (0..pin_rhs.len())
+        .filter(free)
+        .all(|i| pin_rhs[i].iter().all(|v| v.to_bits() == 0))
 }
 
 /// `(x, y, z, 0)`.

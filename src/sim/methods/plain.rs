@@ -98,7 +98,7 @@ fn in_factor_order<B: LinearAlgebra>(
         y: global.y,
         pin_rhs: global.pin_rhs,
         pinned: global.pinned,
-        is_pinned: context.pinned,
     };
-    factor_order::iterate(work, cholesky, &problem, global.b, room, p, iterations)
+    factor_order::iterate(work, cholesky, &problem, global.b, room, p, iterations);
+    true
 }
