@@ -127,13 +127,63 @@ fn a_relaxation_outside_its_range_is_a_usage_error() {
 
 #[test]
 fn a_tolerance_without_steps_is_a_usage_error() {
-    let output = masssprings(&["converge", &data("net.json"), "--tolerance", "0.5"]);
-    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
-    assert!(
-        stderr(&output).contains("--tolerance needs --steps"),
-        "{}",
-        stderr(&output)
-    );
+    for flag in ["--tolerance", "--energy-tolerance"] {
+        let output = masssprings(&["converge", &data("net.json"), flag, "0.5"]);
+        assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+        assert!(
+            stderr(&output).contains("--tolerance and --energy-tolerance need --steps"),
+            "{}",
+            stderr(&output)
+        );
+    }
+}
+
+#[test]
+fn converge_with_an_energy_tolerance_solves_each_step_by_that_rule() {
+    let output = masssprings(&[
+        "converge",
+        &data("flag.json"),
+        "--steps",
+        "3",
+        "--energy-tolerance",
+        "0.1",
+        "--iterations",
+        "200",
+        "--methods",
+        "chebyshev,lbfgs",
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let text = stdout(&output);
+    assert!(text.contains("--energy-tolerance 0.1"), "{text}");
+    for method in ["chebyshev", "lbfgs"] {
+        let line = text
+            .lines()
+            .find(|l| l.starts_with(method))
+            .unwrap_or_else(|| panic!("{text}"));
+        // the rule stops well before the budget of 200 on every step
+        let iterations: f64 = line.split_whitespace().nth(1).unwrap().parse().unwrap();
+        assert!(iterations < 50.0, "{line}");
+    }
+}
+
+#[test]
+fn an_energy_tolerance_outside_zero_to_one_is_a_usage_error() {
+    for bad in ["0", "1", "-0.1", "soon"] {
+        let output = masssprings(&[
+            "simulate",
+            &data("net.json"),
+            "--steps",
+            "1",
+            "--energy-tolerance",
+            bad,
+        ]);
+        assert_eq!(output.status.code(), Some(2), "{bad}: {}", stderr(&output));
+        assert!(
+            stderr(&output).contains("--energy-tolerance expects a fraction of the decrease"),
+            "{bad}: {}",
+            stderr(&output)
+        );
+    }
 }
 
 #[test]

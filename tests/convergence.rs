@@ -433,6 +433,75 @@ fn a_tolerance_that_cannot_be_met_stops_at_the_budget_and_says_so() {
     }
 }
 
+/// The energy rule, checked against the energies of every iterate (as the
+/// observer measures them): the step stops at the first iteration `k ≥ 1`
+/// with `0 ≤ Eₖ₋₁ − Eₖ ≤ T (E₀ − Eₖ)`, and says so.
+fn assert_stops_by_the_energy_rule(simulation: &Simulation<Sparse>, method: StepMethod, t: f64) {
+    let control = StepControl {
+        energy_tolerance: Some(t),
+        ..control(method, 500, None)
+    };
+    let mut copy = simulation.clone();
+    let mut energies = Vec::new();
+    let mut record = |it: &Iterate<'_>| energies.push(it.energy.change(it.positions).total());
+    let report = copy.step_with(&control, Some(&mut record)).unwrap();
+    assert_eq!(report.stop, Stop::EnergyTolerance, "{method}: {report:?}");
+    assert_eq!(energies.len(), report.iterations + 1, "{method}");
+    let met = |k: usize| {
+        let decrease = energies[k - 1] - energies[k];
+        decrease >= 0.0 && decrease <= t * (energies[0] - energies[k])
+    };
+    let first = (1..energies.len()).find(|&k| met(k));
+    assert_eq!(first, Some(report.iterations), "{method}: {energies:?}");
+    assert_eq!(
+        report.energy_decrease, -energies[report.iterations],
+        "{method}"
+    );
+}
+
+#[test]
+fn an_energy_tolerance_stops_at_the_first_small_enough_progress_and_says_so() {
+    let net = simulation_after("net.json", 3);
+    for method in StepMethod::ALL {
+        assert_stops_by_the_energy_rule(&net, method, 0.01);
+    }
+    let flag = simulation_after("flag.json", 11);
+    for method in [
+        StepMethod::Plain,
+        StepMethod::Chebyshev,
+        StepMethod::Anderson,
+        StepMethod::Lbfgs,
+    ] {
+        assert_stops_by_the_energy_rule(&flag, method, 0.1);
+    }
+}
+
+#[test]
+fn an_energy_tolerance_that_is_not_met_changes_neither_the_iterates_nor_the_report() {
+    let simulation = simulation_after("flag.json", 12);
+    for method in StepMethod::ALL {
+        let run = |energy_tolerance| {
+            let mut copy = simulation.clone();
+            let control = StepControl {
+                energy_tolerance,
+                ..control(method, 4, None)
+            };
+            let report = copy.step_with(&control, None).unwrap();
+            (report, copy.positions().to_vec())
+        };
+        let (free, free_positions) = run(None);
+        let (tested, tested_positions) = run(Some(1e-300));
+        assert_eq!(free_positions, tested_positions, "{method}");
+        assert_eq!(
+            (tested.stop, tested.iterations),
+            (Stop::Iterations, 4),
+            "{method}"
+        );
+        assert_eq!(free.energy_decrease, tested.energy_decrease, "{method}");
+        assert_eq!(free.relative_gradient, tested.relative_gradient, "{method}");
+    }
+}
+
 #[test]
 fn plain_is_the_assignments_step_bit_for_bit() {
     // The same 50 iterations through the old entry point and the new one.

@@ -104,6 +104,7 @@ fn no_method_allocates_after_its_first_step() {
         let options = SimulationOptions {
             method,
             tolerance: Some(1e-9),
+            energy_tolerance: Some(1e-12),
             iterations: 30,
             ..SimulationOptions::default()
         };

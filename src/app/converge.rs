@@ -12,7 +12,9 @@
 //! CSV and as a two-panel plot.
 
 use super::args::{Args, CommandSpec, Flag};
-use super::convergence_flags::{self, ITERATIONS, PINS, RELAXATION, RHO, START, WINDOW};
+use super::convergence_flags::{
+    self, ENERGY_TOLERANCE, ITERATIONS, PINS, RELAXATION, RHO, START, WINDOW,
+};
 use super::limits::precompute;
 use super::{load_scene, AppError};
 use masssprings::files::write_file;
@@ -97,6 +99,7 @@ two-panel plot.",
              is at most T (0 < T < 1), as simulate --tolerance does; prints the median step \
              time against plain-50's and how many steps ended at or below plain-50's energy.",
         ),
+        ENERGY_TOLERANCE,
         ITERATIONS,
         RHO,
         RELAXATION,
@@ -166,9 +169,12 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
         ..SimulationOptions::default()
     };
     convergence_flags::apply(&args, &mut sim_options)?;
-    if sim_options.tolerance.is_some() && args.count("steps", 0, 0)? == 0 {
+    let a_rule = sim_options.tolerance.is_some() || sim_options.energy_tolerance.is_some();
+    if a_rule && args.count("steps", 0, 0)? == 0 {
         return Err(AppError::Usage(
-            "--tolerance needs --steps S (one step's curves always run every iteration)".into(),
+            "--tolerance and --energy-tolerance need --steps S (one step's curves always run \
+             every iteration)"
+                .into(),
         ));
     }
     let path = |name: &str| -> Result<Option<PathBuf>, AppError> {
@@ -214,6 +220,7 @@ fn trace(
         method,
         iterations,
         tolerance: None,
+        energy_tolerance: None,
         ..*control
     };
     let failed = |e: masssprings::sim::SimulationError| AppError::Failed(format!("{method}: {e}"));
@@ -365,8 +372,9 @@ fn curves_for_plot(curves: &[Curve]) -> Vec<super::convergence_plot::PlotCurve> 
 /// (the accuracy the assignment settles for); prints, per method, the
 /// median over the steps and its ratio to plain-50's median.
 fn run_over_steps(request: &Request, steps: usize) -> Result<(), AppError> {
-    if let Some(tolerance) = request.control.tolerance {
-        return run_over_steps_to_tolerance(request, steps, tolerance);
+    let control = &request.control;
+    if control.tolerance.is_some() || control.energy_tolerance.is_some() {
+        return run_over_steps_to_tolerance(request, steps);
     }
     let scene = load_scene(&request.scene)?;
     let mut simulation = precompute::<Sparse>(&scene, &request.scene, request.canonical)?;
@@ -421,23 +429,20 @@ fn run_over_steps(request: &Request, steps: usize) -> Result<(), AppError> {
     Ok(())
 }
 
-/// `--steps S --tolerance T`: for each of the canonical steps 1…S, each
-/// method solves the step as `simulate --tolerance T` would (stopping by
-/// the rule, nobody watching), timed whole; so does plain with 50
-/// iterations. Prints, per method, the median step time, its ratio to
+/// `--steps S --tolerance T` (or `--energy-tolerance F`, or both): for
+/// each of the canonical steps 1…S, each method solves the step as
+/// `simulate` with the same rules would (stopping by them, nobody
+/// watching), timed whole; so does plain with 50 iterations. Prints, per method, the median step time, its ratio to
 /// plain-50's, the median iterations, and on how many steps the method
 /// ended at or below plain-50's energy (the accuracy it is compared at).
-fn run_over_steps_to_tolerance(
-    request: &Request,
-    steps: usize,
-    tolerance: f64,
-) -> Result<(), AppError> {
+fn run_over_steps_to_tolerance(request: &Request, steps: usize) -> Result<(), AppError> {
     let scene = load_scene(&request.scene)?;
     let mut simulation = precompute::<Sparse>(&scene, &request.scene, request.canonical)?;
     let plain_50 = StepControl {
         method: StepMethod::Plain,
         iterations: YARDSTICKS[0],
         tolerance: None,
+        energy_tolerance: None,
         ..yardstick(&request.control)
     };
     let mut control = request.control;
@@ -458,11 +463,7 @@ fn run_over_steps_to_tolerance(
         plain_ms.push(ms);
         let target = -plain_report.energy_decrease;
         for ((&method, runner), row) in request.methods.iter().zip(&mut runners).zip(&mut rows) {
-            let control = StepControl {
-                method,
-                tolerance: Some(tolerance),
-                ..control
-            };
+            let control = StepControl { method, ..control };
             let (report, ms) = timed_step(runner, &simulation, &control)?;
             row.0.push(ms);
             row.1.push(report.iterations as f64);
@@ -477,8 +478,16 @@ fn run_over_steps_to_tolerance(
     }
     eprintln!();
     let plain_median = super::timing::median(&mut plain_ms);
+    let rules = [
+        ("--tolerance", request.control.tolerance),
+        ("--energy-tolerance", request.control.energy_tolerance),
+    ]
+    .iter()
+    .filter_map(|(flag, value)| value.map(|v| format!("{flag} {v}")))
+    .collect::<Vec<_>>()
+    .join(" ");
     println!(
-        "{} steps 1-{steps}, --tolerance {tolerance}: median step time against plain-50's \
+        "{} steps 1-{steps}, {rules}: median step time against plain-50's \
          ({plain_median:.3} ms)",
         request.scene.display()
     );

@@ -1,6 +1,6 @@
 //! The flags that choose how each step is solved, shared by `simulate`,
 //! `render`, `view` and `converge`: `--method`, `--tolerance`,
-//! `--iterations`, `--rho`, `--relaxation`, `--window`, `--start`, `--pins`. A command lists
+//! `--energy-tolerance`, `--iterations`, `--rho`, `--relaxation`, `--window`, `--start`, `--pins`. A command lists
 //! the ones it accepts in its flag table ([`super::args::CommandSpec`]); [`apply`] reads those
 //! that were declared.
 
@@ -20,6 +20,13 @@ pub const TOLERANCE: Flag = Flag::value(
     "T",
     "Stop a step once its relative gradient is at most T (between 0 and 1; default: run \
      every iteration).",
+);
+pub const ENERGY_TOLERANCE: Flag = Flag::value(
+    "energy-tolerance",
+    "F",
+    "Stop a step once an iteration lowers its energy by at most F times all it has lowered \
+     it since the first iterate (between 0 and 1; default: no such rule). With --tolerance, \
+     whichever is met first.",
 );
 pub const ITERATIONS: Flag = Flag::value(
     "iterations",
@@ -83,6 +90,11 @@ pub fn apply(args: &Args, options: &mut SimulationOptions) -> Result<(), AppErro
     if args.declares("tolerance") {
         options.tolerance =
             open_unit_interval(args, "tolerance", "a relative gradient")?.or(options.tolerance);
+    }
+    if args.declares("energy-tolerance") {
+        options.energy_tolerance =
+            open_unit_interval(args, "energy-tolerance", "a fraction of the decrease")?
+                .or(options.energy_tolerance);
     }
     if args.declares("rho") {
         options.rho = open_unit_interval(args, "rho", "a spectral radius")?.or(options.rho);

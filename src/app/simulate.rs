@@ -15,7 +15,7 @@
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{
-    self, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START, TOLERANCE, WINDOW,
+    self, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START, TOLERANCE, WINDOW,
 };
 use super::factorization_flags::{self, FACTORIZATION, ORDERING};
 use super::limits::precompute;
@@ -44,6 +44,7 @@ struct Summary {
     /// How each step was solved, and how well.
     method: &'static str,
     tolerance: Option<f64>,
+    energy_tolerance: Option<f64>,
     /// Where each step's iterations started (`current` or `inertial`).
     start: &'static str,
     iterations_median: f64,
@@ -100,6 +101,7 @@ time and the total time.",
         ),
         METHOD,
         TOLERANCE,
+        ENERGY_TOLERANCE,
         ITERATIONS,
         RHO,
         RELAXATION,
@@ -218,6 +220,7 @@ fn simulate<B: LinearAlgebra>(
         backend: B::NAME,
         method: options.method.name(),
         tolerance: options.tolerance,
+        energy_tolerance: options.energy_tolerance,
         start: options.start.name(),
         iterations_median: iterations.median(),
         relative_gradient_median: gradients.median(),
@@ -412,8 +415,11 @@ fn print_summary(scene_path: &Path, s: &Summary) {
     println!("steps            {}", s.steps);
     println!("step (median)    {:.6} s", s.step_median_s);
     let tolerance = s.tolerance.map_or("none".into(), |t| format!("{t:e}"));
+    let energy_tolerance = s
+        .energy_tolerance
+        .map_or(String::new(), |t| format!(", energy tolerance {t:e}"));
     println!(
-        "method           {} (tolerance {tolerance}, start {})",
+        "method           {} (tolerance {tolerance}{energy_tolerance}, start {})",
         s.method, s.start
     );
     println!("iterations       {} per step (median)", s.iterations_median);

@@ -28,6 +28,9 @@ pub struct SimulationOptions {
     pub method: StepMethod,
     /// Stop a step once its relative gradient is at most this.
     pub tolerance: Option<f64>,
+    /// Stop a step once an iteration's energy decrease is at most this
+    /// fraction of the step's decrease so far.
+    pub energy_tolerance: Option<f64>,
     /// Chebyshev's spectral radius (estimated when `None`).
     pub rho: Option<f64>,
     /// Chebyshev's relaxation of each plain step.
@@ -75,6 +78,7 @@ impl SimulationOptions {
             method: self.method,
             iterations: self.iterations,
             tolerance: self.tolerance,
+            energy_tolerance: self.energy_tolerance,
             rho: self.rho,
             relaxation: self.relaxation,
             window: self.window,
@@ -91,6 +95,7 @@ impl Default for SimulationOptions {
             wind: false,
             method: StepMethod::Plain,
             tolerance: None,
+            energy_tolerance: None,
             rho: None,
             relaxation: crate::sim::methods::chebyshev::DEFAULT_RELAXATION,
             window: DEFAULT_WINDOW,

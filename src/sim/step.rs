@@ -16,8 +16,8 @@
 //!
 //! That is the `plain` method of [`methods`](super::methods); the step can
 //! instead run an accelerated one, and stop at a tolerance on the relative
-//! gradient of the step's [`energy`](super::energy) instead of after a fixed
-//! count ([`StepControl`]). It reports the iterations it ran, the energy it
+//! gradient of the step's [`energy`](super::energy), or on the energy's
+//! progress, instead of after a fixed count ([`StepControl`]). It reports the iterations it ran, the energy it
 //! took off and the relative gradient where it stopped. After a method's
 //! first step, a step allocates nothing.
 //!
@@ -173,7 +173,7 @@ pub fn solve_step<B: LinearAlgebra>(
         start_energy: first.energy,
     };
     let mut monitor = Monitor::new(
-        control.tolerance,
+        control,
         first.initial_gradient,
         &mut buffers.gradient,
         observer,
@@ -182,7 +182,7 @@ pub fn solve_step<B: LinearAlgebra>(
         true => Gradient::InRoom, // ∇E at the first iterate is in the room
         false => Gradient::Unknown,
     };
-    monitor.after(0, &context, u_next, start);
+    monitor.after(0, &context, u_next, start, Some(first.energy));
     let workspaces = &mut buffers.methods;
     let outcome: Outcome = match control.method {
         StepMethod::Plain => {
@@ -307,7 +307,8 @@ fn prepare_workspace<B: LinearAlgebra>(
         StepMethod::Plain => {
             // the loop in the factor's order runs with penalty pins and
             // no tolerance (and no observer, known only later)
-            let in_factor_order = system.exact_pins.is_none() && control.tolerance.is_none();
+            let no_rule = control.tolerance.is_none() && control.energy_tolerance.is_none();
+            let in_factor_order = system.exact_pins.is_none() && no_rule;
             if in_factor_order && workspaces.factor_order.is_none() {
                 if let Some(cholesky) = B::as_sparse_cholesky(&mut system.prefactorization) {
                     let new_index = cholesky.symbolic().permutation().inverse();

@@ -41,7 +41,7 @@ mod tests_common;
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{
-    self, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START, TOLERANCE, WINDOW,
+    self, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START, TOLERANCE, WINDOW,
 };
 use super::limits::{check_frames, precompute};
 use super::progress::Progress;
@@ -139,6 +139,7 @@ point mass (always drawn for scenes made only of springs).",
         Flag::switch("json", "Print one JSON object instead of the two lines."),
         METHOD,
         TOLERANCE,
+        ENERGY_TOLERANCE,
         ITERATIONS,
         RHO,
         RELAXATION,

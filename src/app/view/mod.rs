@@ -26,7 +26,7 @@ mod watchers;
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{
-    self, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START, TOLERANCE, WINDOW,
+    self, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START, TOLERANCE, WINDOW,
 };
 use super::factorization_flags::{self, FACTORIZATION, ORDERING};
 use super::limits::precompute;
@@ -85,6 +85,7 @@ shift-drag to pull a vertex. Ctrl-C stops it.",
         Flag::switch("dense", "Dense matrices and Cholesky."),
         METHOD,
         TOLERANCE,
+        ENERGY_TOLERANCE,
         ITERATIONS,
         RHO,
         RELAXATION,

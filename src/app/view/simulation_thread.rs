@@ -439,7 +439,7 @@ impl<B: LinearAlgebra> SimulationThread<B> {
             iterations: report.iterations,
             energy_decrease: report.energy_decrease,
             relative_gradient: report.relative_gradient,
-            converged: report.stop == Stop::Tolerance,
+            converged: matches!(report.stop, Stop::Tolerance | Stop::EnergyTolerance),
         });
     }
 

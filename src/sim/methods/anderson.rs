@@ -296,8 +296,8 @@ pub(crate) fn solve<B: LinearAlgebra>(
         }
         work.retire_g();
         // the last local step was made at `p`
-        if monitor.after(iteration, context, p, Gradient::InRoom) {
-            return Outcome::measured(iteration, Stop::Tolerance, energy);
+        if let Some(stop) = monitor.after(iteration, context, p, Gradient::InRoom, Some(energy)) {
+            return Outcome::measured(iteration, stop, energy);
         }
     }
     Outcome::measured(control.iterations, Stop::Iterations, energy)

@@ -28,9 +28,11 @@
 //! better than 1.5–1.7 (`masssprings converge SCENE --step K --methods
 //! plain,chebyshev --relaxation G`).
 //!
-//! `ρ` is the user's (`--rho`), or estimated once: the first step runs
-//! 20 plain iterations and takes the largest ratio of successive plain
-//! steps `‖xₖ₊₁ − xₖ‖ / ‖xₖ − xₖ₋₁‖` (the ratio creeps up toward the
+//! `ρ` is the user's (`--rho`), or estimated once: the first 20
+//! iterations are plain ones (over as many steps as a stopping rule makes
+//! them take, no ratio taken across two steps), and `ρ` is the largest
+//! ratio of successive plain steps `‖xₖ₊₁ − xₖ‖ / ‖xₖ − xₖ₋₁‖` among
+//! them (the ratio creeps up toward the
 //! asymptotic rate as the fast modes die out, so the largest is the best
 //! guess), capped at 0.995 since an overestimate diverges, and keeps it for
 //! later steps. On the bundled cloths it is 0.97–0.999 and the cap decides.
@@ -80,6 +82,8 @@ pub struct Workspace {
     spare: Vec<[f64; 3]>,
     /// `ρ` measured in an earlier step.
     pub estimated_rho: Option<f64>,
+    /// The measurement of `ρ` while it lasts.
+    estimate: RhoEstimate,
 }
 
 impl Workspace {
@@ -90,6 +94,7 @@ impl Workspace {
             plain: vec![[0.0; 3]; n],
             spare: vec![[0.0; 3]; n],
             estimated_rho: None,
+            estimate: RhoEstimate::default(),
         }
     }
 }
@@ -125,7 +130,7 @@ pub(crate) fn solve<B: LinearAlgebra>(
     monitor: &mut Monitor<'_, '_>,
 ) -> Outcome {
     let mut rho = control.rho.or(work.estimated_rho);
-    let mut estimate = RhoEstimate::default();
+    work.estimate.last_step_norm = 0.0; // no ratio across two steps
     let mut k = 0; // extrapolations since the recurrence (re)started
     let mut omega_k = 1.0;
     // xₖ in `current`, xₖ₋₁ in `previous`; the buffers trade places
@@ -141,7 +146,9 @@ pub(crate) fn solve<B: LinearAlgebra>(
         match rho {
             None => {
                 // Still measuring ρ: a plain iteration.
-                rho = estimate.record(iteration, &work.current, &work.plain, &mut work.spare);
+                rho = work
+                    .estimate
+                    .record(&work.current, &work.plain, &mut work.spare);
                 work.estimated_rho = work.estimated_rho.or(rho);
                 work.take_plain();
                 energy = context.local_step_measuring(&work.current, monitor.room_for_gradient());
@@ -165,9 +172,12 @@ pub(crate) fn solve<B: LinearAlgebra>(
             }
         }
         // the last local step was made at `work.current`
-        if monitor.after(iteration, context, &work.current, Gradient::InRoom) {
+        let current = &work.current;
+        if let Some(stop) =
+            monitor.after(iteration, context, current, Gradient::InRoom, Some(energy))
+        {
             outcome.iterations = iteration;
-            outcome.stop = Stop::Tolerance;
+            outcome.stop = stop;
             break;
         }
     }
@@ -202,9 +212,10 @@ fn extrapolate<B: LinearAlgebra>(
     context.global.hold_pins(&mut work.previous);
 }
 
-/// The measurement of `ρ` from the first plain steps of the first step.
-#[derive(Debug, Default)]
+/// The measurement of `ρ` from the first plain iterations.
+#[derive(Debug, Default, Clone)]
 struct RhoEstimate {
+    recorded: usize,
     last_step_norm: f64,
     largest_ratio: f64,
 }
@@ -214,7 +225,6 @@ impl RhoEstimate {
     /// [`ESTIMATION_ITERATIONS`] have been recorded.
     fn record(
         &mut self,
-        iteration: usize,
         x: &[[f64; 3]],
         x_hat: &[[f64; 3]],
         scratch: &mut [[f64; 3]],
@@ -225,6 +235,41 @@ impl RhoEstimate {
             self.largest_ratio = self.largest_ratio.max(step_norm / self.last_step_norm);
         }
         self.last_step_norm = step_norm;
-        (iteration == ESTIMATION_ITERATIONS).then(|| self.largest_ratio.min(RHO_CAP))
+        self.recorded += 1;
+        (self.recorded == ESTIMATION_ITERATIONS).then(|| self.largest_ratio.min(RHO_CAP))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{RhoEstimate, ESTIMATION_ITERATIONS, RHO_CAP};
+
+    /// Records plain steps of the given lengths (`x̂ − x` along one axis).
+    fn record(estimate: &mut RhoEstimate, lengths: &[f64]) -> Vec<Option<f64>> {
+        let (x, mut x_hat, mut scratch) = (vec![[0.0; 3]], vec![[0.0; 3]], vec![[0.0; 3]]);
+        lengths
+            .iter()
+            .map(|&length| {
+                x_hat[0][0] = length;
+                estimate.record(&x, &x_hat, &mut scratch)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn rho_is_measured_over_twenty_plain_iterations_however_many_steps_they_take() {
+        let mut estimate = RhoEstimate::default();
+        // a first step of 12 iterations, contracting by 0.9
+        let first: Vec<f64> = (0..12).map(|k| 0.9f64.powi(k)).collect();
+        assert!(record(&mut estimate, &first).iter().all(Option::is_none));
+        // the next step starts afresh (a larger step than the last one):
+        // that ratio must not count
+        estimate.last_step_norm = 0.0;
+        let second: Vec<f64> = (0..8).map(|k| 5.0 * 0.8f64.powi(k)).collect();
+        let results = record(&mut estimate, &second);
+        assert!(results[..7].iter().all(Option::is_none));
+        let rho = results[7].expect("measured at the 20th plain iteration");
+        assert_eq!(ESTIMATION_ITERATIONS, 20);
+        assert!((rho - 0.9).abs() < 1e-12 && rho <= RHO_CAP, "{rho}");
     }
 }

@@ -211,8 +211,9 @@ pub(crate) fn solve<B: LinearAlgebra>(
         if s_y > 0.0 {
             work.commit(s_y);
         }
-        if monitor.after(iteration, context, p, Gradient::Given(&work.gradient)) {
-            return Outcome::measured(iteration, Stop::Tolerance, energy);
+        let gradient = Gradient::Given(&work.gradient);
+        if let Some(stop) = monitor.after(iteration, context, p, gradient, Some(energy)) {
+            return Outcome::measured(iteration, stop, energy);
         }
     }
     Outcome::measured(control.iterations, Stop::Iterations, energy)

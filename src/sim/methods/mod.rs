@@ -3,8 +3,9 @@
 //! A step minimises the energy `E` of [`energy`](super::energy). The
 //! assignment runs 50 local/global iterations and stops; each method here
 //! instead iterates until the relative gradient over the free vertices,
-//! `‖∇E(p)‖ / ‖∇E(p⁰)‖`, falls below a tolerance, or a budget of iterations
-//! is spent:
+//! `‖∇E(p)‖ / ‖∇E(p⁰)‖`, falls below a tolerance (or an iteration lowers
+//! the energy by at most a given fraction of the step's decrease so far:
+//! the energy tolerance), or a budget of iterations is spent:
 //!
 //! | method | one iteration | file |
 //! |---|---|---|
@@ -146,6 +147,10 @@ pub struct StepControl {
     /// Stop once `‖∇E(p)‖ / ‖∇E(p⁰)‖` over the free vertices is at most
     /// this; `None` runs all `iterations`.
     pub tolerance: Option<f64>,
+    /// Stop once the last iteration's energy decrease is at most this
+    /// fraction of the decrease since the first iterate (see
+    /// [`Monitor::after`]); `None`: no such rule.
+    pub energy_tolerance: Option<f64>,
     /// Chebyshev's spectral radius `ρ`; `None` estimates it.
     pub rho: Option<f64>,
     /// Chebyshev's relaxation `γ` of each plain step (1: none).
@@ -168,6 +173,7 @@ impl Default for StepControl {
             method: StepMethod::Plain,
             iterations: super::step::ITERATIONS,
             tolerance: None,
+            energy_tolerance: None,
             rho: None,
             relaxation: chebyshev::DEFAULT_RELAXATION,
             window: DEFAULT_WINDOW,
@@ -183,6 +189,8 @@ pub enum Stop {
     Iterations,
     /// The relative gradient reached the tolerance.
     Tolerance,
+    /// The energy's progress fell to the energy tolerance.
+    EnergyTolerance,
     /// The line search found no lower energy: the iterate is as good as
     /// rounding lets this method make it.
     Stalled,
@@ -400,6 +408,10 @@ pub(crate) enum Gradient<'g> {
 /// The stopping rule and the observer, consulted after every iteration.
 pub(crate) struct Monitor<'a, 'o> {
     tolerance: Option<f64>,
+    energy_tolerance: Option<f64>,
+    /// `E − E(p⁰)` at the first iterate and at the last one recorded.
+    first_energy: f64,
+    last_energy: f64,
     /// `‖∇E(p⁰)‖` over the free vertices.
     initial_gradient: f64,
     /// Room for a gradient, when the method did not compute one.
@@ -411,13 +423,16 @@ pub(crate) struct Monitor<'a, 'o> {
 
 impl<'a, 'o> Monitor<'a, 'o> {
     pub fn new(
-        tolerance: Option<f64>,
+        control: &StepControl,
         initial_gradient: f64,
         gradient: &'a mut [[f64; 3]],
         observer: Option<Observer<'o>>,
     ) -> Self {
         Monitor {
-            tolerance,
+            tolerance: control.tolerance,
+            energy_tolerance: control.energy_tolerance,
+            first_energy: 0.0,
+            last_energy: 0.0,
             initial_gradient,
             gradient,
             observer,
@@ -428,10 +443,15 @@ impl<'a, 'o> Monitor<'a, 'o> {
     /// The room for a gradient when nothing will need it before the step
     /// ends (no tolerance, no observer), as scratch for the iterations.
     pub fn unused_room(&mut self) -> Option<&mut [[f64; 3]]> {
-        match (self.tolerance, &self.observer) {
-            (None, None) => Some(&mut *self.gradient),
+        match (self.tests_iterates(), &self.observer) {
+            (false, None) => Some(&mut *self.gradient),
             _ => None,
         }
+    }
+
+    /// Is there a stopping rule to test at each iterate?
+    pub fn tests_iterates(&self) -> bool {
+        self.tolerance.is_some() || self.energy_tolerance.is_some()
     }
 
     /// Room for `∇E` at the next iterate, when the stopping rule will test
@@ -449,17 +469,27 @@ impl<'a, 'o> Monitor<'a, 'o> {
         self.gradient
     }
 
-    /// After iteration `iteration` reached `p`: shows it to the observer,
-    /// and says whether the tolerance is met. `gradient` says what is known
-    /// of `∇E(p)`; when nothing is, it is computed, only if there is a
-    /// tolerance to test.
+    /// After iteration `iteration` reached `p` (iteration 0: the first
+    /// iterate), whose energy `E(p) − E(p⁰)` is `energy` when the method
+    /// measured it: shows it to the observer, and says which stopping rule
+    /// is met, if any. `gradient` says what is known of `∇E(p)`; when
+    /// nothing is, it is computed, only if there is a tolerance to test;
+    /// an energy not given is computed only for the energy tolerance.
+    ///
+    /// The energy rule: with `Eⱼ` the energy at iterate `j`, stop at
+    /// iteration `k ≥ 1` once `0 ≤ Eₖ₋₁ − Eₖ ≤ T (E₀ − Eₖ)`, the last
+    /// decrease at most `T` times all the decrease since the first iterate
+    /// (the relative-progress rule of projective-dynamics codes; like
+    /// `ftol` of L-BFGS-B, but relative to the step's own decrease, since
+    /// `E` itself is large and carries the pins' penalty).
     pub fn after<B: LinearAlgebra>(
         &mut self,
         iteration: usize,
         context: &StepContext<'_, B>,
         p: &[[f64; 3]],
         gradient: Gradient<'_>,
-    ) -> bool {
+        energy: Option<f64>,
+    ) -> Option<Stop> {
         if let Some(observer) = self.observer.as_mut() {
             observer(&Iterate {
                 iteration,
@@ -469,9 +499,14 @@ impl<'a, 'o> Monitor<'a, 'o> {
             });
         }
         self.relative_gradient = None;
-        let Some(tolerance) = self.tolerance else {
-            return false;
-        };
+        if self.energy_tolerance.is_some() {
+            let energy = energy.unwrap_or_else(|| context.energy.change(p).total());
+            let progress_stalled = self.energy_progress_stalled(iteration, energy);
+            if progress_stalled {
+                return Some(Stop::EnergyTolerance);
+            }
+        }
+        let tolerance = self.tolerance?;
         let norm = match gradient {
             Gradient::Given(g) => free_norm(g, context.pinned),
             Gradient::InRoom => free_norm(self.gradient, context.pinned),
@@ -482,7 +517,20 @@ impl<'a, 'o> Monitor<'a, 'o> {
         };
         let relative = relative_gradient(norm, self.initial_gradient);
         self.relative_gradient = Some(relative);
-        relative <= tolerance
+        (relative <= tolerance).then_some(Stop::Tolerance)
+    }
+
+    /// Records the energy of iterate `iteration` and says whether the
+    /// energy rule stops there.
+    fn energy_progress_stalled(&mut self, iteration: usize, energy: f64) -> bool {
+        let last = std::mem::replace(&mut self.last_energy, energy);
+        if iteration == 0 {
+            self.first_energy = energy;
+            return false;
+        }
+        let tolerance = self.energy_tolerance.unwrap_or(0.0);
+        let decrease = last - energy;
+        (0.0..=tolerance * (self.first_energy - energy)).contains(&decrease)
     }
 
     /// The relative gradient at `p`, the last iterate (computed unless the

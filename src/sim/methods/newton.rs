@@ -198,8 +198,9 @@ pub(crate) fn solve<B: LinearAlgebra>(
         energy = new_energy;
         work.relax(t);
         context.energy.gradient(p, &mut work.gradient);
-        if monitor.after(iteration, context, p, Gradient::Given(&work.gradient)) {
-            return Outcome::new(iteration, Stop::Tolerance);
+        let gradient = Gradient::Given(&work.gradient);
+        if let Some(stop) = monitor.after(iteration, context, p, gradient, Some(energy)) {
+            return Outcome::measured(iteration, stop, energy);
         }
     }
     Outcome::new(control.iterations, Stop::Iterations)

@@ -40,7 +40,7 @@ pub(crate) fn solve<B: LinearAlgebra>(
     p: &mut [[f64; 3]],
     monitor: &mut Monitor<'_, '_>,
 ) -> Outcome {
-    if monitor.room_for_gradient().is_some() {
+    if monitor.tests_iterates() {
         return solve_to_tolerance(context, control, p, monitor);
     }
     if let (Some(work), Some(room)) = (work, monitor.unused_room()) {
@@ -50,7 +50,7 @@ pub(crate) fn solve<B: LinearAlgebra>(
     }
     for iteration in 1..=control.iterations {
         context.global.iterate_in_place(p);
-        monitor.after(iteration, context, p, Gradient::Unknown); // no rule: only observed
+        monitor.after(iteration, context, p, Gradient::Unknown, None); // no rule: only observed
     }
     Outcome::new(control.iterations, Stop::Iterations)
 }
@@ -68,8 +68,8 @@ fn solve_to_tolerance<B: LinearAlgebra>(
     for iteration in 1..=control.iterations {
         context.global_step(p);
         energy = context.local_step_measuring(p, monitor.room_for_gradient());
-        if monitor.after(iteration, context, p, Gradient::InRoom) {
-            return Outcome::measured(iteration, Stop::Tolerance, energy);
+        if let Some(stop) = monitor.after(iteration, context, p, Gradient::InRoom, Some(energy)) {
+            return Outcome::measured(iteration, stop, energy);
         }
     }
     Outcome::measured(control.iterations, Stop::Iterations, energy)
