@@ -432,9 +432,10 @@ fn run_over_steps(request: &Request, steps: usize) -> Result<(), AppError> {
 /// `--steps S --tolerance T` (or `--energy-tolerance F`, or both): for
 /// each of the canonical steps 1…S, each method solves the step as
 /// `simulate` with the same rules would (stopping by them, nobody
-/// watching), timed whole; so does plain with 50 iterations. Prints, per method, the median step time, its ratio to
-/// plain-50's, the median iterations, and on how many steps the method
-/// ended at or below plain-50's energy (the accuracy it is compared at).
+/// watching), timed whole; so does plain with 50 iterations. Prints, per
+/// method, the median step time, its ratio to plain-50's, the median
+/// iterations, and on how many steps the method ended at or below
+/// plain-50's energy (the accuracy it is compared at).
 fn run_over_steps_to_tolerance(request: &Request, steps: usize) -> Result<(), AppError> {
     let scene = load_scene(&request.scene)?;
     let mut simulation = precompute::<Sparse>(&scene, &request.scene, request.canonical)?;

@@ -1,7 +1,8 @@
 //! The flags that choose how each step is solved, shared by `simulate`,
 //! `render`, `view` and `converge`: `--method`, `--tolerance`,
-//! `--energy-tolerance`, `--iterations`, `--rho`, `--relaxation`, `--window`, `--start`, `--pins`. A command lists
-//! the ones it accepts in its flag table ([`super::args::CommandSpec`]); [`apply`] reads those
+//! `--energy-tolerance`, `--iterations`, `--rho`, `--relaxation`,
+//! `--window`, `--start`, `--pins`. A command lists the ones it accepts in
+//! its flag table ([`super::args::CommandSpec`]); [`apply`] reads those
 //! that were declared.
 
 use super::args::{Args, Flag};

@@ -31,11 +31,10 @@
 //! `ρ` is the user's (`--rho`), or estimated once: the first 20
 //! iterations are plain ones (over as many steps as a stopping rule makes
 //! them take, no ratio taken across two steps), and `ρ` is the largest
-//! ratio of successive plain steps `‖xₖ₊₁ − xₖ‖ / ‖xₖ − xₖ₋₁‖` among
-//! them (the ratio creeps up toward the
-//! asymptotic rate as the fast modes die out, so the largest is the best
-//! guess), capped at 0.995 since an overestimate diverges, and keeps it for
-//! later steps. On the bundled cloths it is 0.97–0.999 and the cap decides.
+//! ratio of successive plain steps `‖xₖ₊₁ − xₖ‖ / ‖xₖ − xₖ₋₁‖` among them
+//! (the ratio creeps up toward the asymptotic rate as the fast modes die
+//! out, so the largest is the best guess), capped at 0.995 since an
+//! overestimate diverges, and kept for later steps. On the bundled cloths it is 0.97–0.999 and the cap decides.
 //!
 //! `G` is nonlinear, so the extrapolation can overshoot: when the energy
 //! rises, the iterate is replaced by the plain `x̂ₖ₊₁` (whose energy never
