@@ -908,3 +908,26 @@ fn the_method_and_tolerance_apply_to_later_steps_and_show_in_the_history() {
     }
     assert_eq!(viewer.status()["method"], "newton");
 }
+
+#[test]
+fn the_energy_tolerance_applies_to_later_steps_and_shows_in_the_status() {
+    let viewer = Viewer::start("flag.json");
+    assert_eq!(viewer.status()["energy_tolerance"], Value::Null);
+    let command = json!({"command": "set_method", "method": "chebyshev", "tolerance": null,
+        "energy_tolerance": 0.1});
+    let set = viewer.post_command(&command);
+    assert_eq!(set.status, 200, "{}", set.text());
+    assert_eq!(set.json()["energy_tolerance"], json!(0.1));
+    let stepped = viewer.command("step");
+    let record = &stepped["history"][0];
+    // the rule stops the flag's first step long before 50 iterations
+    assert!(record["iterations"].as_u64().unwrap() < 50, "{record}");
+    assert_eq!(record["converged"], true, "{record}");
+    let bad = json!({"command": "set_method", "method": "plain", "tolerance": null,
+        "energy_tolerance": 1.5});
+    assert_eq!(viewer.post_command(&bad).status, 409, "{bad}");
+    // absent: no such rule
+    let plain = viewer.post_command(&json!({"command": "set_method", "method": "plain",
+        "tolerance": null}));
+    assert_eq!(plain.json()["energy_tolerance"], Value::Null);
+}

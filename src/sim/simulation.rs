@@ -375,6 +375,11 @@ impl<B: LinearAlgebra> Simulation<B> {
         self.options.tolerance = tolerance;
     }
 
+    /// Stops later steps by the energy's progress (`None`: no such rule).
+    pub fn set_energy_tolerance(&mut self, energy_tolerance: Option<f64>) {
+        self.options.energy_tolerance = energy_tolerance;
+    }
+
     /// Where later steps start their iterations.
     pub fn set_start(&mut self, start: Start) {
         self.options.start = start;

@@ -50,12 +50,16 @@ pub enum Command {
     /// Switch to scene `scene` of [`Status::scenes`] (paused, at rest).
     LoadScene { scene: usize },
     /// Solve later steps by `method` (one of [`Status::methods`]), stopping
-    /// at relative gradient `tolerance` (`null`: run every iteration).
-    /// Nothing is refactored: every method uses the same `Q`. `start`
-    /// (`current` or `inertial`, see `--start`) is kept when absent.
+    /// at relative gradient `tolerance` (`null`: run every iteration) or
+    /// at `energy_tolerance` (see `--energy-tolerance`; `null` or absent:
+    /// no such rule). Nothing is refactored: every method uses the same
+    /// `Q`. `start` (`current` or `inertial`, see `--start`) is kept when
+    /// absent.
     SetMethod {
         method: String,
         tolerance: Option<f64>,
+        #[serde(default)]
+        energy_tolerance: Option<f64>,
         #[serde(default)]
         start: Option<String>,
     },
@@ -121,6 +125,8 @@ pub struct Status {
     pub methods: Vec<&'static str>,
     /// The relative gradient a step stops at (`None`: every iteration).
     pub tolerance: Option<f64>,
+    /// The energy tolerance (`--energy-tolerance`), if any.
+    pub energy_tolerance: Option<f64>,
     /// Where a step's iterations start (`current` or `inertial`).
     pub start: &'static str,
     /// How long the last rebuild and refactorization of `Q` took
@@ -254,17 +260,19 @@ mod tests {
             Command::SetMethod {
                 method: "lbfgs".into(),
                 tolerance: None,
+                energy_tolerance: None,
                 start: None
             }
         );
         assert_eq!(
             parse(
-                r#"{"command":"set_method","method":"plain","tolerance":0.5,"start":"inertial"}"#
+                r#"{"command":"set_method","method":"plain","tolerance":0.5,"energy_tolerance":0.1,"start":"inertial"}"#
             )
             .unwrap(),
             Command::SetMethod {
                 method: "plain".into(),
                 tolerance: Some(0.5),
+                energy_tolerance: Some(0.1),
                 start: Some("inertial".into())
             }
         );

@@ -296,21 +296,34 @@ impl<B: LinearAlgebra> SimulationThread<B> {
             Command::SetMethod {
                 method,
                 tolerance,
+                energy_tolerance,
                 start,
-            } => self.set_method(&method, tolerance, start.as_deref()),
+            } => self.set_method(&method, [tolerance, energy_tolerance], start.as_deref()),
         }
     }
 
-    /// Another method, tolerance or start for later steps.
-    fn set_method(&mut self, method: &str, tolerance: Option<f64>, start: Option<&str>) -> Reply {
+    /// Another method, tolerances (the relative gradient's and the
+    /// energy's) or start for later steps.
+    fn set_method(
+        &mut self,
+        method: &str,
+        [tolerance, energy_tolerance]: [Option<f64>; 2],
+        start: Option<&str>,
+    ) -> Reply {
         let method: StepMethod = method.parse()?;
-        if let Some(t) = tolerance {
-            if !(t > 0.0 && t < 1.0) {
-                return Err(format!("tolerance {t}: expected between 0 and 1"));
+        for (what, value) in [
+            ("tolerance", tolerance),
+            ("energy tolerance", energy_tolerance),
+        ] {
+            if let Some(t) = value {
+                if !(t > 0.0 && t < 1.0) {
+                    return Err(format!("{what} {t}: expected between 0 and 1"));
+                }
             }
         }
         let start: Option<Start> = start.map(str::parse).transpose()?;
         self.simulation.set_method(method, tolerance);
+        self.simulation.set_energy_tolerance(energy_tolerance);
         if let Some(start) = start {
             self.simulation.set_start(start);
         }
@@ -382,6 +395,7 @@ impl<B: LinearAlgebra> SimulationThread<B> {
             wind: current.wind,
             method: current.method,
             tolerance: current.tolerance,
+            energy_tolerance: current.energy_tolerance,
             start: current.start,
             ..SimulationOptions::default()
         };
@@ -545,6 +559,7 @@ impl<B: LinearAlgebra> SimulationThread<B> {
         status.iterations = self.simulation.options().iterations;
         status.method = self.simulation.options().method.name();
         status.tolerance = self.simulation.options().tolerance;
+        status.energy_tolerance = self.simulation.options().energy_tolerance;
         status.start = self.simulation.options().start.name();
         status.refactor_ms = self.refactor.map(|d| 1e3 * d.as_secs_f64());
         status.scene_index = self.scene_index;

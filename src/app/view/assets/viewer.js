@@ -765,7 +765,8 @@ function updateOverlay() {
   } else {
     running = `animating (while a page shows it: ${s.pages} now)`;
   }
-  const tolerance = s.tolerance === null ? 'all iterations' : `tolerance ${s.tolerance.toExponential(0)}`;
+  const tolerance = (s.tolerance === null ? 'all iterations' : `tolerance ${s.tolerance.toExponential(0)}`)
+    + (s.energy_tolerance === null ? '' : ` · energy tolerance ${s.energy_tolerance.toExponential(0)}`);
   const last = s.history.length > 0 ? s.history[s.history.length - 1] : null;
   const lines = [
     `${s.scene} · ${s.backend} · n ${s.n} · springs ${s.springs}`,
@@ -844,7 +845,7 @@ function drawPlot() {
 // ---------------------------------------------------------------------------
 // The controls panel: buttons (the keys' commands), the scene picker, and
 // sliders for k (log scale), Δt, the mass scale (log scale) and the
-// iterations, plus the method, the tolerance and the start. A slider shows its value
+// iterations, plus the method, the two tolerances and the start. A slider shows its value
 // while it moves and sends set_parameters when let go.
 
 const controls = {
@@ -858,6 +859,7 @@ const controls = {
   scene: document.getElementById('scene'),
   method: document.getElementById('method'),
   tolerance: document.getElementById('tolerance'),
+  energyTolerance: document.getElementById('energy_tolerance'),
   start: document.getElementById('start'),
 };
 
@@ -884,12 +886,22 @@ function sendParameters(name) {
   return send({ command: 'set_parameters', ...parameters });
 }
 
+/** A tolerance slider's position (decades, 0: off) as the value sent. */
+function fromDecades(decades) {
+  return decades > 0 ? 10 ** -decades : null;
+}
+
+/** A tolerance (`null`: off) as a slider's position in decades. */
+function toDecades(tolerance) {
+  return tolerance === null ? 0 : Math.round(-Math.log10(tolerance));
+}
+
 function sendMethod() {
-  const tolerance = Number(controls.tolerance.value);
   return send({
     command: 'set_method',
     method: controls.method.value,
-    tolerance: tolerance > 0 ? 10 ** -tolerance : null,
+    tolerance: fromDecades(Number(controls.tolerance.value)),
+    energy_tolerance: fromDecades(Number(controls.energyTolerance.value)),
     start: controls.start.checked ? 'inertial' : 'current',
   });
 }
@@ -914,9 +926,14 @@ controls.scene.addEventListener('change', () => {
 });
 controls.method.addEventListener('change', sendMethod);
 controls.tolerance.addEventListener('change', sendMethod);
+controls.energyTolerance.addEventListener('change', sendMethod);
 controls.start.addEventListener('change', sendMethod);
 controls.tolerance.addEventListener('input', () => {
   document.getElementById('tolerance-value').textContent = toleranceText(Number(controls.tolerance.value));
+});
+controls.energyTolerance.addEventListener('input', () => {
+  document.getElementById('energy_tolerance-value').textContent =
+    toleranceText(Number(controls.energyTolerance.value));
 });
 
 function toleranceText(decades) {
@@ -941,9 +958,14 @@ function syncControls() {
   if (document.activeElement !== controls.method) controls.method.value = s.method;
   if (document.activeElement !== controls.start) controls.start.checked = s.start === 'inertial';
   if (document.activeElement !== controls.tolerance) {
-    const decades = s.tolerance === null ? 0 : Math.round(-Math.log10(s.tolerance));
+    const decades = toDecades(s.tolerance);
     controls.tolerance.value = String(decades);
     document.getElementById('tolerance-value').textContent = toleranceText(decades);
+  }
+  if (document.activeElement !== controls.energyTolerance) {
+    const decades = toDecades(s.energy_tolerance);
+    controls.energyTolerance.value = String(decades);
+    document.getElementById('energy_tolerance-value').textContent = toleranceText(decades);
   }
   for (const name of Object.keys(SLIDERS)) {
     const input = document.getElementById(name);
@@ -984,7 +1006,7 @@ function nextMethod() {
   const s = state.status;
   if (!s) return;
   const next = s.methods[(s.methods.indexOf(s.method) + 1) % s.methods.length];
-  send({ command: 'set_method', method: next, tolerance: s.tolerance });
+  send({ command: 'set_method', method: next, tolerance: s.tolerance, energy_tolerance: s.energy_tolerance });
 }
 
 window.addEventListener('keydown', (event) => {
