@@ -169,8 +169,7 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
         ..SimulationOptions::default()
     };
     convergence_flags::apply(&args, &mut sim_options)?;
-    let a_rule = sim_options.tolerance.is_some() || sim_options.energy_tolerance.is_some();
-    if a_rule && args.count("steps", 0, 0)? == 0 {
+    if sim_options.step_control().has_stopping_rule() && args.count("steps", 0, 0)? == 0 {
         return Err(AppError::Usage(
             "--tolerance and --energy-tolerance need --steps S (one step's curves always run \
              every iteration)"
@@ -372,8 +371,7 @@ fn curves_for_plot(curves: &[Curve]) -> Vec<super::convergence_plot::PlotCurve> 
 /// (the accuracy the assignment settles for); prints, per method, the
 /// median over the steps and its ratio to plain-50's median.
 fn run_over_steps(request: &Request, steps: usize) -> Result<(), AppError> {
-    let control = &request.control;
-    if control.tolerance.is_some() || control.energy_tolerance.is_some() {
+    if request.control.has_stopping_rule() {
         return run_over_steps_to_tolerance(request, steps);
     }
     let scene = load_scene(&request.scene)?;

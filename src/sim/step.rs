@@ -17,9 +17,9 @@
 //! That is the `plain` method of [`methods`](super::methods); the step can
 //! instead run an accelerated one, and stop at a tolerance on the relative
 //! gradient of the step's [`energy`](super::energy), or on the energy's
-//! progress, instead of after a fixed count ([`StepControl`]). It reports the iterations it ran, the energy it
-//! took off and the relative gradient where it stopped. After a method's
-//! first step, a step allocates nothing.
+//! progress, instead of after a fixed count ([`StepControl`]). It reports
+//! the iterations it ran, the energy it took off and the relative gradient
+//! where it stopped. After a method's first step, a step allocates nothing.
 //!
 //! The iterations start at `pᵗ` (the assignment's start) or, with
 //! `--start inertial`, at the inertial prediction `2pᵗ − pᵗ⁻ᐞᵗ` when its
@@ -307,8 +307,7 @@ fn prepare_workspace<B: LinearAlgebra>(
         StepMethod::Plain => {
             // the loop in the factor's order runs with penalty pins and
             // no tolerance (and no observer, known only later)
-            let no_rule = control.tolerance.is_none() && control.energy_tolerance.is_none();
-            let in_factor_order = system.exact_pins.is_none() && no_rule;
+            let in_factor_order = system.exact_pins.is_none() && !control.has_stopping_rule();
             if in_factor_order && workspaces.factor_order.is_none() {
                 if let Some(cholesky) = B::as_sparse_cholesky(&mut system.prefactorization) {
                     let new_index = cholesky.symbolic().permutation().inverse();

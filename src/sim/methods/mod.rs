@@ -161,6 +161,14 @@ pub struct StepControl {
     pub start: Start,
 }
 
+impl StepControl {
+    /// Does a stopping rule (either tolerance) end steps before
+    /// `iterations`?
+    pub fn has_stopping_rule(&self) -> bool {
+        self.tolerance.is_some() || self.energy_tolerance.is_some()
+    }
+}
+
 /// The history window of Anderson and L-BFGS when none is given.
 pub const DEFAULT_WINDOW: usize = 5;
 
@@ -499,10 +507,9 @@ impl<'a, 'o> Monitor<'a, 'o> {
             });
         }
         self.relative_gradient = None;
-        if self.energy_tolerance.is_some() {
+        if let Some(fraction) = self.energy_tolerance {
             let energy = energy.unwrap_or_else(|| context.energy.change(p).total());
-            let progress_stalled = self.energy_progress_stalled(iteration, energy);
-            if progress_stalled {
+            if self.energy_rule_met(fraction, iteration, energy) {
                 return Some(Stop::EnergyTolerance);
             }
         }
@@ -521,16 +528,15 @@ impl<'a, 'o> Monitor<'a, 'o> {
     }
 
     /// Records the energy of iterate `iteration` and says whether the
-    /// energy rule stops there.
-    fn energy_progress_stalled(&mut self, iteration: usize, energy: f64) -> bool {
+    /// energy rule with tolerance `fraction` stops there.
+    fn energy_rule_met(&mut self, fraction: f64, iteration: usize, energy: f64) -> bool {
         let last = std::mem::replace(&mut self.last_energy, energy);
         if iteration == 0 {
             self.first_energy = energy;
             return false;
         }
-        let tolerance = self.energy_tolerance.unwrap_or(0.0);
         let decrease = last - energy;
-        (0.0..=tolerance * (self.first_energy - energy)).contains(&decrease)
+        (0.0..=fraction * (self.first_energy - energy)).contains(&decrease)
     }
 
     /// The relative gradient at `p`, the last iterate (computed unless the
