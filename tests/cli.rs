@@ -56,6 +56,20 @@ fn analyze_reports_every_key_and_a_small_residual() {
             .nnz()
     );
     assert!(report["residual"].as_f64().unwrap() < 1e-12, "{report}");
+    // the supernodes by width: every supernode in one class, all of L
+    let classes = report["supernodes_by_width"].as_array().unwrap();
+    let count: u64 = classes
+        .iter()
+        .map(|c| c["supernodes"].as_u64().unwrap())
+        .sum();
+    let share: f64 = classes
+        .iter()
+        .map(|c| c["share_of_l"].as_f64().unwrap())
+        .sum();
+    assert_eq!(count as usize, symbolic.supernodes().len(), "{report}");
+    assert!((share - 1.0).abs() < 1e-12, "{report}");
+    assert_eq!(classes[0]["widest"], 1);
+    assert_eq!(classes.last().unwrap()["widest"], serde_json::Value::Null);
     // Cholesky is backward stable: a few units of roundoff (2⁻⁵³ ≈ 1.1e-16)
     let backward_error = report["backward_error"].as_f64().unwrap();
     assert!((0.0..1e-15).contains(&backward_error), "{report}");

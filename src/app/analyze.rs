@@ -35,6 +35,47 @@ pub(super) struct Analysis {
     method: &'static str,
     /// Runs behind each median: ordering, symbolic, numeric, solve.
     runs: [usize; 4],
+    /// The supernodes by width (columns), and their share of the stored
+    /// entries of `L`: narrow ones read a gathered row of `x` per entry,
+    /// which bounds the solve's bandwidth (`docs/performance.md`).
+    supernodes_by_width: Vec<WidthClass>,
+}
+
+/// The supernodes of `widest` columns or fewer (`None`: any number) and
+/// more than the class before, how many there are and their share of `L`'s
+/// stored entries.
+#[derive(Debug, serde::Serialize)]
+pub(super) struct WidthClass {
+    widest: Option<usize>,
+    supernodes: usize,
+    share_of_l: f64,
+}
+
+/// Upper bounds of the width classes; the last takes every wider one.
+const WIDTH_CLASSES: [Option<usize>; 6] = [Some(1), Some(4), Some(16), Some(64), Some(256), None];
+
+/// The supernodes of `symbolic` in [`WIDTH_CLASSES`].
+fn supernodes_by_width(symbolic: &SymbolicCholesky) -> Vec<WidthClass> {
+    let (supernodes, col_ptr) = (symbolic.supernodes(), symbolic.col_ptr());
+    let mut classes: Vec<WidthClass> = WIDTH_CLASSES
+        .iter()
+        .map(|&widest| WidthClass {
+            widest,
+            supernodes: 0,
+            share_of_l: 0.0,
+        })
+        .collect();
+    for s in 0..supernodes.len() {
+        let columns = supernodes.columns(s);
+        let entries = col_ptr[columns.end] - col_ptr[columns.start];
+        let class = classes
+            .iter_mut()
+            .find(|c| c.widest.is_none_or(|widest| columns.len() <= widest))
+            .expect("the last class takes every width");
+        class.supernodes += 1;
+        class.share_of_l += entries as f64 / symbolic.nnz_l() as f64;
+    }
+    classes
 }
 
 /// `analyze`'s operands and flags.
@@ -47,7 +88,8 @@ Sparse Cholesky of a symmetric positive definite Matrix Market matrix: n,
 nnz, nnz(L), flops, median times of ordering, symbolic analysis, numeric
 factorization and a 3-column solve, its relative residual and its backward
 error (the relative residual can be large for an accurate solve of a matrix
-with huge entries, such as the pins' w = 1e10; the backward error cannot).
+with huge entries, such as the pins' w = 1e10; the backward error cannot),
+and for the supernodal method the supernodes by width with their share of L.
 The right-hand side is MATRIX.b.mtx (an n×3 array) when it exists.",
     flags: &[
         Flag::value(
@@ -169,6 +211,10 @@ pub(super) fn analyze(
     let nnz_l_stored = symbolic.nnz_l();
     let nnz_l = nnz_l_stored - symbolic.explicit_zeros();
     let flops = symbolic.flops();
+    let by_width = match method {
+        Method::Supernodal => supernodes_by_width(&symbolic),
+        Method::Simplicial => Vec::new(),
+    };
     let mut cholesky = SparseCholesky::factor(symbolic, lower, method)?;
     let (numeric_s, numeric_runs) = median_seconds(repeats, || {
         cholesky.refactor(lower).expect("factored once already");
@@ -196,6 +242,7 @@ pub(super) fn analyze(
             Method::Simplicial => "simplicial",
         },
         runs: [ordering_runs, symbolic_runs, numeric_runs, solve_runs],
+        supernodes_by_width: by_width,
     })
 }
 
@@ -296,6 +343,20 @@ fn print_table(path: &Path, a: &Analysis) {
     ];
     for (label, value) in rows {
         println!("{label:<19}{value}");
+    }
+    let mut narrowest = 1;
+    for class in &a.supernodes_by_width {
+        let widths = match (narrowest, class.widest) {
+            (low, None) => format!("width ≥ {low}"),
+            (low, Some(high)) if low == high => format!("width {low}"),
+            (low, Some(high)) => format!("width {low}–{high}"),
+        };
+        println!(
+            "{widths:<19}{} supernodes, {:.1}% of L",
+            class.supernodes,
+            100.0 * class.share_of_l
+        );
+        narrowest = class.widest.map_or(narrowest, |widest| widest + 1);
     }
     let [ordering, symbolic, numeric, solve] = a.runs;
     println!("(medians of {ordering}, {symbolic}, {numeric} and {solve} runs)");
