@@ -1,8 +1,9 @@
 //! `masssprings converge` as a user runs it: the CSV has the documented
 //! header and one row per method and iteration, iteration 0 included, with
-//! energies that start at 0; the plot is a PNG; `--steps` prints medians;
+//! energies that start at 0; the plot is a PNG; `--steps` prints medians
+//! and writes one CSV row per step and method (and refuses `--plot`);
 //! `--steps --tolerance` solves every step by the stopping rule and says how
-//! many steps reached plain-50's energy; `simulate --start` reports where
+//! many steps reached plain-50's energy, as its CSV rows show; `simulate --start` reports where
 //! steps start and refuses a start it does not know.
 #[path = "common/cli.rs"]
 mod cli;
@@ -62,6 +63,7 @@ fn converge_writes_one_csv_row_per_method_and_iteration_and_a_png() {
 
 #[test]
 fn converge_over_steps_prints_a_median_per_method() {
+    let csv = temp_folder("converge-steps-csv").join("steps.csv");
     let output = masssprings(&[
         "converge",
         &data("net.json"),
@@ -71,6 +73,8 @@ fn converge_over_steps_prints_a_median_per_method() {
         "60",
         "--methods",
         "plain,lbfgs",
+        "--csv",
+        csv.to_str().unwrap(),
     ]);
     assert!(output.status.success(), "{}", stderr(&output));
     let text = stdout(&output);
@@ -83,6 +87,46 @@ fn converge_over_steps_prints_a_median_per_method() {
     // the time against plain-50's own (a separate run: not exactly 1)
     let ratio: f64 = fields[3].parse().unwrap();
     assert!(ratio > 0.0, "{plain}");
+    // one CSV row per step and method, and the median printed is theirs
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("step,method,iterations_to_plain_50,ms_to_plain_50,plain_50_ms")
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 6, "{text}");
+    for (i, row) in rows.iter().enumerate() {
+        assert_eq!(row[0], (1 + i / 2).to_string(), "{text}");
+        assert_eq!(row[1], ["plain", "lbfgs"][i % 2], "{text}");
+        assert!(row[4].parse::<f64>().unwrap() > 0.0, "{text}");
+    }
+    let mut plain_iterations: Vec<f64> = rows
+        .iter()
+        .filter(|r| r[1] == "plain")
+        .map(|r| r[2].parse().unwrap())
+        .collect();
+    plain_iterations.sort_by(f64::total_cmp);
+    assert_eq!(plain_iterations[1], iterations, "{text}");
+}
+
+#[test]
+fn converge_over_steps_draws_no_plot() {
+    let output = masssprings(&[
+        "converge",
+        &data("net.json"),
+        "--steps",
+        "2",
+        "--plot",
+        "never.png",
+    ]);
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("with --steps use --csv"),
+        "{}",
+        stderr(&output)
+    );
+    assert!(!std::path::Path::new("never.png").exists());
 }
 
 #[test]
@@ -127,11 +171,16 @@ fn a_relaxation_outside_its_range_is_a_usage_error() {
 
 #[test]
 fn a_tolerance_without_steps_is_a_usage_error() {
-    for flag in ["--tolerance", "--energy-tolerance"] {
-        let output = masssprings(&["converge", &data("net.json"), flag, "0.5"]);
+    for (flag, value) in [
+        ("--tolerance", "0.5"),
+        ("--energy-tolerance", "0.5"),
+        ("--at-least-plain", "50"),
+    ] {
+        let output = masssprings(&["converge", &data("net.json"), flag, value]);
         assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
         assert!(
-            stderr(&output).contains("--tolerance and --energy-tolerance need --steps"),
+            stderr(&output)
+                .contains("--tolerance, --energy-tolerance and --at-least-plain need --steps"),
             "{}",
             stderr(&output)
         );
@@ -140,6 +189,7 @@ fn a_tolerance_without_steps_is_a_usage_error() {
 
 #[test]
 fn converge_with_an_energy_tolerance_solves_each_step_by_that_rule() {
+    let csv = temp_folder("converge-rule-csv").join("rule.csv");
     let output = masssprings(&[
         "converge",
         &data("flag.json"),
@@ -151,6 +201,8 @@ fn converge_with_an_energy_tolerance_solves_each_step_by_that_rule() {
         "200",
         "--methods",
         "chebyshev,lbfgs",
+        "--csv",
+        csv.to_str().unwrap(),
     ]);
     assert!(output.status.success(), "{}", stderr(&output));
     let text = stdout(&output);
@@ -163,6 +215,29 @@ fn converge_with_an_energy_tolerance_solves_each_step_by_that_rule() {
         // the rule stops well before the budget of 200 on every step
         let iterations: f64 = line.split_whitespace().nth(1).unwrap().parse().unwrap();
         assert!(iterations < 50.0, "{line}");
+        // the CSV's rows agree with the count of steps at plain-50's energy
+        let reached = line.split_whitespace().nth(4).unwrap();
+        let text = std::fs::read_to_string(&csv).unwrap();
+        assert!(
+            text.starts_with("step,method,iterations,stop,energy,plain_50_energy,ms,plain_50_ms\n")
+        );
+        let rows: Vec<Vec<&str>> = text
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').collect())
+            .filter(|r: &Vec<&str>| r[1] == method)
+            .collect();
+        assert_eq!(rows.len(), 3, "{text}");
+        let at_plain_50 = rows
+            .iter()
+            .filter(|r| {
+                let (energy, target): (f64, f64) = (r[4].parse().unwrap(), r[5].parse().unwrap());
+                assert!(energy < 0.0 && target < 0.0, "{r:?}");
+                assert!(r[3] == "EnergyTolerance" || r[3] == "Iterations", "{r:?}");
+                energy <= target + 1e-12 * target.abs()
+            })
+            .count();
+        assert_eq!(reached, at_plain_50.to_string(), "{line}\n{text}");
     }
 }
 
@@ -203,4 +278,64 @@ fn simulate_reports_where_steps_start_and_refuses_an_unknown_start() {
     let output = masssprings(&["simulate", &data("net.json"), "--start", "momentum"]);
     assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
     assert!(stderr(&output).contains("--start"), "{}", stderr(&output));
+}
+
+#[test]
+fn at_least_plain_below_one_or_not_a_number_is_a_usage_error() {
+    for bad in ["0.5", "0", "-3", "many", "1e7"] {
+        let output = masssprings(&[
+            "simulate",
+            &data("net.json"),
+            "--steps",
+            "1",
+            "--at-least-plain",
+            bad,
+        ]);
+        assert_eq!(output.status.code(), Some(2), "{bad}: {}", stderr(&output));
+        assert!(
+            stderr(&output).contains("--at-least-plain expects a number of plain iterations"),
+            "{bad}: {}",
+            stderr(&output)
+        );
+    }
+}
+
+#[test]
+fn converge_with_at_least_plain_stops_each_step_past_the_floor() {
+    let csv = temp_folder("converge-floor-csv").join("floor.csv");
+    let output = masssprings(&[
+        "converge",
+        &data("flag.json"),
+        "--steps",
+        "3",
+        "--at-least-plain",
+        "10",
+        "--iterations",
+        "200",
+        "--methods",
+        "plain,lbfgs",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(
+        stdout(&output).contains("--at-least-plain 10"),
+        "{}",
+        stdout(&output)
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<Vec<&str>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows.len(), 6, "{text}");
+    for row in &rows {
+        assert_eq!(row[3], "AtLeastPlain", "{text}");
+        let iterations: usize = row[2].parse().unwrap();
+        if row[1] == "plain" {
+            // ten first decreases take plain at least ten iterations
+            assert!(iterations >= 10, "{text}");
+        }
+    }
 }

@@ -10,7 +10,7 @@ use masssprings::sim::hessian::Hessian;
 use masssprings::sim::methods::{Iterate, Start};
 use masssprings::sim::simulation::{Pins, SimulationOptions};
 use masssprings::sim::{
-    Simulation, SimulationError, Sparse, StepControl, StepMethod, Stop, DELTA_T,
+    Simulation, SimulationError, Sparse, StepControl, StepMethod, StepReport, Stop, DELTA_T,
 };
 use nalgebra::DMatrix;
 use proptest::prelude::*;
@@ -500,6 +500,115 @@ fn an_energy_tolerance_that_is_not_met_changes_neither_the_iterates_nor_the_repo
         assert_eq!(free.energy_decrease, tested.energy_decrease, "{method}");
         assert_eq!(free.relative_gradient, tested.relative_gradient, "{method}");
     }
+}
+
+/// `E(p⁰) − E(G(p⁰))`: what the first plain iteration of the next step
+/// takes off.
+fn first_plain_decrease(simulation: &Simulation<Sparse>) -> f64 {
+    let mut copy = simulation.clone();
+    let report = copy.step_with(&control(StepMethod::Plain, 1, None), None);
+    report.unwrap().energy_decrease
+}
+
+/// The energies of every iterate of the next step under `control`, and
+/// its report.
+fn energies_of(simulation: &Simulation<Sparse>, control: &StepControl) -> (Vec<f64>, StepReport) {
+    let mut copy = simulation.clone();
+    let mut energies = Vec::new();
+    let mut record = |it: &Iterate<'_>| energies.push(it.energy.change(it.positions).total());
+    let report = copy.step_with(control, Some(&mut record)).unwrap();
+    (energies, report)
+}
+
+/// The floor alone: the step stops at the first iterate whose energy is
+/// `N` first plain decreases below the first iterate's, whatever the
+/// method, and says so.
+#[test]
+fn at_least_plain_alone_stops_at_the_first_iterate_below_the_floor() {
+    for (scene, steps, multiple) in [("flag.json", 11, 20.0), ("net.json", 3, 1.02)] {
+        let simulation = simulation_after(scene, steps);
+        let floor = -multiple * first_plain_decrease(&simulation);
+        for method in StepMethod::ALL {
+            let control = StepControl {
+                at_least_plain: Some(multiple),
+                ..control(method, 300, None)
+            };
+            let (energies, report) = energies_of(&simulation, &control);
+            let first = (1..energies.len()).find(|&k| energies[k] <= floor);
+            assert_eq!(
+                first,
+                Some(report.iterations),
+                "{scene} {method}: {energies:?}"
+            );
+            assert_eq!(
+                report.stop,
+                Stop::AtLeastPlain,
+                "{scene} {method}: {report:?}"
+            );
+        }
+    }
+}
+
+/// The premise of the floor on a step where the plain iteration's decrease
+/// does not grow: `N` plain iterations take off at most `N` times the
+/// first one's, so plain itself needs at least `N` to pass the floor.
+#[test]
+fn plain_needs_at_least_n_iterations_to_pass_n_first_decreases() {
+    let simulation = simulation_after("flag.json", 11);
+    for multiple in [2.0, 10.0, 40.0] {
+        let control = StepControl {
+            at_least_plain: Some(multiple),
+            ..control(StepMethod::Plain, 300, None)
+        };
+        let (_, report) = energies_of(&simulation, &control);
+        assert_eq!(report.stop, Stop::AtLeastPlain, "{report:?}");
+        assert!(
+            report.iterations as f64 >= multiple,
+            "{multiple}: {report:?}"
+        );
+    }
+}
+
+/// With the energy rule as well, a step stops at the first iterate that
+/// meets both: past the floor, and with small enough progress.
+#[test]
+fn at_least_plain_holds_back_the_energy_rule() {
+    let simulation = simulation_after("flag.json", 11);
+    let (multiple, fraction) = (30.0, 0.15);
+    let floor = -multiple * first_plain_decrease(&simulation);
+    let mut held_back = 0;
+    for method in [
+        StepMethod::Plain,
+        StepMethod::Chebyshev,
+        StepMethod::Anderson,
+        StepMethod::Lbfgs,
+    ] {
+        let control = StepControl {
+            at_least_plain: Some(multiple),
+            energy_tolerance: Some(fraction),
+            ..control(method, 300, None)
+        };
+        let (energies, report) = energies_of(&simulation, &control);
+        let both = |k: usize| {
+            let decrease = energies[k - 1] - energies[k];
+            let progress_small = (0.0..=fraction * (energies[0] - energies[k])).contains(&decrease);
+            progress_small && energies[k] <= floor
+        };
+        let first = (1..energies.len()).find(|&k| both(k));
+        assert_eq!(first, Some(report.iterations), "{method}: {energies:?}");
+        assert_eq!(report.stop, Stop::EnergyTolerance, "{method}: {report:?}");
+        // the floor can only hold the rule back
+        let (_, alone) = energies_of(
+            &simulation,
+            &StepControl {
+                at_least_plain: None,
+                ..control
+            },
+        );
+        assert!(alone.iterations <= report.iterations, "{method}: {alone:?}");
+        held_back += usize::from(alone.iterations < report.iterations);
+    }
+    assert!(held_back > 0, "the floor held no method back");
 }
 
 #[test]

@@ -105,6 +105,7 @@ fn no_method_allocates_after_its_first_step() {
             method,
             tolerance: Some(1e-9),
             energy_tolerance: Some(1e-12),
+            at_least_plain: Some(2.0),
             iterations: 30,
             ..SimulationOptions::default()
         };

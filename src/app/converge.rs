@@ -10,10 +10,17 @@
 //! milliseconds it needed to reach the energy of 50 and of 200 plain
 //! iterations (plain is always run to 200 for that); writes the curves as
 //! CSV and as a two-panel plot.
+//!
+//! With `--steps S` it does this for each of the canonical steps 1…S and
+//! prints medians; with a stopping rule as well, each method solves each
+//! step as `simulate` would. Its CSV then has one row per step and method
+//! (when the method reached plain-50's energy, or where its rule stopped
+//! it beside plain-50's energy), so that the steps behind a median can be
+//! read one by one.
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{
-    self, ENERGY_TOLERANCE, ITERATIONS, PINS, RELAXATION, RHO, START, WINDOW,
+    self, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, PINS, RELAXATION, RHO, START, WINDOW,
 };
 use super::limits::precompute;
 use super::{load_scene, AppError};
@@ -84,8 +91,16 @@ two-panel plot.",
             "LIST",
             "Comma-separated methods (default: plain,chebyshev,anderson,lbfgs,newton).",
         ),
-        Flag::value("csv", "FILE", "Write the curves as CSV."),
-        Flag::value("plot", "FILE.png", "Draw the curves into a PNG."),
+        Flag::value(
+            "csv",
+            "FILE",
+            "Write the curves as CSV (with --steps: one row per step and method).",
+        ),
+        Flag::value(
+            "plot",
+            "FILE.png",
+            "Draw the curves into a PNG (one step's only, not with --steps).",
+        ),
         Flag::value(
             "steps",
             "S",
@@ -100,6 +115,7 @@ two-panel plot.",
              time against plain-50's and how many steps ended at or below plain-50's energy.",
         ),
         ENERGY_TOLERANCE,
+        AT_LEAST_PLAIN,
         ITERATIONS,
         RHO,
         RELAXATION,
@@ -171,14 +187,19 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
     convergence_flags::apply(&args, &mut sim_options)?;
     if sim_options.step_control().has_stopping_rule() && args.count("steps", 0, 0)? == 0 {
         return Err(AppError::Usage(
-            "--tolerance and --energy-tolerance need --steps S (one step's curves always run \
-             every iteration)"
+            "--tolerance, --energy-tolerance and --at-least-plain need --steps S (one step's \
+             curves always run every iteration)"
                 .into(),
         ));
     }
     let path = |name: &str| -> Result<Option<PathBuf>, AppError> {
         Ok(args.text(name).filter(|s| !s.is_empty()).map(PathBuf::from))
     };
+    if args.count("steps", 0, 0)? > 0 && path("plot")?.is_some() {
+        return Err(AppError::Usage(
+            "--plot draws one step's curves; with --steps use --csv".into(),
+        ));
+    }
     Ok(Request {
         scene,
         step,
@@ -220,6 +241,7 @@ fn trace(
         iterations,
         tolerance: None,
         energy_tolerance: None,
+        at_least_plain: None,
         ..*control
     };
     let failed = |e: masssprings::sim::SimulationError| AppError::Failed(format!("{method}: {e}"));
@@ -380,6 +402,7 @@ fn run_over_steps(request: &Request, steps: usize) -> Result<(), AppError> {
     let mut times: Vec<Vec<f64>> = vec![Vec::new(); request.methods.len()];
     let mut iterations: Vec<Vec<f64>> = vec![Vec::new(); request.methods.len()];
     let mut plain_50_ms = Vec::new();
+    let mut rows = Vec::new();
     for step in 1..=steps {
         let plain = trace(
             &simulation,
@@ -397,6 +420,12 @@ fn run_over_steps(request: &Request, steps: usize) -> Result<(), AppError> {
             let reached = first_reaching(&curve, target);
             times[m].push(reached.map_or(f64::INFINITY, |s| s.elapsed_ms));
             iterations[m].push(reached.map_or(f64::INFINITY, |s| s.iteration as f64));
+            rows.push(ReachRow {
+                step,
+                method,
+                reached: reached.map(|s| (s.iteration, s.elapsed_ms)),
+                plain_50_ms: *plain_50_ms.last().expect("pushed above"),
+            });
         }
         simulation
             .step()
@@ -424,6 +453,40 @@ fn run_over_steps(request: &Request, steps: usize) -> Result<(), AppError> {
             ms / plain_median
         );
     }
+    if let Some(path) = &request.csv {
+        write_file(path, |out| write_reach_csv(out, &rows))?;
+    }
+    Ok(())
+}
+
+/// `--steps S --csv`: when one method first reached plain-50's energy on
+/// one step.
+struct ReachRow {
+    step: usize,
+    method: StepMethod,
+    /// Iterations and milliseconds to reach it; `None`: not reached.
+    reached: Option<(usize, f64)>,
+    plain_50_ms: f64,
+}
+
+fn write_reach_csv(out: &mut dyn Write, rows: &[ReachRow]) -> std::io::Result<()> {
+    writeln!(
+        out,
+        "step,method,iterations_to_plain_50,ms_to_plain_50,plain_50_ms"
+    )?;
+    for row in rows {
+        let (iterations, ms) = match row.reached {
+            Some((i, ms)) => (i.to_string(), format!("{ms:.4}")),
+            None => (String::new(), String::new()),
+        };
+        writeln!(
+            out,
+            "{},{},{iterations},{ms},{:.4}",
+            row.step,
+            row.method.name(),
+            row.plain_50_ms
+        )?;
+    }
     Ok(())
 }
 
@@ -442,6 +505,7 @@ fn run_over_steps_to_tolerance(request: &Request, steps: usize) -> Result<(), Ap
         iterations: YARDSTICKS[0],
         tolerance: None,
         energy_tolerance: None,
+        at_least_plain: None,
         ..yardstick(&request.control)
     };
     let mut control = request.control;
@@ -453,13 +517,14 @@ fn run_over_steps_to_tolerance(request: &Request, steps: usize) -> Result<(), Ap
     let mut plain_ms = Vec::new();
     let mut rows: Vec<(Vec<f64>, Vec<f64>, usize)> =
         vec![(Vec::new(), Vec::new(), 0); request.methods.len()];
+    let mut step_rows = Vec::new();
     for step in 1..=steps {
         if control.rho.is_none() {
             let plain = trace(&simulation, &control, StepMethod::Plain, YARDSTICKS[0])?;
             control.rho = Some(rho_from(&plain));
         }
-        let (plain_report, ms) = timed_step(&mut plain_runner, &simulation, &plain_50)?;
-        plain_ms.push(ms);
+        let (plain_report, ms_of_plain) = timed_step(&mut plain_runner, &simulation, &plain_50)?;
+        plain_ms.push(ms_of_plain);
         let target = -plain_report.energy_decrease;
         for ((&method, runner), row) in request.methods.iter().zip(&mut runners).zip(&mut rows) {
             let control = StepControl { method, ..control };
@@ -469,6 +534,16 @@ fn run_over_steps_to_tolerance(request: &Request, steps: usize) -> Result<(), Ap
             if -report.energy_decrease <= target + 1e-12 * target.abs() {
                 row.2 += 1;
             }
+            step_rows.push(RuleRow {
+                step,
+                method,
+                iterations: report.iterations,
+                stop: report.stop,
+                energy: -report.energy_decrease,
+                plain_50_energy: target,
+                ms,
+                plain_50_ms: ms_of_plain,
+            });
         }
         simulation
             .step()
@@ -480,6 +555,7 @@ fn run_over_steps_to_tolerance(request: &Request, steps: usize) -> Result<(), Ap
     let rules = [
         ("--tolerance", request.control.tolerance),
         ("--energy-tolerance", request.control.energy_tolerance),
+        ("--at-least-plain", request.control.at_least_plain),
     ]
     .iter()
     .filter_map(|(flag, value)| value.map(|v| format!("{flag} {v}")))
@@ -504,6 +580,45 @@ fn run_over_steps_to_tolerance(request: &Request, steps: usize) -> Result<(), Ap
             ms / plain_median,
             format!("{reached} of {steps}")
         );
+    }
+    if let Some(path) = &request.csv {
+        write_file(path, |out| write_rule_csv(out, &step_rows))?;
+    }
+    Ok(())
+}
+
+/// `--steps S --csv` with a stopping rule: one method's whole step, beside
+/// plain-50's.
+struct RuleRow {
+    step: usize,
+    method: StepMethod,
+    iterations: usize,
+    stop: Stop,
+    /// `E(p) − E(pᵗ)` where the method stopped, and where plain-50 does.
+    energy: f64,
+    plain_50_energy: f64,
+    ms: f64,
+    plain_50_ms: f64,
+}
+
+fn write_rule_csv(out: &mut dyn Write, rows: &[RuleRow]) -> std::io::Result<()> {
+    writeln!(
+        out,
+        "step,method,iterations,stop,energy,plain_50_energy,ms,plain_50_ms"
+    )?;
+    for r in rows {
+        writeln!(
+            out,
+            "{},{},{},{:?},{:e},{:e},{:.4},{:.4}",
+            r.step,
+            r.method.name(),
+            r.iterations,
+            r.stop,
+            r.energy,
+            r.plain_50_energy,
+            r.ms,
+            r.plain_50_ms
+        )?;
     }
     Ok(())
 }

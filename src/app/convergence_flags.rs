@@ -1,6 +1,6 @@
 //! The flags that choose how each step is solved, shared by `simulate`,
 //! `render`, `view` and `converge`: `--method`, `--tolerance`,
-//! `--energy-tolerance`, `--iterations`, `--rho`, `--relaxation`,
+//! `--energy-tolerance`, `--at-least-plain`, `--iterations`, `--rho`, `--relaxation`,
 //! `--window`, `--start`, `--pins`. A command lists the ones it accepts in
 //! its flag table ([`super::args::CommandSpec`]); [`apply`] reads those
 //! that were declared.
@@ -28,6 +28,13 @@ pub const ENERGY_TOLERANCE: Flag = Flag::value(
     "Stop a step once an iteration lowers its energy by at most F times all it has lowered \
      it since the first iterate (between 0 and 1; default: no such rule). With --tolerance, \
      whichever is met first.",
+);
+pub const AT_LEAST_PLAIN: Flag = Flag::value(
+    "at-least-plain",
+    "N",
+    "Let no rule stop a step before its energy has fallen by N times what the first plain \
+     iteration takes off (at least 1; N plain iterations take off at most that while their \
+     decrease does not grow). With no other rule, stop there.",
 );
 pub const ITERATIONS: Flag = Flag::value(
     "iterations",
@@ -96,6 +103,19 @@ pub fn apply(args: &Args, options: &mut SimulationOptions) -> Result<(), AppErro
         options.energy_tolerance =
             open_unit_interval(args, "energy-tolerance", "a fraction of the decrease")?
                 .or(options.energy_tolerance);
+    }
+    if args.declares("at-least-plain") {
+        if let Some(text) = args.text("at-least-plain") {
+            options.at_least_plain = match text.trim().parse::<f64>() {
+                Ok(value) if (1.0..=1e6).contains(&value) => Some(value),
+                _ => {
+                    return Err(AppError::Usage(format!(
+                        "--at-least-plain expects a number of plain iterations from 1 to \
+                         1000000, got '{text}'"
+                    )))
+                }
+            };
+        }
     }
     if args.declares("rho") {
         options.rho = open_unit_interval(args, "rho", "a spectral radius")?.or(options.rho);

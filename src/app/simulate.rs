@@ -15,7 +15,8 @@
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{
-    self, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START, TOLERANCE, WINDOW,
+    self, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START,
+    TOLERANCE, WINDOW,
 };
 use super::factorization_flags::{self, FACTORIZATION, ORDERING};
 use super::limits::precompute;
@@ -45,6 +46,7 @@ struct Summary {
     method: &'static str,
     tolerance: Option<f64>,
     energy_tolerance: Option<f64>,
+    at_least_plain: Option<f64>,
     /// Where each step's iterations started (`current` or `inertial`).
     start: &'static str,
     iterations_median: f64,
@@ -102,6 +104,7 @@ time and the total time.",
         METHOD,
         TOLERANCE,
         ENERGY_TOLERANCE,
+        AT_LEAST_PLAIN,
         ITERATIONS,
         RHO,
         RELAXATION,
@@ -221,6 +224,7 @@ fn simulate<B: LinearAlgebra>(
         method: options.method.name(),
         tolerance: options.tolerance,
         energy_tolerance: options.energy_tolerance,
+        at_least_plain: options.at_least_plain,
         start: options.start.name(),
         iterations_median: iterations.median(),
         relative_gradient_median: gradients.median(),
@@ -418,8 +422,11 @@ fn print_summary(scene_path: &Path, s: &Summary) {
     let energy_tolerance = s
         .energy_tolerance
         .map_or(String::new(), |t| format!(", energy tolerance {t:e}"));
+    let at_least_plain = s
+        .at_least_plain
+        .map_or(String::new(), |n| format!(", at least plain-{n}"));
     println!(
-        "method           {} (tolerance {tolerance}{energy_tolerance}, start {})",
+        "method           {} (tolerance {tolerance}{energy_tolerance}{at_least_plain}, start {})",
         s.method, s.start
     );
     println!("iterations       {} per step (median)", s.iterations_median);

@@ -31,6 +31,10 @@ pub struct SimulationOptions {
     /// Stop a step once an iteration's energy decrease is at most this
     /// fraction of the step's decrease so far.
     pub energy_tolerance: Option<f64>,
+    /// Let no rule stop a step before its energy has fallen by this many
+    /// times the first plain iteration's decrease (with no other rule,
+    /// stop there).
+    pub at_least_plain: Option<f64>,
     /// Chebyshev's spectral radius (estimated when `None`).
     pub rho: Option<f64>,
     /// Chebyshev's relaxation of each plain step.
@@ -79,6 +83,7 @@ impl SimulationOptions {
             iterations: self.iterations,
             tolerance: self.tolerance,
             energy_tolerance: self.energy_tolerance,
+            at_least_plain: self.at_least_plain,
             rho: self.rho,
             relaxation: self.relaxation,
             window: self.window,
@@ -96,6 +101,7 @@ impl Default for SimulationOptions {
             method: StepMethod::Plain,
             tolerance: None,
             energy_tolerance: None,
+            at_least_plain: None,
             rho: None,
             relaxation: crate::sim::methods::chebyshev::DEFAULT_RELAXATION,
             window: DEFAULT_WINDOW,
@@ -378,6 +384,12 @@ impl<B: LinearAlgebra> Simulation<B> {
     /// Stops later steps by the energy's progress (`None`: no such rule).
     pub fn set_energy_tolerance(&mut self, energy_tolerance: Option<f64>) {
         self.options.energy_tolerance = energy_tolerance;
+    }
+
+    /// Holds later steps to at least `multiple` plain iterations' worth of
+    /// decrease (`None`: no such floor).
+    pub fn set_at_least_plain(&mut self, multiple: Option<f64>) {
+        self.options.at_least_plain = multiple;
     }
 
     /// Where later steps start their iterations.

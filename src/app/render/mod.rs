@@ -41,7 +41,8 @@ mod tests_common;
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{
-    self, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START, TOLERANCE, WINDOW,
+    self, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START,
+    TOLERANCE, WINDOW,
 };
 use super::limits::{check_frames, precompute};
 use super::progress::Progress;
@@ -140,6 +141,7 @@ point mass (always drawn for scenes made only of springs).",
         METHOD,
         TOLERANCE,
         ENERGY_TOLERANCE,
+        AT_LEAST_PLAIN,
         ITERATIONS,
         RHO,
         RELAXATION,

@@ -26,7 +26,8 @@ mod watchers;
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{
-    self, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START, TOLERANCE, WINDOW,
+    self, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START,
+    TOLERANCE, WINDOW,
 };
 use super::factorization_flags::{self, FACTORIZATION, ORDERING};
 use super::limits::precompute;
@@ -86,6 +87,7 @@ shift-drag to pull a vertex. Ctrl-C stops it.",
         METHOD,
         TOLERANCE,
         ENERGY_TOLERANCE,
+        AT_LEAST_PLAIN,
         ITERATIONS,
         RHO,
         RELAXATION,

@@ -295,6 +295,9 @@ pub(crate) fn solve<B: LinearAlgebra>(
             }
         }
         work.retire_g();
+        if iteration == 1 {
+            monitor.plain_first(energy); // no history yet: p = G(p⁰)
+        }
         // the last local step was made at `p`
         if let Some(stop) = monitor.after(iteration, context, p, Gradient::InRoom, Some(energy)) {
             return Outcome::measured(iteration, stop, energy);

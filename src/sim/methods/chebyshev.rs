@@ -151,8 +151,14 @@ pub(crate) fn solve<B: LinearAlgebra>(
                 work.estimated_rho = work.estimated_rho.or(rho);
                 work.take_plain();
                 energy = context.local_step_measuring(&work.current, monitor.room_for_gradient());
+                monitor.plain_first(energy); // this iterate is G(xₖ)
             }
             Some(radius) => {
+                if monitor.wants_plain_first() {
+                    // the first iteration: x̂₁ = G(p⁰), which the extrapolation
+                    // moves away from
+                    monitor.plain_first(context.energy.change(&work.plain).total());
+                }
                 k += 1;
                 omega_k = omega(k, radius, omega_k);
                 extrapolate(context, work, omega_k, control.relaxation);

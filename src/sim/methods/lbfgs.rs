@@ -72,6 +72,8 @@ pub struct Workspace {
     trials: [Vec<[f64; 3]>; 2],
     trial_gradients: [Vec<[f64; 3]>; 2],
     trial_lengths: [f64; 2],
+    /// The energy at the last search's first trial point.
+    first_trial_energy: f64,
 }
 
 impl Workspace {
@@ -90,6 +92,7 @@ impl Workspace {
             trials: [vec![[0.0; 3]; n], vec![[0.0; 3]; n]],
             trial_gradients: [vec![[0.0; 3]; n], vec![[0.0; 3]; n]],
             trial_lengths: [f64::NAN; 2],
+            first_trial_energy: f64::NAN,
         }
     }
 
@@ -194,6 +197,11 @@ pub(crate) fn solve<B: LinearAlgebra>(
         else {
             return Outcome::measured(iteration - 1, Stop::Stalled, energy);
         };
+        if iteration == 1 {
+            // no pairs yet and `t = 1` first: that trial was `p⁰ − Q⁻¹ ∇E(p⁰)
+            // = G(p⁰)`, the plain iterate
+            monitor.plain_first(work.first_trial_energy);
+        }
         last_step_length = t;
         energy = new_energy;
         let slot = work.next_slot();
@@ -236,6 +244,7 @@ fn search_along_direction<B: LinearAlgebra>(
         trials,
         trial_gradients,
         trial_lengths,
+        first_trial_energy,
         ..
     } = work;
     *trial_lengths = [f64::NAN; 2];
@@ -244,10 +253,14 @@ fn search_along_direction<B: LinearAlgebra>(
         moved(p, t, direction, &mut trials[next]);
         let change = context
             .energy
-            .change_and_gradient(&trials[next], &mut trial_gradients[next]);
+            .change_and_gradient(&trials[next], &mut trial_gradients[next])
+            .total();
+        if trial_lengths[1 - next].is_nan() && trial_lengths[next].is_nan() {
+            *first_trial_energy = change;
+        }
         trial_lengths[next] = t;
         next = 1 - next;
-        change.total()
+        change
     })
 }
 

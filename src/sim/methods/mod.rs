@@ -151,6 +151,11 @@ pub struct StepControl {
     /// fraction of the decrease since the first iterate (see
     /// [`Monitor::after`]); `None`: no such rule.
     pub energy_tolerance: Option<f64>,
+    /// Let no rule stop a step before its energy has fallen, from the
+    /// first iterate, by this many times the first plain iteration's
+    /// decrease from there (see [`Monitor::after`]); with no other rule,
+    /// stop there. `None`: no such floor.
+    pub at_least_plain: Option<f64>,
     /// Chebyshev's spectral radius `ρ`; `None` estimates it.
     pub rho: Option<f64>,
     /// Chebyshev's relaxation `γ` of each plain step (1: none).
@@ -165,7 +170,7 @@ impl StepControl {
     /// Does a stopping rule (either tolerance) end steps before
     /// `iterations`?
     pub fn has_stopping_rule(&self) -> bool {
-        self.tolerance.is_some() || self.energy_tolerance.is_some()
+        self.tolerance.is_some() || self.energy_tolerance.is_some() || self.at_least_plain.is_some()
     }
 }
 
@@ -182,6 +187,7 @@ impl Default for StepControl {
             iterations: super::step::ITERATIONS,
             tolerance: None,
             energy_tolerance: None,
+            at_least_plain: None,
             rho: None,
             relaxation: chebyshev::DEFAULT_RELAXATION,
             window: DEFAULT_WINDOW,
@@ -199,6 +205,9 @@ pub enum Stop {
     Tolerance,
     /// The energy's progress fell to the energy tolerance.
     EnergyTolerance,
+    /// The energy fell by the given multiple of the first plain
+    /// iteration's decrease (`--at-least-plain` with no other rule).
+    AtLeastPlain,
     /// The line search found no lower energy: the iterate is as good as
     /// rounding lets this method make it.
     Stalled,
@@ -417,6 +426,10 @@ pub(crate) enum Gradient<'g> {
 pub(crate) struct Monitor<'a, 'o> {
     tolerance: Option<f64>,
     energy_tolerance: Option<f64>,
+    at_least_plain: Option<f64>,
+    /// The energy an iterate must reach before a rule may stop the step
+    /// (with `at_least_plain`, once the first plain iterate's is known).
+    floor: Option<f64>,
     /// `E − E(p⁰)` at the first iterate and at the last one recorded.
     first_energy: f64,
     last_energy: f64,
@@ -439,6 +452,8 @@ impl<'a, 'o> Monitor<'a, 'o> {
         Monitor {
             tolerance: control.tolerance,
             energy_tolerance: control.energy_tolerance,
+            at_least_plain: control.at_least_plain,
+            floor: None,
             first_energy: 0.0,
             last_energy: 0.0,
             initial_gradient,
@@ -459,7 +474,24 @@ impl<'a, 'o> Monitor<'a, 'o> {
 
     /// Is there a stopping rule to test at each iterate?
     pub fn tests_iterates(&self) -> bool {
-        self.tolerance.is_some() || self.energy_tolerance.is_some()
+        self.tolerance.is_some() || self.energy_tolerance.is_some() || self.at_least_plain.is_some()
+    }
+
+    /// Does the floor of `at_least_plain` still wait for the energy of the
+    /// first plain iterate `G(p⁰)` ([`Monitor::plain_first`])?
+    pub fn wants_plain_first(&self) -> bool {
+        self.at_least_plain.is_some() && self.floor.is_none()
+    }
+
+    /// Gives the energy `E(G(p⁰)) − E(pᵗ)` of the first plain iterate, from
+    /// which the floor is set (the first call counts; later ones, and any
+    /// without `at_least_plain`, change nothing). A method whose first
+    /// iterate is the plain one passes its energy; the others measure it.
+    pub fn plain_first(&mut self, energy: f64) {
+        if let (Some(multiple), None) = (self.at_least_plain, self.floor) {
+            let first_decrease = self.first_energy - energy;
+            self.floor = Some(self.first_energy - multiple * first_decrease);
+        }
     }
 
     /// Room for `∇E` at the next iterate, when the stopping rule will test
@@ -490,6 +522,14 @@ impl<'a, 'o> Monitor<'a, 'o> {
     /// (the relative-progress rule of projective-dynamics codes; like
     /// `ftol` of L-BFGS-B, but relative to the step's own decrease, since
     /// `E` itself is large and carries the pins' penalty).
+    ///
+    /// The floor (`at_least_plain = N`): no rule stops the step before
+    /// `E₀ − Eₖ ≥ N (E₀ − E(G(p⁰)))`, `N` times the decrease of the first
+    /// plain iteration `G` from the first iterate; with no other rule the
+    /// step stops as soon as that holds. Why: the plain iteration's
+    /// decrease per iteration, `δⱼ = E(xⱼ₋₁) − E(xⱼ)`, seldom grows, and
+    /// while it does not, `N` plain iterations take off `Σ δⱼ ≤ N δ₁`; so
+    /// an iterate past the floor is at least as low as plain-`N`'s.
     pub fn after<B: LinearAlgebra>(
         &mut self,
         iteration: usize,
@@ -507,13 +547,25 @@ impl<'a, 'o> Monitor<'a, 'o> {
             });
         }
         self.relative_gradient = None;
+        let measure = self.energy_tolerance.is_some() || self.at_least_plain.is_some();
+        let energy = match energy {
+            None if measure => Some(context.energy.change(p).total()),
+            known => known,
+        };
+        let past_floor = self.past_floor(iteration, energy);
         if let Some(fraction) = self.energy_tolerance {
-            let energy = energy.unwrap_or_else(|| context.energy.change(p).total());
-            if self.energy_rule_met(fraction, iteration, energy) {
+            let energy = energy.expect("measured for the energy rule");
+            if self.energy_rule_met(fraction, iteration, energy) && past_floor {
                 return Some(Stop::EnergyTolerance);
             }
         }
-        let tolerance = self.tolerance?;
+        if !past_floor {
+            return None;
+        }
+        let Some(tolerance) = self.tolerance else {
+            let floor_alone = self.at_least_plain.is_some() && self.energy_tolerance.is_none();
+            return floor_alone.then_some(Stop::AtLeastPlain);
+        };
         let norm = match gradient {
             Gradient::Given(g) => free_norm(g, context.pinned),
             Gradient::InRoom => free_norm(self.gradient, context.pinned),
@@ -532,11 +584,29 @@ impl<'a, 'o> Monitor<'a, 'o> {
     fn energy_rule_met(&mut self, fraction: f64, iteration: usize, energy: f64) -> bool {
         let last = std::mem::replace(&mut self.last_energy, energy);
         if iteration == 0 {
-            self.first_energy = energy;
             return false;
         }
         let decrease = last - energy;
         (0.0..=fraction * (self.first_energy - energy)).contains(&decrease)
+    }
+
+    /// Records the first iterate's energy (iteration 0), and says whether
+    /// iterate `iteration` may stop the step: always without
+    /// `at_least_plain`; with it, once the floor is known and `energy` is
+    /// at or below it.
+    fn past_floor(&mut self, iteration: usize, energy: Option<f64>) -> bool {
+        if iteration == 0 {
+            if let Some(energy) = energy {
+                (self.first_energy, self.last_energy) = (energy, energy);
+            }
+        }
+        if self.at_least_plain.is_none() {
+            return true;
+        }
+        match (self.floor, energy) {
+            (Some(floor), Some(energy)) => iteration > 0 && energy <= floor,
+            _ => false,
+        }
     }
 
     /// The relative gradient at `p`, the last iterate (computed unless the

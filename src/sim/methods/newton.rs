@@ -166,6 +166,14 @@ pub(crate) fn solve<B: LinearAlgebra>(
     work.damping_scale.fill(0.0);
     work.set_damping_scale(&context.energy);
     let mut energy = context.start_energy; // E(p) − E(p⁰)
+    if monitor.wants_plain_first() {
+        // the plain iterate G(p⁰) = p⁰ − Q⁻¹ ∇E(p⁰), for the floor
+        work.direction.copy_from_slice(&work.gradient);
+        context.global.solve(&mut work.direction);
+        scale(&mut work.direction, -1.0);
+        let plain = energy_along(&context.energy, p, &work.direction, &mut work.trial, 1.0);
+        monitor.plain_first(plain);
+    }
     for iteration in 1..=control.iterations {
         work.hessian.assemble(&context.energy, p);
         if context.global.exact() {

@@ -68,6 +68,9 @@ fn solve_to_tolerance<B: LinearAlgebra>(
     for iteration in 1..=control.iterations {
         context.global_step(p);
         energy = context.local_step_measuring(p, monitor.room_for_gradient());
+        if iteration == 1 {
+            monitor.plain_first(energy); // the first iterate is G(p⁰)
+        }
         if let Some(stop) = monitor.after(iteration, context, p, Gradient::InRoom, Some(energy)) {
             return Outcome::measured(iteration, stop, energy);
         }
