@@ -931,3 +931,28 @@ fn the_energy_tolerance_applies_to_later_steps_and_shows_in_the_status() {
         "tolerance": null}));
     assert_eq!(plain.json()["energy_tolerance"], Value::Null);
 }
+
+#[test]
+fn the_floor_of_at_least_plain_applies_to_later_steps_and_shows_in_the_status() {
+    let viewer = Viewer::start("flag.json");
+    assert_eq!(viewer.status()["at_least_plain"], Value::Null);
+    let command = json!({"command": "set_method", "method": "lbfgs", "tolerance": null,
+        "at_least_plain": 5});
+    let set = viewer.post_command(&command);
+    assert_eq!(set.status, 200, "{}", set.text());
+    assert_eq!(set.json()["at_least_plain"], json!(5.0));
+    let stepped = viewer.command("step");
+    let record = &stepped["history"][0];
+    // five first plain decreases: L-BFGS gets there long before 50 iterations
+    assert!(record["iterations"].as_u64().unwrap() < 50, "{record}");
+    assert_eq!(record["converged"], true, "{record}");
+    for bad in [0.5, 2e6] {
+        let bad = json!({"command": "set_method", "method": "plain", "tolerance": null,
+            "at_least_plain": bad});
+        assert_eq!(viewer.post_command(&bad).status, 409, "{bad}");
+    }
+    // absent: no floor
+    let plain = viewer.post_command(&json!({"command": "set_method", "method": "plain",
+        "tolerance": null}));
+    assert_eq!(plain.json()["at_least_plain"], Value::Null);
+}

@@ -245,9 +245,12 @@ test('the method picker and the convergence plot', async () => {
     await page.selectOption('#method', 'chebyshev');
     await waitForStatus((s) => s.method === 'chebyshev', 'Chebyshev');
     await page.waitForFunction(() => window.viewer.state.status.method === 'chebyshev');
+    await page.check('#at_least_plain'); // the floor: at least plain-50's decrease
+    await waitForStatus((s) => s.at_least_plain === 50, 'the floor of plain-50');
+    await page.waitForFunction(() => document.getElementById('stats').textContent.includes('at least plain-50'));
     await page.evaluate(() => document.activeElement.blur()); // keys go to the page again
-    await page.keyboard.press('m'); // the next method
-    await waitForStatus((s) => s.method === 'anderson', 'Anderson');
+    await page.keyboard.press('m'); // the next method, keeping the floor
+    await waitForStatus((s) => s.method === 'anderson' && s.at_least_plain === 50, 'Anderson');
     await page.check('#start'); // start each step from the momentum's prediction
     await waitForStatus((s) => s.start === 'inertial' && s.method === 'anderson', 'inertial start');
     await page.evaluate(() => document.activeElement.blur());
@@ -263,6 +266,8 @@ test('the method picker and the convergence plot', async () => {
       JSON.stringify(last));
     assert.ok(await page.isChecked('#start'));
   } finally {
+    await page.uncheck('#at_least_plain');
+    await waitForStatus((s) => s.at_least_plain === null, 'no floor again');
     await page.uncheck('#start');
     await waitForStatus((s) => s.start === 'current', 'the assignment\'s start again');
     await page.selectOption('#method', 'plain');

@@ -52,14 +52,17 @@ pub enum Command {
     /// Solve later steps by `method` (one of [`Status::methods`]), stopping
     /// at relative gradient `tolerance` (`null`: run every iteration) or
     /// at `energy_tolerance` (see `--energy-tolerance`; `null` or absent:
-    /// no such rule). Nothing is refactored: every method uses the same
-    /// `Q`. `start` (`current` or `inertial`, see `--start`) is kept when
-    /// absent.
+    /// no such rule), held back by `at_least_plain` (see
+    /// `--at-least-plain`; `null` or absent: no floor). Nothing is
+    /// refactored: every method uses the same `Q`. `start` (`current` or
+    /// `inertial`, see `--start`) is kept when absent.
     SetMethod {
         method: String,
         tolerance: Option<f64>,
         #[serde(default)]
         energy_tolerance: Option<f64>,
+        #[serde(default)]
+        at_least_plain: Option<f64>,
         #[serde(default)]
         start: Option<String>,
     },
@@ -127,6 +130,8 @@ pub struct Status {
     pub tolerance: Option<f64>,
     /// The energy tolerance (`--energy-tolerance`), if any.
     pub energy_tolerance: Option<f64>,
+    /// The floor of `--at-least-plain`, if any.
+    pub at_least_plain: Option<f64>,
     /// Where a step's iterations start (`current` or `inertial`).
     pub start: &'static str,
     /// How long the last rebuild and refactorization of `Q` took
@@ -261,18 +266,20 @@ mod tests {
                 method: "lbfgs".into(),
                 tolerance: None,
                 energy_tolerance: None,
+                at_least_plain: None,
                 start: None
             }
         );
         assert_eq!(
             parse(
-                r#"{"command":"set_method","method":"plain","tolerance":0.5,"energy_tolerance":0.1,"start":"inertial"}"#
+                r#"{"command":"set_method","method":"plain","tolerance":0.5,"energy_tolerance":0.1,"at_least_plain":50,"start":"inertial"}"#
             )
             .unwrap(),
             Command::SetMethod {
                 method: "plain".into(),
                 tolerance: Some(0.5),
                 energy_tolerance: Some(0.1),
+                at_least_plain: Some(50.0),
                 start: Some("inertial".into())
             }
         );

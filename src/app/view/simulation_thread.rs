@@ -297,17 +297,24 @@ impl<B: LinearAlgebra> SimulationThread<B> {
                 method,
                 tolerance,
                 energy_tolerance,
+                at_least_plain,
                 start,
-            } => self.set_method(&method, [tolerance, energy_tolerance], start.as_deref()),
+            } => self.set_method(
+                &method,
+                [tolerance, energy_tolerance],
+                at_least_plain,
+                start.as_deref(),
+            ),
         }
     }
 
     /// Another method, tolerances (the relative gradient's and the
-    /// energy's) or start for later steps.
+    /// energy's), floor (`--at-least-plain`) or start for later steps.
     fn set_method(
         &mut self,
         method: &str,
         [tolerance, energy_tolerance]: [Option<f64>; 2],
+        at_least_plain: Option<f64>,
         start: Option<&str>,
     ) -> Reply {
         let method: StepMethod = method.parse()?;
@@ -321,9 +328,17 @@ impl<B: LinearAlgebra> SimulationThread<B> {
                 }
             }
         }
+        if let Some(n) = at_least_plain {
+            if !(1.0..=1e6).contains(&n) {
+                return Err(format!(
+                    "at least plain-{n}: expected 1 to 1000000 iterations"
+                ));
+            }
+        }
         let start: Option<Start> = start.map(str::parse).transpose()?;
         self.simulation.set_method(method, tolerance);
         self.simulation.set_energy_tolerance(energy_tolerance);
+        self.simulation.set_at_least_plain(at_least_plain);
         if let Some(start) = start {
             self.simulation.set_start(start);
         }
@@ -396,6 +411,7 @@ impl<B: LinearAlgebra> SimulationThread<B> {
             method: current.method,
             tolerance: current.tolerance,
             energy_tolerance: current.energy_tolerance,
+            at_least_plain: current.at_least_plain,
             start: current.start,
             ..SimulationOptions::default()
         };
@@ -453,7 +469,10 @@ impl<B: LinearAlgebra> SimulationThread<B> {
             iterations: report.iterations,
             energy_decrease: report.energy_decrease,
             relative_gradient: report.relative_gradient,
-            converged: matches!(report.stop, Stop::Tolerance | Stop::EnergyTolerance),
+            converged: matches!(
+                report.stop,
+                Stop::Tolerance | Stop::EnergyTolerance | Stop::AtLeastPlain
+            ),
         });
     }
 
@@ -560,6 +579,7 @@ impl<B: LinearAlgebra> SimulationThread<B> {
         status.method = self.simulation.options().method.name();
         status.tolerance = self.simulation.options().tolerance;
         status.energy_tolerance = self.simulation.options().energy_tolerance;
+        status.at_least_plain = self.simulation.options().at_least_plain;
         status.start = self.simulation.options().start.name();
         status.refactor_ms = self.refactor.map(|d| 1e3 * d.as_secs_f64());
         status.scene_index = self.scene_index;

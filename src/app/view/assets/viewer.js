@@ -766,7 +766,8 @@ function updateOverlay() {
     running = `animating (while a page shows it: ${s.pages} now)`;
   }
   const tolerance = (s.tolerance === null ? 'all iterations' : `tolerance ${s.tolerance.toExponential(0)}`)
-    + (s.energy_tolerance === null ? '' : ` · energy tolerance ${s.energy_tolerance.toExponential(0)}`);
+    + (s.energy_tolerance === null ? '' : ` · energy tolerance ${s.energy_tolerance.toExponential(0)}`)
+    + (s.at_least_plain === null ? '' : ` · at least plain-${s.at_least_plain}`);
   const last = s.history.length > 0 ? s.history[s.history.length - 1] : null;
   const lines = [
     `${s.scene} · ${s.backend} · n ${s.n} · springs ${s.springs}`,
@@ -845,7 +846,7 @@ function drawPlot() {
 // ---------------------------------------------------------------------------
 // The controls panel: buttons (the keys' commands), the scene picker, and
 // sliders for k (log scale), Δt, the mass scale (log scale) and the
-// iterations, plus the method, the two tolerances and the start. A slider shows its value
+// iterations, plus the method, the two tolerances, the floor and the start. A slider shows its value
 // while it moves and sends set_parameters when let go.
 
 const controls = {
@@ -860,6 +861,7 @@ const controls = {
   method: document.getElementById('method'),
   tolerance: document.getElementById('tolerance'),
   energyTolerance: document.getElementById('energy_tolerance'),
+  atLeastPlain: document.getElementById('at_least_plain'),
   start: document.getElementById('start'),
 };
 
@@ -902,6 +904,7 @@ function sendMethod() {
     method: controls.method.value,
     tolerance: fromDecades(Number(controls.tolerance.value)),
     energy_tolerance: fromDecades(Number(controls.energyTolerance.value)),
+    at_least_plain: controls.atLeastPlain.checked ? 50 : null,
     start: controls.start.checked ? 'inertial' : 'current',
   });
 }
@@ -927,6 +930,7 @@ controls.scene.addEventListener('change', () => {
 controls.method.addEventListener('change', sendMethod);
 controls.tolerance.addEventListener('change', sendMethod);
 controls.energyTolerance.addEventListener('change', sendMethod);
+controls.atLeastPlain.addEventListener('change', sendMethod);
 controls.start.addEventListener('change', sendMethod);
 controls.tolerance.addEventListener('input', () => {
   document.getElementById('tolerance-value').textContent = toleranceText(Number(controls.tolerance.value));
@@ -957,6 +961,7 @@ function syncControls() {
   }
   if (document.activeElement !== controls.method) controls.method.value = s.method;
   if (document.activeElement !== controls.start) controls.start.checked = s.start === 'inertial';
+  if (document.activeElement !== controls.atLeastPlain) controls.atLeastPlain.checked = s.at_least_plain !== null;
   if (document.activeElement !== controls.tolerance) {
     const decades = toDecades(s.tolerance);
     controls.tolerance.value = String(decades);
@@ -1006,7 +1011,10 @@ function nextMethod() {
   const s = state.status;
   if (!s) return;
   const next = s.methods[(s.methods.indexOf(s.method) + 1) % s.methods.length];
-  send({ command: 'set_method', method: next, tolerance: s.tolerance, energy_tolerance: s.energy_tolerance });
+  send({
+    command: 'set_method', method: next, tolerance: s.tolerance,
+    energy_tolerance: s.energy_tolerance, at_least_plain: s.at_least_plain,
+  });
 }
 
 window.addEventListener('keydown', (event) => {
