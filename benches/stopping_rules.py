@@ -23,6 +23,11 @@ Make the curves first (steps 1..30, flag and skirt):
 
 The default costs per iteration are those `cargo bench --bench
 iteration_cost` measured in session 17 on the flag.
+
+It also prints, per step, plain-50's decrease over plain's first one
+(E(x_0) - E(x_50)) / (E(x_0) - E(x_1)): at most 50 wherever the plain
+iteration's decrease does not grow, the premise of `--at-least-plain`
+(docs/convergence.md, "A floor from the first plain iteration").
 """
 import csv
 import statistics
@@ -54,6 +59,8 @@ def main():
         cost[name] = float(value)
     for scene in ["flag", "skirt"]:
         steps = [load(f"{folder}/{scene}-{k}.csv") for k in range(1, 31)]
+        ratios = [c["plain"][50] / c["plain"][1] for c in steps]
+        print(f"{scene} plain-50 / first plain decrease: " + " ".join(f"{r:.1f}" for r in ratios))
         for window in [1, 2, 3]:
             for tolerance in [0.2, 0.1, 0.05, 0.03]:
                 cells = []
