@@ -151,7 +151,9 @@ pub(crate) fn solve<B: LinearAlgebra>(
                 work.estimated_rho = work.estimated_rho.or(rho);
                 work.take_plain();
                 energy = context.local_step_measuring(&work.current, monitor.room_for_gradient());
-                monitor.plain_first(energy); // this iterate is G(xₖ)
+                if iteration == 1 {
+                    monitor.plain_first(energy); // this iterate is G(p⁰)
+                }
             }
             Some(radius) => {
                 if monitor.wants_plain_first() {

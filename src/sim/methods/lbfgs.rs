@@ -255,8 +255,8 @@ fn search_along_direction<B: LinearAlgebra>(
             .energy
             .change_and_gradient(&trials[next], &mut trial_gradients[next])
             .total();
-        if trial_lengths[1 - next].is_nan() && trial_lengths[next].is_nan() {
-            *first_trial_energy = change;
+        if trial_lengths.iter().all(|t| t.is_nan()) {
+            *first_trial_energy = change; // the search's first trial
         }
         trial_lengths[next] = t;
         next = 1 - next;

@@ -5,7 +5,10 @@
 //! instead iterates until the relative gradient over the free vertices,
 //! `‖∇E(p)‖ / ‖∇E(p⁰)‖`, falls below a tolerance (or an iteration lowers
 //! the energy by at most a given fraction of the step's decrease so far:
-//! the energy tolerance), or a budget of iterations is spent:
+//! the energy tolerance), or a budget of iterations is spent. A floor can
+//! hold those rules back until the energy has fallen by `N` times the
+//! first plain iteration's decrease (`at_least_plain`, see
+//! [`Monitor::after`]):
 //!
 //! | method | one iteration | file |
 //! |---|---|---|
@@ -167,8 +170,8 @@ pub struct StepControl {
 }
 
 impl StepControl {
-    /// Does a stopping rule (either tolerance) end steps before
-    /// `iterations`?
+    /// Does a stopping rule (either tolerance, or the floor of
+    /// `at_least_plain`) end steps before `iterations`?
     pub fn has_stopping_rule(&self) -> bool {
         self.tolerance.is_some() || self.energy_tolerance.is_some() || self.at_least_plain.is_some()
     }
@@ -553,8 +556,7 @@ impl<'a, 'o> Monitor<'a, 'o> {
             known => known,
         };
         let past_floor = self.past_floor(iteration, energy);
-        if let Some(fraction) = self.energy_tolerance {
-            let energy = energy.expect("measured for the energy rule");
+        if let (Some(fraction), Some(energy)) = (self.energy_tolerance, energy) {
             if self.energy_rule_met(fraction, iteration, energy) && past_floor {
                 return Some(Stop::EnergyTolerance);
             }
