@@ -1,7 +1,7 @@
 //! `masssprings converge` as a user runs it: the CSV has the documented
 //! header and one row per method and iteration, iteration 0 included, with
 //! energies that start at 0; the plot is a PNG; `--steps` prints medians
-//! and writes one CSV row per step and method (and refuses `--plot`);
+//! and writes one CSV row per step and method and a per-step plot;
 //! `--steps --tolerance` solves every step by the stopping rule and says how
 //! many steps reached plain-50's energy, as its CSV rows show; `simulate --start` reports where
 //! steps start and refuses a start it does not know.
@@ -111,22 +111,29 @@ fn converge_over_steps_prints_a_median_per_method() {
 }
 
 #[test]
-fn converge_over_steps_draws_no_plot() {
-    let output = masssprings(&[
-        "converge",
-        &data("net.json"),
-        "--steps",
-        "2",
-        "--plot",
-        "never.png",
-    ]);
-    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
-    assert!(
-        stderr(&output).contains("with --steps use --csv"),
-        "{}",
-        stderr(&output)
-    );
-    assert!(!std::path::Path::new("never.png").exists());
+fn converge_over_steps_draws_each_steps_cost_and_accuracy() {
+    let folder = temp_folder("converge-steps-plot");
+    for (name, rule) in [("reach.png", None), ("rule.png", Some("0.2"))] {
+        let png = folder.join(name);
+        let mut args = vec![
+            "converge".to_string(),
+            data("net.json"),
+            "--steps".into(),
+            "2".into(),
+            "--methods".into(),
+            "plain,lbfgs".into(),
+            "--plot".into(),
+            png.to_str().unwrap().into(),
+        ];
+        if let Some(fraction) = rule {
+            args.extend(["--energy-tolerance".into(), fraction.into()]);
+        }
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let output = masssprings(&args);
+        assert!(output.status.success(), "{name}: {}", stderr(&output));
+        let picture = std::fs::read(&png).unwrap();
+        assert_eq!(&picture[..8], b"\x89PNG\r\n\x1a\n", "{name}");
+    }
 }
 
 #[test]

@@ -23,6 +23,8 @@ use super::convergence_flags::{
     self, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, PINS, RELAXATION, RHO, START, WINDOW,
 };
 use super::limits::precompute;
+use super::render::plot::Scale;
+use super::steps_plot::{StepPlot, StepSeries};
 use super::{load_scene, AppError};
 use masssprings::files::write_file;
 use masssprings::sim::energy::free_norm;
@@ -99,7 +101,8 @@ two-panel plot.",
         Flag::value(
             "plot",
             "FILE.png",
-            "Draw the curves into a PNG (one step's only, not with --steps).",
+            "Draw the curves into a PNG (with --steps: each step's cost and accuracy against \
+             plain-50's).",
         ),
         Flag::value(
             "steps",
@@ -195,11 +198,6 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
     let path = |name: &str| -> Result<Option<PathBuf>, AppError> {
         Ok(args.text(name).filter(|s| !s.is_empty()).map(PathBuf::from))
     };
-    if args.count("steps", 0, 0)? > 0 && path("plot")?.is_some() {
-        return Err(AppError::Usage(
-            "--plot draws one step's curves; with --steps use --csv".into(),
-        ));
-    }
     Ok(Request {
         scene,
         step,
@@ -456,7 +454,45 @@ fn run_over_steps(request: &Request, steps: usize) -> Result<(), AppError> {
     if let Some(path) = &request.csv {
         write_file(path, |out| write_reach_csv(out, &rows))?;
     }
+    if let Some(path) = &request.plot {
+        draw_reach(path, &scene.name, &request.methods, &rows)?;
+    }
     Ok(())
+}
+
+/// The plot of `--steps S` without a rule: per step, the time to reach
+/// plain-50's energy over plain-50's time, and the iterations it took.
+fn draw_reach(
+    path: &std::path::Path,
+    scene: &str,
+    methods: &[StepMethod],
+    rows: &[ReachRow],
+) -> Result<(), AppError> {
+    let series = by_method(methods, rows, |r| {
+        let (iterations, ms) = r.reached?;
+        Some((
+            r.method,
+            (r.step as f64, ms / r.plain_50_ms, iterations as f64),
+        ))
+    });
+    let plot = StepPlot {
+        title: format!("{scene}: reaching the energy of 50 plain iterations, step by step"),
+        caption: "left: time to first reach plain-50's energy / plain-50's time; right: \
+                  iterations to reach it (steps never reached left out)"
+            .into(),
+        left: (
+            "time to plain-50's energy",
+            "/ plain-50's time (log)",
+            Scale::Log10,
+        ),
+        right: (
+            "iterations to plain-50's energy",
+            "iterations",
+            Scale::Linear,
+        ),
+        plain_50_line: false,
+    };
+    super::steps_plot::draw(path, &plot, &series)
 }
 
 /// `--steps S --csv`: when one method first reached plain-50's energy on
@@ -584,7 +620,56 @@ fn run_over_steps_to_tolerance(request: &Request, steps: usize) -> Result<(), Ap
     if let Some(path) = &request.csv {
         write_file(path, |out| write_rule_csv(out, &step_rows))?;
     }
+    if let Some(path) = &request.plot {
+        let title = format!("{}, {rules}: each step against plain-50's", scene.name);
+        draw_rule(path, title, &request.methods, &step_rows)?;
+    }
     Ok(())
+}
+
+/// One plot series per method, from the rows that give it a point
+/// (`point` says whose point a row is, if any).
+fn by_method<R>(
+    methods: &[StepMethod],
+    rows: &[R],
+    point: impl Fn(&R) -> Option<(StepMethod, (f64, f64, f64))>,
+) -> Vec<StepSeries> {
+    methods
+        .iter()
+        .map(|&method| {
+            let points = rows
+                .iter()
+                .filter_map(&point)
+                .filter(|&(m, _)| m == method)
+                .map(|(_, p)| p)
+                .collect();
+            (method.name().to_string(), points)
+        })
+        .collect()
+}
+
+/// The plot of `--steps S` with a rule: per step, the step's time and its
+/// energy decrease over plain-50's.
+fn draw_rule(
+    path: &std::path::Path,
+    title: String,
+    methods: &[StepMethod],
+    rows: &[RuleRow],
+) -> Result<(), AppError> {
+    let series = by_method(methods, rows, |r| {
+        let (time, decrease) = (r.ms / r.plain_50_ms, r.energy / r.plain_50_energy);
+        Some((r.method, (r.step as f64, time, decrease)))
+    });
+    let plot = StepPlot {
+        title,
+        caption: "left: step time / plain-50's; right: energy decrease / plain-50's \
+                  (at or above 1: the step ended at least as low as plain-50)"
+            .into(),
+        left: ("cost", "step time / plain-50's (log)", Scale::Log10),
+        right: ("accuracy", "decrease / plain-50's (log)", Scale::Log10),
+        plain_50_line: true,
+    };
+    super::steps_plot::draw(path, &plot, &series)
 }
 
 /// `--steps S --csv` with a stopping rule: one method's whole step, beside

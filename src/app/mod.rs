@@ -16,6 +16,7 @@ mod progress;
 mod render;
 mod simulate;
 mod spy;
+mod steps_plot;
 mod suggest;
 mod timing;
 mod view;
