@@ -1,13 +1,13 @@
 //! The flags that choose how each step is solved, shared by `simulate`,
 //! `render`, `view` and `converge`: `--method`, `--tolerance`,
-//! `--energy-tolerance`, `--at-least-plain`, `--iterations`, `--rho`, `--relaxation`,
-//! `--window`, `--start`, `--pins`. A command lists the ones it accepts in
+//! `--energy-tolerance`, `--at-least-plain`, `--iterations`, `--rho`,
+//! `--relaxation`, `--window`, `--start`, `--pins`. A command lists the ones it accepts in
 //! its flag table ([`super::args::CommandSpec`]); [`apply`] reads those
 //! that were declared.
 
 use super::args::{Args, Flag};
 use super::AppError;
-use masssprings::sim::methods::{Start, MAX_WINDOW};
+use masssprings::sim::methods::{Start, AT_LEAST_PLAIN_LIMITS, MAX_WINDOW};
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::StepMethod;
 
@@ -106,12 +106,13 @@ pub fn apply(args: &Args, options: &mut SimulationOptions) -> Result<(), AppErro
     }
     if args.declares("at-least-plain") {
         if let Some(text) = args.text("at-least-plain") {
+            let (fewest, most) = AT_LEAST_PLAIN_LIMITS;
             options.at_least_plain = match text.trim().parse::<f64>() {
-                Ok(value) if (1.0..=1e6).contains(&value) => Some(value),
+                Ok(value) if (fewest..=most).contains(&value) => Some(value),
                 _ => {
                     return Err(AppError::Usage(format!(
-                        "--at-least-plain expects a number of plain iterations from 1 to \
-                         1000000, got '{text}'"
+                        "--at-least-plain expects a number of plain iterations from {fewest} \
+                         to {most}, got '{text}'"
                     )))
                 }
             };

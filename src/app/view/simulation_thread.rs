@@ -19,7 +19,7 @@ use super::display_mesh::display_mesh;
 use super::watchers::Watchers;
 use masssprings::mesh::bounding_box::BoundingBox;
 use masssprings::mesh::Scene;
-use masssprings::sim::methods::Start;
+use masssprings::sim::methods::{Start, AT_LEAST_PLAIN_LIMITS};
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{LinearAlgebra, Simulation, StepMethod, StepReport, Stop};
 use std::path::PathBuf;
@@ -329,9 +329,10 @@ impl<B: LinearAlgebra> SimulationThread<B> {
             }
         }
         if let Some(n) = at_least_plain {
-            if !(1.0..=1e6).contains(&n) {
+            let (fewest, most) = AT_LEAST_PLAIN_LIMITS;
+            if !(fewest..=most).contains(&n) {
                 return Err(format!(
-                    "at least plain-{n}: expected 1 to 1000000 iterations"
+                    "at least plain-{n}: expected {fewest} to {most} iterations"
                 ));
             }
         }

@@ -177,6 +177,10 @@ impl StepControl {
     }
 }
 
+/// The multiples `N` of `at_least_plain` the command line and the viewer
+/// accept: at least one plain iteration, at most a million.
+pub const AT_LEAST_PLAIN_LIMITS: (f64, f64) = (1.0, 1e6);
+
 /// The history window of Anderson and L-BFGS when none is given.
 pub const DEFAULT_WINDOW: usize = 5;
 
