@@ -7,7 +7,9 @@
 
 use super::args::{Args, Flag};
 use super::AppError;
-use masssprings::sim::methods::{Start, AT_LEAST_PLAIN_LIMITS, MAX_WINDOW};
+use masssprings::sim::methods::{
+    is_open_fraction, is_plain_multiple, Start, AT_LEAST_PLAIN_LIMITS, MAX_WINDOW,
+};
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::StepMethod;
 
@@ -108,7 +110,7 @@ pub fn apply(args: &Args, options: &mut SimulationOptions) -> Result<(), AppErro
         if let Some(text) = args.text("at-least-plain") {
             let (fewest, most) = AT_LEAST_PLAIN_LIMITS;
             options.at_least_plain = match text.trim().parse::<f64>() {
-                Ok(value) if (fewest..=most).contains(&value) => Some(value),
+                Ok(value) if is_plain_multiple(value) => Some(value),
                 _ => {
                     return Err(AppError::Usage(format!(
                         "--at-least-plain expects a number of plain iterations from {fewest} \
@@ -146,7 +148,7 @@ fn open_unit_interval(args: &Args, name: &str, what: &str) -> Result<Option<f64>
         return Ok(None);
     };
     match text.trim().parse::<f64>() {
-        Ok(value) if value > 0.0 && value < 1.0 => Ok(Some(value)),
+        Ok(value) if is_open_fraction(value) => Ok(Some(value)),
         _ => Err(AppError::Usage(format!(
             "--{name} expects {what} between 0 and 1, got '{text}'"
         ))),

@@ -19,7 +19,7 @@ use super::display_mesh::display_mesh;
 use super::watchers::Watchers;
 use masssprings::mesh::bounding_box::BoundingBox;
 use masssprings::mesh::Scene;
-use masssprings::sim::methods::{Start, AT_LEAST_PLAIN_LIMITS};
+use masssprings::sim::methods::{Start, StepControl};
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{LinearAlgebra, Simulation, StepMethod, StepReport, Stop};
 use std::path::PathBuf;
@@ -318,24 +318,13 @@ impl<B: LinearAlgebra> SimulationThread<B> {
         start: Option<&str>,
     ) -> Reply {
         let method: StepMethod = method.parse()?;
-        for (what, value) in [
-            ("tolerance", tolerance),
-            ("energy tolerance", energy_tolerance),
-        ] {
-            if let Some(t) = value {
-                if !(t > 0.0 && t < 1.0) {
-                    return Err(format!("{what} {t}: expected between 0 and 1"));
-                }
-            }
-        }
-        if let Some(n) = at_least_plain {
-            let (fewest, most) = AT_LEAST_PLAIN_LIMITS;
-            if !(fewest..=most).contains(&n) {
-                return Err(format!(
-                    "at least plain-{n}: expected {fewest} to {most} iterations"
-                ));
-            }
-        }
+        let rules = StepControl {
+            tolerance,
+            energy_tolerance,
+            at_least_plain,
+            ..StepControl::default()
+        };
+        rules.check_rules()?;
         let start: Option<Start> = start.map(str::parse).transpose()?;
         self.simulation.set_method(method, tolerance);
         self.simulation.set_energy_tolerance(energy_tolerance);

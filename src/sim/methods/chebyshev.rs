@@ -34,7 +34,8 @@
 //! ratio of successive plain steps `‖xₖ₊₁ − xₖ‖ / ‖xₖ − xₖ₋₁‖` among them
 //! (the ratio creeps up toward the asymptotic rate as the fast modes die
 //! out, so the largest is the best guess), capped at 0.995 since an
-//! overestimate diverges, and kept for later steps. On the bundled cloths it is 0.97–0.999 and the cap decides.
+//! overestimate diverges, and kept for later steps. On the bundled cloths
+//! it is 0.97–0.999 and the cap decides.
 //!
 //! `G` is nonlinear, so the extrapolation can overshoot: when the energy
 //! rises, the iterate is replaced by the plain `x̂ₖ₊₁` (whose energy never
@@ -129,7 +130,7 @@ pub(crate) fn solve<B: LinearAlgebra>(
     monitor: &mut Monitor<'_, '_>,
 ) -> Outcome {
     let mut rho = control.rho.or(work.estimated_rho);
-    work.estimate.last_step_norm = 0.0; // no ratio across two steps
+    work.estimate.new_step();
     let mut k = 0; // extrapolations since the recurrence (re)started
     let mut omega_k = 1.0;
     // xₖ in `current`, xₖ₋₁ in `previous`; the buffers trade places
@@ -228,6 +229,12 @@ struct RhoEstimate {
 }
 
 impl RhoEstimate {
+    /// A step begins: its first plain step is not compared with the last
+    /// one of the step before.
+    fn new_step(&mut self) {
+        self.last_step_norm = 0.0;
+    }
+
     /// Records the plain step `x̂ − x`; returns `ρ` once
     /// [`ESTIMATION_ITERATIONS`] have been recorded.
     fn record(
@@ -271,7 +278,7 @@ mod tests {
         assert!(record(&mut estimate, &first).iter().all(Option::is_none));
         // the next step starts afresh (a larger step than the last one):
         // that ratio must not count
-        estimate.last_step_norm = 0.0;
+        estimate.new_step();
         let second: Vec<f64> = (0..8).map(|k| 5.0 * 0.8f64.powi(k)).collect();
         let results = record(&mut estimate, &second);
         assert!(results[..7].iter().all(Option::is_none));

@@ -177,9 +177,42 @@ impl StepControl {
     }
 }
 
-/// The multiples `N` of `at_least_plain` the command line and the viewer
-/// accept: at least one plain iteration, at most a million.
+/// The multiples `N` of `at_least_plain` a step accepts: at least one
+/// plain iteration, at most a million.
 pub const AT_LEAST_PLAIN_LIMITS: (f64, f64) = (1.0, 1e6);
+
+/// Is `value` strictly between 0 and 1, as both tolerances (and `ρ`) must be?
+pub fn is_open_fraction(value: f64) -> bool {
+    value > 0.0 && value < 1.0
+}
+
+/// Is `n` a multiple `at_least_plain` accepts ([`AT_LEAST_PLAIN_LIMITS`])?
+pub fn is_plain_multiple(n: f64) -> bool {
+    let (fewest, most) = AT_LEAST_PLAIN_LIMITS;
+    (fewest..=most).contains(&n)
+}
+
+impl StepControl {
+    /// The first of the stopping rules' numbers out of its range, if any,
+    /// said in words (for a caller that takes them from a user).
+    pub fn check_rules(&self) -> Result<(), String> {
+        for (what, value) in [
+            ("tolerance", self.tolerance),
+            ("energy tolerance", self.energy_tolerance),
+        ] {
+            if let Some(t) = value.filter(|&t| !is_open_fraction(t)) {
+                return Err(format!("{what} {t}: expected between 0 and 1"));
+            }
+        }
+        if let Some(n) = self.at_least_plain.filter(|&n| !is_plain_multiple(n)) {
+            let (fewest, most) = AT_LEAST_PLAIN_LIMITS;
+            return Err(format!(
+                "at least plain-{n}: expected {fewest} to {most} iterations"
+            ));
+        }
+        Ok(())
+    }
+}
 
 /// The history window of Anderson and L-BFGS when none is given.
 pub const DEFAULT_WINDOW: usize = 5;
@@ -431,9 +464,8 @@ pub(crate) enum Gradient<'g> {
 
 /// The stopping rule and the observer, consulted after every iteration.
 pub(crate) struct Monitor<'a, 'o> {
-    tolerance: Option<f64>,
-    energy_tolerance: Option<f64>,
-    at_least_plain: Option<f64>,
+    /// The step's rules (`tolerance`, `energy_tolerance`, `at_least_plain`).
+    rules: StepControl,
     /// The energy an iterate must reach before a rule may stop the step
     /// (with `at_least_plain`, once the first plain iterate's is known).
     floor: Option<f64>,
@@ -457,9 +489,7 @@ impl<'a, 'o> Monitor<'a, 'o> {
         observer: Option<Observer<'o>>,
     ) -> Self {
         Monitor {
-            tolerance: control.tolerance,
-            energy_tolerance: control.energy_tolerance,
-            at_least_plain: control.at_least_plain,
+            rules: *control,
             floor: None,
             first_energy: 0.0,
             last_energy: 0.0,
@@ -481,13 +511,13 @@ impl<'a, 'o> Monitor<'a, 'o> {
 
     /// Is there a stopping rule to test at each iterate?
     pub fn tests_iterates(&self) -> bool {
-        self.tolerance.is_some() || self.energy_tolerance.is_some() || self.at_least_plain.is_some()
+        self.rules.has_stopping_rule()
     }
 
     /// Does the floor of `at_least_plain` still wait for the energy of the
     /// first plain iterate `G(p⁰)` ([`Monitor::plain_first`])?
     pub fn wants_plain_first(&self) -> bool {
-        self.at_least_plain.is_some() && self.floor.is_none()
+        self.rules.at_least_plain.is_some() && self.floor.is_none()
     }
 
     /// Gives the energy `E(G(p⁰)) − E(pᵗ)` of the first plain iterate, from
@@ -495,7 +525,7 @@ impl<'a, 'o> Monitor<'a, 'o> {
     /// without `at_least_plain`, change nothing). A method whose first
     /// iterate is the plain one passes its energy; the others measure it.
     pub fn plain_first(&mut self, energy: f64) {
-        if let (Some(multiple), None) = (self.at_least_plain, self.floor) {
+        if let (Some(multiple), None) = (self.rules.at_least_plain, self.floor) {
             let first_decrease = self.first_energy - energy;
             self.floor = Some(self.first_energy - multiple * first_decrease);
         }
@@ -506,7 +536,7 @@ impl<'a, 'o> Monitor<'a, 'o> {
     /// iterate can make the gradient on the way fills it there, then tells
     /// [`Monitor::after`] so with [`Gradient::InRoom`].
     pub fn room_for_gradient(&mut self) -> Option<&mut [[f64; 3]]> {
-        self.tolerance.map(|_| &mut *self.gradient)
+        self.rules.tolerance.map(|_| &mut *self.gradient)
     }
 
     /// `∇E` at the first iterate, when the step measured it there
@@ -554,13 +584,22 @@ impl<'a, 'o> Monitor<'a, 'o> {
             });
         }
         self.relative_gradient = None;
-        let measure = self.energy_tolerance.is_some() || self.at_least_plain.is_some();
+        let StepControl {
+            tolerance,
+            energy_tolerance,
+            at_least_plain,
+            ..
+        } = self.rules;
+        let measure = energy_tolerance.is_some() || at_least_plain.is_some();
         let energy = match energy {
             None if measure => Some(context.energy.change(p).total()),
             known => known,
         };
+        if let (0, Some(energy)) = (iteration, energy) {
+            (self.first_energy, self.last_energy) = (energy, energy);
+        }
         let past_floor = self.past_floor(iteration, energy);
-        if let (Some(fraction), Some(energy)) = (self.energy_tolerance, energy) {
+        if let (Some(fraction), Some(energy)) = (energy_tolerance, energy) {
             if self.energy_rule_met(fraction, iteration, energy) && past_floor {
                 return Some(Stop::EnergyTolerance);
             }
@@ -568,8 +607,8 @@ impl<'a, 'o> Monitor<'a, 'o> {
         if !past_floor {
             return None;
         }
-        let Some(tolerance) = self.tolerance else {
-            let floor_alone = self.at_least_plain.is_some() && self.energy_tolerance.is_none();
+        let Some(tolerance) = tolerance else {
+            let floor_alone = at_least_plain.is_some() && energy_tolerance.is_none();
             return floor_alone.then_some(Stop::AtLeastPlain);
         };
         let norm = match gradient {
@@ -596,17 +635,11 @@ impl<'a, 'o> Monitor<'a, 'o> {
         (0.0..=fraction * (self.first_energy - energy)).contains(&decrease)
     }
 
-    /// Records the first iterate's energy (iteration 0), and says whether
-    /// iterate `iteration` may stop the step: always without
-    /// `at_least_plain`; with it, once the floor is known and `energy` is
-    /// at or below it.
-    fn past_floor(&mut self, iteration: usize, energy: Option<f64>) -> bool {
-        if iteration == 0 {
-            if let Some(energy) = energy {
-                (self.first_energy, self.last_energy) = (energy, energy);
-            }
-        }
-        if self.at_least_plain.is_none() {
+    /// May iterate `iteration`, of energy `energy`, stop the step? Always
+    /// without `at_least_plain`; with it, once the floor is known and
+    /// `energy` is at or below it.
+    fn past_floor(&self, iteration: usize, energy: Option<f64>) -> bool {
+        if self.rules.at_least_plain.is_none() {
             return true;
         }
         match (self.floor, energy) {
