@@ -128,6 +128,12 @@ fn bad_values_are_explained_in_plain_words() {
         &["simulate", &net, "--every", "0"],
         "--every expects a whole number ≥ 1; 0 is out of range",
     );
+    // converge's --steps selects the mode over steps: 0 is refused, not
+    // taken as "one step"
+    usage_error(
+        &["converge", &net, "--steps", "0"],
+        "--steps expects a whole number ≥ 1; 0 is out of range",
+    );
     usage_error(
         &["view", &net, "--port", "99999"],
         "--port expects a whole number from 0 to 65535; 99999 is out of range",

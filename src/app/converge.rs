@@ -209,9 +209,10 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
             pins: sim_options.pins,
             ..SimulationOptions::default()
         },
-        over_steps: match args.count("steps", 0, 0)? {
-            0 => None,
-            steps => Some(steps),
+        // given, at least 1 (`--steps 0` is an error, not the one-step mode)
+        over_steps: match args.text("steps") {
+            None => None,
+            Some(_) => Some(args.count("steps", 1, 1)?),
         },
     })
 }
