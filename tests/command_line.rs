@@ -135,6 +135,14 @@ fn bad_values_are_explained_in_plain_words() {
         "--steps expects a whole number ≥ 1; 0 is out of range",
     );
     usage_error(
+        &["converge", &net, "--steps", "0", "--tolerance", "0.9"],
+        "--steps expects a whole number ≥ 1; 0 is out of range",
+    );
+    usage_error(
+        &["analyze", "a.mtx", "--repeats", "0"],
+        "--repeats expects a whole number ≥ 1; 0 is out of range",
+    );
+    usage_error(
         &["view", &net, "--port", "99999"],
         "--port expects a whole number from 0 to 65535; 99999 is out of range",
     );

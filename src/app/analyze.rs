@@ -132,9 +132,10 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         "cholmod" => Relaxation::CHOLMOD,
         _ => Relaxation::NONE,
     };
-    let repeats = match args.count("repeats", 0, 0)? {
-        0 => Repeats::Adaptive,
-        count => Repeats::Exactly(count),
+    // given, at least 1 (`--repeats 0` is an error, not the default)
+    let repeats = match args.text("repeats") {
+        None => Repeats::Adaptive,
+        Some(_) => Repeats::Exactly(args.count("repeats", 1, 1)?),
     };
     let lower = read_symmetric_lower(&path)?;
     let rhs = read_or_make_rhs(&path, lower.ncols())?;

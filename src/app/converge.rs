@@ -188,7 +188,13 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
         ..SimulationOptions::default()
     };
     convergence_flags::apply(&args, &mut sim_options)?;
-    if sim_options.step_control().has_stopping_rule() && args.count("steps", 0, 0)? == 0 {
+    // `--steps S` selects the mode over steps; given, S is at least 1
+    // (`--steps 0` is an error, not the one-step mode)
+    let over_steps = match args.text("steps") {
+        None => None,
+        Some(_) => Some(args.count("steps", 1, 1)?),
+    };
+    if sim_options.step_control().has_stopping_rule() && over_steps.is_none() {
         return Err(AppError::Usage(
             "--tolerance, --energy-tolerance and --at-least-plain need --steps S (one step's \
              curves always run every iteration)"
@@ -209,11 +215,7 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
             pins: sim_options.pins,
             ..SimulationOptions::default()
         },
-        // given, at least 1 (`--steps 0` is an error, not the one-step mode)
-        over_steps: match args.text("steps") {
-            None => None,
-            Some(_) => Some(args.count("steps", 1, 1)?),
-        },
+        over_steps,
     })
 }
 
