@@ -132,11 +132,9 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         "cholmod" => Relaxation::CHOLMOD,
         _ => Relaxation::NONE,
     };
-    // given, at least 1 (`--repeats 0` is an error, not the default)
-    let repeats = match args.text("repeats") {
-        None => Repeats::Adaptive,
-        Some(_) => Repeats::Exactly(args.count("repeats", 1, 1)?),
-    };
+    let repeats = args
+        .optional_count("repeats", 1)?
+        .map_or(Repeats::Adaptive, Repeats::Exactly);
     let lower = read_symmetric_lower(&path)?;
     let rhs = read_or_make_rhs(&path, lower.ncols())?;
     let analysis = analyze(&lower, &rhs, ordering, method, relaxation, repeats)

@@ -307,6 +307,20 @@ impl Args {
         Ok(value as usize)
     }
 
+    /// `--name` as a count of at least `least` when it is given, `None`
+    /// when it is not: for a flag whose absence means something else than
+    /// any count (so that `--steps 0` is refused instead of being read as
+    /// "not given").
+    ///
+    /// # Errors
+    /// As [`Args::whole_number`].
+    pub fn optional_count(&self, name: &str, least: usize) -> Result<Option<usize>, AppError> {
+        match self.text(name) {
+            None => Ok(None),
+            Some(_) => self.count(name, least, least).map(Some),
+        }
+    }
+
     /// `--name` as a finite number within `range`, or `default` (for
     /// real-valued flags such as `--tolerance`).
     ///
@@ -440,6 +454,15 @@ mod tests {
         assert_eq!(defaults.single_positional("FILE").unwrap(), "-weird.json");
         assert_eq!(defaults.count("steps", 100, 0).unwrap(), 100);
         assert!(!defaults.switch("dense"));
+    }
+
+    #[test]
+    fn an_optional_count_is_none_when_absent_and_refuses_less_than_its_least() {
+        let args = parse(&["--steps", "3", "--k", "0"]).unwrap();
+        assert_eq!(args.optional_count("steps", 1).unwrap(), Some(3));
+        assert_eq!(args.optional_count("port", 1).unwrap(), None);
+        let message = usage_message(args.optional_count("k", 1));
+        assert_eq!(message, "--k expects a whole number ≥ 1; 0 is out of range");
     }
 
     #[test]

@@ -181,8 +181,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     }
     let steps = steps(&args)?;
     // the hidden `--one N`: measure one size here, for the parent process
-    let side = args.count("one", 0, 0)?;
-    if side > 0 {
+    if let Some(side) = args.optional_count("one", 2)? {
         let report = measure_one(side, steps)?;
         println!(
             "{}",

@@ -188,12 +188,8 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
         ..SimulationOptions::default()
     };
     convergence_flags::apply(&args, &mut sim_options)?;
-    // `--steps S` selects the mode over steps; given, S is at least 1
-    // (`--steps 0` is an error, not the one-step mode)
-    let over_steps = match args.text("steps") {
-        None => None,
-        Some(_) => Some(args.count("steps", 1, 1)?),
-    };
+    // `--steps S` selects the mode over steps (`--steps 0` is an error)
+    let over_steps = args.optional_count("steps", 1)?;
     if sim_options.step_control().has_stopping_rule() && over_steps.is_none() {
         return Err(AppError::Usage(
             "--tolerance, --energy-tolerance and --at-least-plain need --steps S (one step's \
@@ -240,10 +236,7 @@ fn trace(
     let control = StepControl {
         method,
         iterations,
-        tolerance: None,
-        energy_tolerance: None,
-        at_least_plain: None,
-        ..*control
+        ..control.without_stopping_rules()
     };
     let failed = |e: masssprings::sim::SimulationError| AppError::Failed(format!("{method}: {e}"));
     // One untimed iteration first makes the method's work arrays, so that
@@ -543,10 +536,7 @@ fn run_over_steps_to_tolerance(request: &Request, steps: usize) -> Result<(), Ap
     let plain_50 = StepControl {
         method: StepMethod::Plain,
         iterations: YARDSTICKS[0],
-        tolerance: None,
-        energy_tolerance: None,
-        at_least_plain: None,
-        ..yardstick(&request.control)
+        ..yardstick(&request.control).without_stopping_rules()
     };
     let mut control = request.control;
     // One runner per method, kept across steps so that each method's work

@@ -175,6 +175,18 @@ impl StepControl {
     pub fn has_stopping_rule(&self) -> bool {
         self.tolerance.is_some() || self.energy_tolerance.is_some() || self.at_least_plain.is_some()
     }
+
+    /// The same control with every stopping rule removed (its steps run
+    /// all `iterations`), the other way of reading the rules that
+    /// [`StepControl::has_stopping_rule`] lists.
+    pub fn without_stopping_rules(self) -> Self {
+        StepControl {
+            tolerance: None,
+            energy_tolerance: None,
+            at_least_plain: None,
+            ..self
+        }
+    }
 }
 
 /// The multiples `N` of `at_least_plain` a step accepts: at least one
@@ -684,4 +696,32 @@ pub(crate) struct MethodWorkspaces {
     pub anderson: Option<anderson::Workspace>,
     pub lbfgs: Option<lbfgs::Workspace>,
     pub newton: Option<newton::Workspace>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::StepControl;
+
+    #[test]
+    fn a_control_without_stopping_rules_has_none_and_keeps_the_rest() {
+        let ruled = StepControl {
+            iterations: 7,
+            tolerance: Some(0.5),
+            energy_tolerance: Some(0.1),
+            at_least_plain: Some(50.0),
+            ..StepControl::default()
+        };
+        assert!(ruled.has_stopping_rule());
+        let bare = ruled.without_stopping_rules();
+        assert!(!bare.has_stopping_rule());
+        assert_eq!(bare.iterations, 7);
+        // only the rules differ
+        assert_eq!(
+            bare,
+            StepControl {
+                iterations: 7,
+                ..StepControl::default()
+            }
+        );
+    }
 }
