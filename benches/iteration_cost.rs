@@ -26,7 +26,7 @@
 //! with an observer that does nothing, which sends `plain` there).
 
 use masssprings::mesh::load_scene;
-use masssprings::sim::methods::Observer;
+use masssprings::sim::monitor::Observer;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Simulation, Sparse, StepMethod};
 use std::path::PathBuf;
@@ -87,7 +87,7 @@ fn seconds_per_iteration(simulation: &Simulation<Sparse>, textbook: bool) -> f64
     let [short, long] = [SHORT, LONG].map(|iterations| {
         let mut copy = simulation.clone();
         copy.set_iterations(iterations);
-        let control = copy.options().step_control();
+        let control = copy.options().step;
         let start = Instant::now();
         let observer: Option<Observer<'_>> = match textbook {
             true => Some(&mut |_| {}),

@@ -5,12 +5,13 @@
 //!
 //! * `gram_block_portable` against `gram_block` (AVX2 + FMA when present),
 //!   both against the sums computed here from their definition;
-//! * `project_springs_portable` against `project_springs` (four springs per
-//!   AVX2 instruction when present): the same operations lane by lane, so
-//!   the same bits;
+//! * `sim::local_step::project_springs` (the formula, one spring at a
+//!   time) against `sim::simd::local_step::project_springs` (four springs
+//!   per AVX2 instruction when present): the same operations lane by lane,
+//!   so the same bits;
 //! * `project_springs_into_transpose` (the local step and `Aᵀd` in one
-//!   pass, what the plain iteration runs) against `project_springs_portable`
-//!   then `incidence_transpose_mul_points`: the same bits;
+//!   pass, what the plain iteration runs), in both versions, against the
+//!   local step then `incidence_transpose_mul_points`: the same bits;
 //! * the spring pass (`Springs::measure`, AVX2 when present, against
 //!   `measure_portable`): `d` the local step's bits, `Aᵀd` the scatter's
 //!   bits, the energy sum and the
@@ -29,9 +30,11 @@ use masssprings::linalg::sparse::triangular_solve::{
 };
 use masssprings::linalg::sparse::{Method, Ordering, SparseCholesky, SymbolicCholesky};
 use masssprings::sim::local_step::{
-    project_springs, project_springs_into_transpose, project_springs_portable,
+    project_springs as project_springs_portable,
+    project_springs_into_transpose as project_springs_into_transpose_portable,
 };
 use masssprings::sim::signed_incidence::incidence_transpose_mul_points;
+use masssprings::sim::simd::local_step::{project_springs, project_springs_into_transpose};
 use masssprings::sim::spring_pass::{Outputs, Springs};
 use proptest::prelude::*;
 
@@ -198,9 +201,12 @@ proptest! {
         incidence_transpose_mul_points(&springs, &d, &mut two_passes);
         let mut one_pass = vec![[f64::NAN; 3]; n]; // it must overwrite these
         project_springs_into_transpose(&springs, &r, &p, &mut one_pass);
+        let mut formula = vec![[f64::NAN; 3]; n];
+        project_springs_into_transpose_portable(&springs, &r, &p, &mut formula);
         for i in 0..n {
             let bits = |row: [f64; 3]| row.map(f64::to_bits);
             prop_assert_eq!(bits(one_pass[i]), bits(two_passes[i]), "vertex {}", i);
+            prop_assert_eq!(bits(formula[i]), bits(two_passes[i]), "vertex {}", i);
         }
     }
 

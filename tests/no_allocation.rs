@@ -102,11 +102,14 @@ fn no_method_allocates_after_its_first_step() {
     let scene = load_scene(&path).unwrap();
     for method in StepMethod::ALL {
         let options = SimulationOptions {
-            method,
-            tolerance: Some(1e-9),
-            energy_tolerance: Some(1e-12),
-            at_least_plain: Some(2.0),
-            iterations: 30,
+            step: masssprings::sim::StepControl {
+                method,
+                tolerance: Some(1e-9),
+                energy_tolerance: Some(1e-12),
+                at_least_plain: Some(2.0),
+                iterations: 30,
+                ..masssprings::sim::StepControl::default()
+            },
             ..SimulationOptions::default()
         };
         let mut simulation = Simulation::<Sparse>::from_scene(&scene, options).unwrap();
@@ -124,7 +127,7 @@ fn no_method_allocates_after_its_first_step() {
 fn solves_and_refactorizations_allocate_nothing() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/skirt.json");
     let scene = load_scene(&path).unwrap();
-    let system = masssprings::sim::precomputation::fast_mass_springs_precomputation_sparse(
+    let system = masssprings::sim::precomputation::fast_mass_springs_precomputation::<Sparse>(
         &scene.vertices,
         &scene.springs,
         scene.k,

@@ -18,7 +18,7 @@ fn same_as_built_with_the_new_values<B: LinearAlgebra>() {
     changed.set_parameters(k, delta_t, scale).unwrap();
     assert_eq!(changed.mass_scale(), scale);
     assert_eq!(changed.options().delta_t, delta_t);
-    assert_eq!(changed.system().k, k);
+    assert_eq!(changed.k(), k);
 
     let masses: Vec<f64> = scene.masses.iter().map(|m| m * scale).collect();
     let options = SimulationOptions {
@@ -83,6 +83,6 @@ fn values_that_are_not_positive_are_refused_and_change_nothing() {
             "{k} {delta_t} {scale}: {refused:?}"
         );
     }
-    assert_eq!(simulation.system().k, scene.k);
+    assert_eq!(simulation.k(), scene.k);
     assert_eq!(simulation.mass_scale(), 1.0);
 }

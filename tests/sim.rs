@@ -5,25 +5,49 @@ mod common;
 use common::*;
 use masssprings::linalg::LinalgError;
 use masssprings::sim::local_step::project_springs;
-use masssprings::sim::methods::{StepControl, StepMethod};
-use masssprings::sim::precomputation::{
-    fast_mass_springs_precomputation, fast_mass_springs_precomputation_dense,
-    fast_mass_springs_precomputation_sparse,
-};
+use masssprings::sim::precomputation::{fast_mass_springs_precomputation, MassSpringSystem};
 use masssprings::sim::signed_incidence::{
     incidence_mul_points, incidence_transpose_mul_points, signed_incidence_matrix_dense,
     signed_incidence_matrix_sparse,
 };
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::step::{
-    fast_mass_springs_step, fast_mass_springs_step_dense, fast_mass_springs_step_sparse,
+use masssprings::sim::step::{solve_step, StepReport, StepState, StepWorkspace};
+use masssprings::sim::textbook::{
+    fast_mass_springs_precomputation_dense, fast_mass_springs_precomputation_sparse,
+    fast_mass_springs_step_dense, fast_mass_springs_step_sparse,
 };
-use masssprings::sim::{Dense, Simulation, SimulationError, Sparse, DELTA_T, PIN_WEIGHT};
+use masssprings::sim::{
+    Dense, LinearAlgebra, Simulation, SimulationError, Sparse, StepControl, StepMethod, DELTA_T,
+    PIN_WEIGHT,
+};
 use nalgebra::DMatrix;
 use proptest::prelude::*;
 
 fn gravity(n: usize) -> Vec<[f64; 3]> {
     vec![[0.0, -9.8, 0.0]; n]
+}
+
+/// One step of the fast path with `iterations` plain iterations, its
+/// energy and gradient measured for the report.
+fn fast_step<B: LinearAlgebra>(
+    system: &mut MassSpringSystem<B>,
+    iterations: usize,
+    state: [&[[f64; 3]]; 3],
+    u_next: &mut [[f64; 3]],
+) -> Result<StepReport, SimulationError> {
+    let mut workspace = StepWorkspace::new(system);
+    let control = StepControl {
+        iterations,
+        measure: true,
+        ..StepControl::default()
+    };
+    let [f_ext, u_prev, u_cur] = state;
+    let state = StepState {
+        f_ext,
+        u_prev,
+        u_cur,
+    };
+    solve_step(system, &mut workspace, &control, state, u_next, None)
 }
 
 proptest! {
@@ -80,10 +104,14 @@ proptest! {
         let sparse = fast_mass_springs_precomputation_sparse(&net.v, &net.springs, net.k, &net.masses, &net.pinned, DELTA_T).unwrap();
         assert_close(&dense_to_nalgebra(&dense.Q), &oracle, 1e-14);
         assert_close(&csc_to_nalgebra(&sparse.Q), &oracle, 1e-14);
-        // the pins' constant right-hand side, w CᵀC V
+        // the fast path's Q is the same matrix
+        let fast = fast_mass_springs_precomputation::<Sparse>(&net.v, &net.springs, net.k, &net.masses, &net.pinned, DELTA_T).unwrap();
+        assert_close(&csc_to_nalgebra(&fast.Q), &oracle, 1e-14);
+        // the pins' constant right-hand side, w CᵀC V, on both paths
         let pin_rhs = c.transpose() * &c * points_to_nalgebra(&net.v) * PIN_WEIGHT;
-        assert_close(&points_to_nalgebra(&sparse.pin_rhs), &pin_rhs, 1e-14);
-        assert_close(&points_to_nalgebra(&dense.pin_rhs), &pin_rhs, 1e-14);
+        assert_close(&points_to_nalgebra(&fast.pin_rhs), &pin_rhs, 1e-14);
+        let handout_pins = masssprings::sim::textbook::pin_term(&sparse);
+        assert_close(&points_to_nalgebra(&handout_pins), &pin_rhs, 1e-14);
         for (e, &[i, j]) in net.springs.iter().enumerate() {
             prop_assert!((sparse.r[e] - norm(sub(net.v[i], net.v[j]))).abs() < 1e-15);
         }
@@ -114,7 +142,7 @@ proptest! {
         let mut previous = f64::INFINITY;
         for iterations in 1..=8 {
             let mut u_next = vec![[0.0; 3]; n];
-            fast_mass_springs_step(&mut system, iterations, &f_ext, &u_prev, &u_cur, &mut u_next).unwrap();
+            fast_step(&mut system, iterations, [&f_ext, &u_prev, &u_cur], &mut u_next).unwrap();
             let energy = step_energy(&net, &f_ext, &u_prev, &u_cur, &u_next);
             prop_assert!(energy <= previous + 1e-9 * previous.abs().max(1.0), "iteration {iterations}: {energy} > {previous}");
             previous = energy;
@@ -145,17 +173,23 @@ proptest! {
 fn a_network_at_rest_without_forces_stays_at_rest() {
     let v = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
     let springs = vec![[0, 1], [1, 2], [2, 0]];
-    let mut system =
+    let handout =
         fast_mass_springs_precomputation_sparse(&v, &springs, 100.0, &[1.0; 3], &[0], DELTA_T)
             .unwrap();
-    let mut u_next = vec![[0.0; 3]; 3];
-    let report =
-        fast_mass_springs_step_sparse(&mut system, &[[0.0; 3]; 3], &v, &v, &mut u_next).unwrap();
+    let mut system =
+        fast_mass_springs_precomputation::<Sparse>(&v, &springs, 100.0, &[1.0; 3], &[0], DELTA_T)
+            .unwrap();
+    let (mut textbook, mut fast) = (vec![[0.0; 3]; 3], vec![[0.0; 3]; 3]);
+    let still = [[0.0; 3]; 3];
+    fast_mass_springs_step_sparse(&handout, &still, &v, &v, &mut textbook);
+    let report = fast_step(&mut system, 50, [&still, &v, &v], &mut fast).unwrap();
     assert_eq!(report.iterations, 50);
-    assert!(report.relative_gradient < 1e-12, "{report:?}");
-    for i in 0..3 {
-        for c in 0..3 {
-            assert!((u_next[i][c] - v[i][c]).abs() < 1e-12);
+    assert!(report.relative_gradient.unwrap() < 1e-12, "{report:?}");
+    for u_next in [textbook, fast] {
+        for i in 0..3 {
+            for c in 0..3 {
+                assert!((u_next[i][c] - v[i][c]).abs() < 1e-12);
+            }
         }
     }
 }
@@ -164,15 +198,15 @@ fn a_network_at_rest_without_forces_stays_at_rest() {
 fn the_dense_and_sparse_entry_points_are_the_same_algorithm() {
     let v = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
     let springs = vec![[0, 1]];
-    let mut dense =
+    let dense =
         fast_mass_springs_precomputation_dense(&v, &springs, 500.0, &[1.0; 2], &[0], DELTA_T)
             .unwrap();
-    let mut sparse =
+    let sparse =
         fast_mass_springs_precomputation_sparse(&v, &springs, 500.0, &[1.0; 2], &[0], DELTA_T)
             .unwrap();
     let (mut a, mut b) = (vec![[0.0; 3]; 2], vec![[0.0; 3]; 2]);
-    fast_mass_springs_step_dense(&mut dense, &gravity(2), &v, &v, &mut a).unwrap();
-    fast_mass_springs_step_sparse(&mut sparse, &gravity(2), &v, &v, &mut b).unwrap();
+    fast_mass_springs_step_dense(&dense, &gravity(2), &v, &v, &mut a);
+    fast_mass_springs_step_sparse(&sparse, &gravity(2), &v, &v, &mut b);
     assert!(a[1][1] < 0.0, "the free end falls");
     for i in 0..2 {
         for c in 0..3 {
@@ -208,12 +242,11 @@ fn pinned_vertices_stay_within_a_micrometre_of_rest() {
 fn non_finite_forces_are_reported_not_propagated() {
     let v = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
     let mut system =
-        fast_mass_springs_precomputation_sparse(&v, &[[0, 1]], 500.0, &[1.0; 2], &[0], DELTA_T)
+        fast_mass_springs_precomputation::<Sparse>(&v, &[[0, 1]], 500.0, &[1.0; 2], &[0], DELTA_T)
             .unwrap();
     let mut u_next = vec![[0.0; 3]; 2];
     let forces = [[0.0; 3], [f64::NAN, 0.0, 0.0]];
-    let error =
-        fast_mass_springs_step_sparse(&mut system, &forces, &v, &v, &mut u_next).unwrap_err();
+    let error = fast_step(&mut system, 50, [&forces, &v, &v], &mut u_next).unwrap_err();
     assert!(
         matches!(error, SimulationError::NotFinite { .. }),
         "{error}"
@@ -271,11 +304,18 @@ fn changing_pins_refactors_to_the_same_system_as_precomputing_afresh() {
     let (v, springs) = cloth(6);
     let masses = vec![0.05; v.len()];
     let mut moved =
-        fast_mass_springs_precomputation_sparse(&v, &springs, 1e3, &masses, &[0], DELTA_T).unwrap();
-    moved.set_pins(&[0, 5, 30], &[v[0], v[5], v[30]]).unwrap();
-    let fresh =
-        fast_mass_springs_precomputation_sparse(&v, &springs, 1e3, &masses, &[0, 5, 30], DELTA_T)
+        fast_mass_springs_precomputation::<Sparse>(&v, &springs, 1e3, &masses, &[0], DELTA_T)
             .unwrap();
+    moved.set_pins(&[0, 5, 30], &[v[0], v[5], v[30]]).unwrap();
+    let fresh = fast_mass_springs_precomputation::<Sparse>(
+        &v,
+        &springs,
+        1e3,
+        &masses,
+        &[0, 5, 30],
+        DELTA_T,
+    )
+    .unwrap();
     assert_close(&csc_to_nalgebra(&moved.Q), &csc_to_nalgebra(&fresh.Q), 0.0);
     assert_close(
         &points_to_nalgebra(&moved.pin_rhs),
@@ -285,8 +325,8 @@ fn changing_pins_refactors_to_the_same_system_as_precomputing_afresh() {
     let (mut a, mut b) = (moved.clone(), fresh.clone());
     let (mut ua, mut ub) = (vec![[0.0; 3]; v.len()], vec![[0.0; 3]; v.len()]);
     let f = gravity(v.len());
-    fast_mass_springs_step(&mut a, 5, &f, &v, &v, &mut ua).unwrap();
-    fast_mass_springs_step(&mut b, 5, &f, &v, &v, &mut ub).unwrap();
+    fast_step(&mut a, 5, [&f, &v, &v], &mut ua).unwrap();
+    fast_step(&mut b, 5, [&f, &v, &v], &mut ub).unwrap();
     assert_close(&points_to_nalgebra(&ua), &points_to_nalgebra(&ub), 1e-12);
 }
 
@@ -295,10 +335,14 @@ fn a_simulation_holds_q_only_for_a_method_that_multiplies_by_it() {
     let (v, springs) = cloth(6);
     let masses = vec![0.05; v.len()];
     let fresh = |pins: &[usize]| {
-        fast_mass_springs_precomputation_sparse(&v, &springs, 1e3, &masses, pins, DELTA_T).unwrap()
+        fast_mass_springs_precomputation::<Sparse>(&v, &springs, 1e3, &masses, pins, DELTA_T)
+            .unwrap()
     };
     let with = |method| SimulationOptions {
-        method,
+        step: masssprings::sim::StepControl {
+            method,
+            ..masssprings::sim::StepControl::default()
+        },
         ..SimulationOptions::default()
     };
     let mut plain =
@@ -308,19 +352,23 @@ fn a_simulation_holds_q_only_for_a_method_that_multiplies_by_it() {
         Simulation::<Sparse>::new(&v, &springs, 1e3, &masses, &[0], with(StepMethod::Lbfgs))
             .unwrap();
     assert!(fresh(&[0]).holds_q());
-    assert!(!plain.system().holds_q() && lbfgs.system().holds_q());
-    assert_eq!(plain.system().Q.nnz(), 0, "a released Q holds no entries");
+    assert!(!plain.system().unwrap().holds_q() && lbfgs.system().unwrap().holds_q());
+    assert_eq!(
+        plain.system().unwrap().Q.nnz(),
+        0,
+        "a released Q holds no entries"
+    );
     // Q is still there to read, assembled anew, the same to the bit
     assert_close(
-        &csc_to_nalgebra(&plain.system().q()),
+        &csc_to_nalgebra(&plain.system().unwrap().q()),
         &csc_to_nalgebra(&fresh(&[0]).Q),
         0.0,
     );
     // a drag refactors a released Q, and leaves it released
     plain.start_drag(30, v[30]).unwrap();
-    assert!(!plain.system().holds_q());
+    assert!(!plain.system().unwrap().holds_q());
     assert_close(
-        &csc_to_nalgebra(&plain.system().q()),
+        &csc_to_nalgebra(&plain.system().unwrap().q()),
         &csc_to_nalgebra(&fresh(&[0, 30]).Q),
         0.0,
     );
@@ -335,7 +383,7 @@ fn a_simulation_holds_q_only_for_a_method_that_multiplies_by_it() {
         plain.step_with(&control, None).unwrap();
         lbfgs.step_with(&control, None).unwrap();
     }
-    assert!(plain.system().holds_q());
+    assert!(plain.system().unwrap().holds_q());
     assert_eq!(plain.positions(), lbfgs.positions());
 }
 

@@ -111,7 +111,7 @@ fn export_q_writes_the_simulations_q_and_analyze_reads_it() {
     let scene = load_scene(Path::new(&data("flag.json"))).unwrap();
     let simulation =
         Simulation::<Sparse>::from_scene(&scene, SimulationOptions::default()).unwrap();
-    let q = simulation.system().q().triangle(Triangle::Lower);
+    let q = simulation.system().unwrap().q().triangle(Triangle::Lower);
     let MatrixMarket::Sparse(file) = matrix_market::read(&path).unwrap() else {
         panic!("expected a coordinate file");
     };
@@ -195,7 +195,7 @@ fn spy_draws_q_and_l_and_prints_the_fill_of_each_ordering() {
         let scene = load_scene(Path::new(&data("flag.json"))).unwrap();
         let simulation =
             Simulation::<Sparse>::from_scene(&scene, SimulationOptions::default()).unwrap();
-        let q = simulation.system().q();
+        let q = simulation.system().unwrap().q();
         let symbolic =
             SymbolicCholesky::analyze(&q, ordering.parse::<Ordering>().unwrap()).unwrap();
         assert_eq!(number_after(&printed, "nnz(L) ="), symbolic.nnz_l() as f64);
@@ -240,7 +240,8 @@ fn etree_draws_the_tree_and_counts_its_supernodes() {
     let scene = load_scene(Path::new(&data("net.json"))).unwrap();
     let simulation =
         Simulation::<Sparse>::from_scene(&scene, SimulationOptions::default()).unwrap();
-    let symbolic = SymbolicCholesky::analyze(&simulation.system().q(), Ordering::Amd).unwrap();
+    let symbolic =
+        SymbolicCholesky::analyze(&simulation.system().unwrap().q(), Ordering::Amd).unwrap();
     assert_eq!(number_after(&printed, "nnz(L) ="), symbolic.nnz_l() as f64);
     assert!(
         printed.contains(&format!("{} supernodes", symbolic.supernodes().len())),

@@ -1,13 +1,15 @@
 //! Scenes and matrices shared by the benchmarks, built through the library
-//! itself: the grid-N cloth of `shared/anchors.md` is generated, written
+//! itself: the grid-N cloth (`masssprings generate grid N`) is generated, written
 //! and read back as a scene, and its `Q` comes from the precomputation.
 #![allow(dead_code)]
 
 use masssprings::linalg::sparse::{CscMatrix, Triangle};
 use masssprings::mesh::procedural::grid;
 use masssprings::mesh::{load_scene, Scene};
-use masssprings::sim::precomputation::fast_mass_springs_precomputation_sparse;
+use masssprings::sim::precomputation::network_q;
+use masssprings::sim::precomputation::selection_matrix;
 use masssprings::sim::DELTA_T;
+use masssprings::sim::{Sparse, PIN_WEIGHT};
 use std::path::{Path, PathBuf};
 
 /// The grid-N scene (`masssprings generate grid N`), read back from a
@@ -40,18 +42,19 @@ pub fn assignment_scene(name: &str) -> Scene {
     load_scene(&path).unwrap()
 }
 
-/// `Q = k AᵀA + M/Δt² + w CᵀC` of a scene, lower triangle.
+/// `Q = k AᵀA + M/Δt² + w CᵀC` of a scene, lower triangle, assembled
+/// without factoring it.
 pub fn q_matrix(scene: &Scene) -> CscMatrix {
-    let system = fast_mass_springs_precomputation_sparse(
-        &scene.vertices,
+    let c = selection_matrix::<Sparse>(scene.vertices.len(), &scene.pinned);
+    let q = network_q::<Sparse>(
         &scene.springs,
-        scene.k,
         &scene.masses,
-        &scene.pinned,
+        &c,
+        scene.k,
         DELTA_T,
-    )
-    .unwrap();
-    system.Q.triangle(Triangle::Lower)
+        PIN_WEIGHT,
+    );
+    q.triangle(Triangle::Lower)
 }
 
 /// Grid sizes to run: 32, 100, 316, and 1000 when

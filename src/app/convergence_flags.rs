@@ -7,7 +7,7 @@
 
 use super::args::{Args, Flag};
 use super::AppError;
-use masssprings::sim::methods::{
+use masssprings::sim::control::{
     is_open_fraction, is_plain_multiple, Start, AT_LEAST_PLAIN_LIMITS, MAX_WINDOW,
 };
 use masssprings::sim::simulation::SimulationOptions;
@@ -82,8 +82,8 @@ pub const PINS: Flag = Flag::value(
 pub fn apply(args: &Args, options: &mut SimulationOptions) -> Result<(), AppError> {
     if args.declares("method") {
         let names = StepMethod::ALL.map(StepMethod::name);
-        let name = args.choice("method", options.method.name(), &names)?;
-        options.method = name.parse().map_err(AppError::Usage)?;
+        let name = args.choice("method", options.step.method.name(), &names)?;
+        options.step.method = name.parse().map_err(AppError::Usage)?;
     }
     if args.declares("pins") {
         let name = args.choice("pins", "penalty", &["penalty", "exact"])?;
@@ -91,25 +91,25 @@ pub fn apply(args: &Args, options: &mut SimulationOptions) -> Result<(), AppErro
     }
     if args.declares("start") {
         let names = Start::ALL.map(Start::name);
-        let name = args.choice("start", options.start.name(), &names)?;
-        options.start = name.parse().map_err(AppError::Usage)?;
+        let name = args.choice("start", options.step.start.name(), &names)?;
+        options.step.start = name.parse().map_err(AppError::Usage)?;
     }
     if args.declares("iterations") {
-        options.iterations = args.count("iterations", options.iterations, 1)?;
+        options.step.iterations = args.count("iterations", options.step.iterations, 1)?;
     }
     if args.declares("tolerance") {
-        options.tolerance =
-            open_unit_interval(args, "tolerance", "a relative gradient")?.or(options.tolerance);
+        options.step.tolerance = open_unit_interval(args, "tolerance", "a relative gradient")?
+            .or(options.step.tolerance);
     }
     if args.declares("energy-tolerance") {
-        options.energy_tolerance =
+        options.step.energy_tolerance =
             open_unit_interval(args, "energy-tolerance", "a fraction of the decrease")?
-                .or(options.energy_tolerance);
+                .or(options.step.energy_tolerance);
     }
     if args.declares("at-least-plain") {
         if let Some(text) = args.text("at-least-plain") {
             let (fewest, most) = AT_LEAST_PLAIN_LIMITS;
-            options.at_least_plain = match text.trim().parse::<f64>() {
+            options.step.at_least_plain = match text.trim().parse::<f64>() {
                 Ok(value) if is_plain_multiple(value) => Some(value),
                 _ => {
                     return Err(AppError::Usage(format!(
@@ -121,11 +121,12 @@ pub fn apply(args: &Args, options: &mut SimulationOptions) -> Result<(), AppErro
         }
     }
     if args.declares("rho") {
-        options.rho = open_unit_interval(args, "rho", "a spectral radius")?.or(options.rho);
+        options.step.rho =
+            open_unit_interval(args, "rho", "a spectral radius")?.or(options.step.rho);
     }
     if args.declares("relaxation") {
         if let Some(text) = args.text("relaxation") {
-            options.relaxation = match text.trim().parse::<f64>() {
+            options.step.relaxation = match text.trim().parse::<f64>() {
                 Ok(value) if value > 0.0 && value <= 2.0 => value,
                 _ => {
                     return Err(AppError::Usage(format!(
@@ -136,8 +137,9 @@ pub fn apply(args: &Args, options: &mut SimulationOptions) -> Result<(), AppErro
         }
     }
     if args.declares("window") {
-        options.window =
-            args.whole_number("window", options.window as u64, 1..=MAX_WINDOW as u64)? as usize;
+        options.step.window =
+            args.whole_number("window", options.step.window as u64, 1..=MAX_WINDOW as u64)?
+                as usize;
     }
     Ok(())
 }

@@ -18,7 +18,7 @@ use super::convergence_flags::{
     self, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START,
     TOLERANCE, WINDOW,
 };
-use super::factorization_flags::{self, FACTORIZATION, ORDERING};
+use super::factorization_flags::{self, FACTORIZATION, ORDERING, TEXTBOOK};
 use super::limits::precompute;
 use super::progress::{duration, Progress};
 use super::timing::BoundedSample;
@@ -50,7 +50,12 @@ struct Summary {
     /// Where each step's iterations started (`current` or `inertial`).
     start: &'static str,
     iterations_median: f64,
-    relative_gradient_median: f64,
+    /// `None` when the steps did not measure it (the plain fixed-count
+    /// step does not).
+    relative_gradient_median: Option<f64>,
+    /// Which code ran the steps: `fast` or `textbook` (the handout's
+    /// functions as written).
+    path: &'static str,
 }
 
 /// What to do besides stepping.
@@ -113,6 +118,7 @@ time and the total time.",
         PINS,
         ORDERING,
         FACTORIZATION,
+        TEXTBOOK,
     ],
     shorts: &[],
     run,
@@ -203,7 +209,9 @@ fn simulate<B: LinearAlgebra>(
             .map_err(|e| AppError::Failed(format!("step {step}: {e}")))?;
         step_times.push(t.elapsed().as_secs_f64());
         iterations.push(report.iterations as f64);
-        gradients.push(report.relative_gradient);
+        if let Some(gradient) = report.relative_gradient {
+            gradients.push(gradient);
+        }
         if let Some(folder) = &run.out {
             if step.is_multiple_of(run.every) {
                 let positions = simulation.positions();
@@ -221,13 +229,14 @@ fn simulate<B: LinearAlgebra>(
         step_median_s: step_times.median(),
         total_s: started.elapsed().as_secs_f64(),
         backend: B::NAME,
-        method: options.method.name(),
-        tolerance: options.tolerance,
-        energy_tolerance: options.energy_tolerance,
-        at_least_plain: options.at_least_plain,
-        start: options.start.name(),
+        method: options.step.method.name(),
+        tolerance: options.step.tolerance,
+        energy_tolerance: options.step.energy_tolerance,
+        at_least_plain: options.step.at_least_plain,
+        start: options.step.start.name(),
         iterations_median: iterations.median(),
-        relative_gradient_median: gradients.median(),
+        relative_gradient_median: Some(gradients.median()).filter(|m| !m.is_nan()),
+        path: if options.textbook { "textbook" } else { "fast" },
     })
 }
 
@@ -430,9 +439,10 @@ fn print_summary(scene_path: &Path, s: &Summary) {
         s.method, s.start
     );
     println!("iterations       {} per step (median)", s.iterations_median);
-    println!(
-        "rel. gradient    {:.3e} at the end of a step (median)",
-        s.relative_gradient_median
-    );
+    match s.relative_gradient_median {
+        Some(median) => println!("rel. gradient    {median:.3e} at the end of a step (median)"),
+        None => println!("rel. gradient    not measured (no stopping rule asked for it)"),
+    }
+    println!("path             {}", s.path);
     println!("total            {}", duration(s.total_s));
 }

@@ -15,7 +15,7 @@ use masssprings::linalg::sparse::{
     CscMatrix, Ordering, PermutedTriangle, SymbolicCholesky, Triangle,
 };
 use masssprings::mesh::{load_scene, Scene};
-use masssprings::sim::precomputation::{fast_mass_springs_precomputation, DELTA_T};
+use masssprings::sim::precomputation::{network_q, selection_matrix, DELTA_T, PIN_WEIGHT};
 use masssprings::sim::Sparse;
 use std::path::{Path, PathBuf};
 
@@ -153,18 +153,25 @@ pub fn load_lower(path: &Path) -> Result<CscMatrix, AppError> {
     }
 }
 
-/// `Q = k AᵀA + M/Δt² + w CᵀC` of `scene`, as the simulation builds it
-/// (both triangles).
+/// `Q = k AᵀA + M/Δt² + w CᵀC` of `scene`, as the simulation assembles it
+/// (both triangles), without factoring it.
 pub fn scene_q(scene: &Scene) -> Result<CscMatrix, AppError> {
-    let system = fast_mass_springs_precomputation::<Sparse>(
-        &scene.vertices,
+    let c = selection_matrix::<Sparse>(scene.vertices.len(), &scene.pinned);
+    let q = network_q::<Sparse>(
         &scene.springs,
-        scene.k,
         &scene.masses,
-        &scene.pinned,
+        &c,
+        scene.k,
         DELTA_T,
-    )?;
-    Ok(system.Q)
+        PIN_WEIGHT,
+    );
+    match q.values().iter().all(|v| v.is_finite()) {
+        true => Ok(q),
+        false => Err(AppError::Failed(format!(
+            "Q of {} overflows: k = {:e} and the masses over Δt² must stay below about 1e300",
+            scene.name, scene.k
+        ))),
+    }
 }
 
 /// The value of `--out`, which `command` requires (`file` names it in the

@@ -49,6 +49,7 @@
 //! as block coordinate descent on it); Liu, Bouaziz & Kavan 2017, §3 (the
 //! same iteration as a quasi-Newton step with `Q` as the Hessian guess).
 
+use super::simd::energy::{vertex_sums as vertex_sums_four_at_a_time, Vertices};
 use super::spring_pass::{Outputs, Springs};
 
 /// Everything that fixes one step's energy: the network, the start of the
@@ -152,21 +153,25 @@ impl StepEnergy<'_> {
     /// `[Σᵢ mᵢ (pᵢ − p⁰ᵢ)·((pᵢ − ŷᵢ) + (p⁰ᵢ − ŷᵢ)), Σᵢ (pᵢ − p⁰ᵢ)·fᵢ]`,
     /// the vertices' part of `E(p) − E(p⁰)` before its constant factors.
     /// On a CPU with AVX2 (checked at run time) four vertices at a time
-    /// (see [`avx2::vertex_sums`]), the rest as
+    /// ([`simd::energy`](super::simd::energy)), the rest as
     /// [`StepEnergy::vertex_sums_portable`]; the two agree to rounding.
     ///
     /// # Panics
     /// When `p` does not have one row per vertex.
     pub fn vertex_sums(&self, p: &[[f64; 3]]) -> [f64; 2] {
         assert_eq!(p.len(), self.start.len());
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU supports the features the function is compiled for.
-            let (head, done) = unsafe { avx2::vertex_sums(self, p) };
-            let tail = self.vertex_sums_portable(p, done);
-            return [head[0] + tail[0], head[1] + tail[1]];
+        let vertices = Vertices {
+            start: self.start,
+            inertial_target: self.inertial_target,
+            f_ext: self.f_ext,
+            m: self.m,
+        };
+        let (head, done) = vertex_sums_four_at_a_time(&vertices, p);
+        if done == 0 {
+            return self.vertex_sums_portable(p, 0);
         }
-        self.vertex_sums_portable(p, 0)
+        let tail = self.vertex_sums_portable(p, done);
+        [head[0] + tail[0], head[1] + tail[1]]
     }
 
     /// [`StepEnergy::vertex_sums`] one vertex at a time, from vertex
@@ -316,67 +321,4 @@ pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
 
 pub(crate) fn norm(a: [f64; 3]) -> f64 {
     dot(a, a).sqrt()
-}
-
-#[cfg(target_arch = "x86_64")]
-mod avx2 {
-    use super::StepEnergy;
-    use std::arch::x86_64::*;
-
-    /// [`StepEnergy::vertex_sums`] for vertices `0 .. 4·⌊n/4⌋`; returns
-    /// the sums and how many vertices it did. Four vertices are twelve
-    /// numbers, three registers of each of `p`, `p⁰`, `ŷ` and `f` read as
-    /// flat arrays; the four masses are spread to match, `[m₀ m₀ m₀ m₁]`,
-    /// `[m₁ m₁ m₂ m₂]`, `[m₂ m₃ m₃ m₃]`, and every product is summed in
-    /// its own register's lanes. In Chebyshev's run on the flag the pass
-    /// took 2.3% of the time, against 5.3% one vertex at a time in scalar
-    /// arithmetic (`perf record`).
-    #[target_feature(enable = "avx2")]
-    pub fn vertex_sums(energy: &StepEnergy<'_>, p: &[[f64; 3]]) -> ([f64; 2], usize) {
-        let groups = p.len() / 4;
-        let flat = |rows: &[[f64; 3]]| rows[..4 * groups].as_flattened().as_ptr();
-        let (p, p0, y, f) = (
-            flat(p),
-            flat(energy.start),
-            flat(energy.inertial_target),
-            flat(energy.f_ext),
-        );
-        let m = energy.m[..4 * groups].as_ptr();
-        let mut inertia = [_mm256_setzero_pd(); 3];
-        let mut external = [_mm256_setzero_pd(); 3];
-        for group in 0..groups {
-            // SAFETY: the twelve numbers from 12·group and the four masses
-            // from 4·group lie inside the slices taken above.
-            unsafe {
-                let masses = _mm256_loadu_pd(m.add(4 * group));
-                let spread = [
-                    _mm256_permute4x64_pd::<0b01_00_00_00>(masses),
-                    _mm256_permute4x64_pd::<0b10_10_01_01>(masses),
-                    _mm256_permute4x64_pd::<0b11_11_11_10>(masses),
-                ];
-                for k in 0..3 {
-                    let at = 12 * group + 4 * k;
-                    let (pk, p0k, yk) = (
-                        _mm256_loadu_pd(p.add(at)),
-                        _mm256_loadu_pd(p0.add(at)),
-                        _mm256_loadu_pd(y.add(at)),
-                    );
-                    let moved = _mm256_sub_pd(pk, p0k);
-                    let sum = _mm256_add_pd(_mm256_sub_pd(pk, yk), _mm256_sub_pd(p0k, yk));
-                    let term = _mm256_mul_pd(spread[k], _mm256_mul_pd(moved, sum));
-                    inertia[k] = _mm256_add_pd(inertia[k], term);
-                    let force = _mm256_loadu_pd(f.add(at));
-                    external[k] = _mm256_add_pd(external[k], _mm256_mul_pd(moved, force));
-                }
-            }
-        }
-        let total = |registers: [__m256d; 3]| {
-            let sum = _mm256_add_pd(_mm256_add_pd(registers[0], registers[1]), registers[2]);
-            let mut lanes = [0.0; 4];
-            // SAFETY: lanes holds four f64.
-            unsafe { _mm256_storeu_pd(lanes.as_mut_ptr(), sum) };
-            (lanes[0] + lanes[1]) + (lanes[2] + lanes[3])
-        };
-        ([total(inertia), total(external)], 4 * groups)
-    }
 }

@@ -30,12 +30,29 @@
 //! penalty it replaces).
 
 use super::backend::{LinearAlgebra, SparseFactorization};
-use super::precomputation::MassSpringSystem;
+use super::error::SimulationError;
 use super::signed_incidence::{
     incidence_mul_points, incidence_transpose_mul_points, signed_incidence_entries,
     signed_incidence_matrix,
 };
-use super::SimulationError;
+
+/// What the reduced system is made from: the network, its parameters and
+/// its pins (all plain inputs, so that the precomputation can call this
+/// without lending itself).
+#[derive(Debug, Clone, Copy)]
+pub struct PinnedNetwork<'a> {
+    /// The springs `(i, j)`.
+    pub springs: &'a [[usize; 2]],
+    /// The masses, one per vertex.
+    pub m: &'a [f64],
+    /// Spring stiffness.
+    pub k: f64,
+    /// Time step.
+    pub delta_t: f64,
+    /// The pinned vertices, and where each is held.
+    pub pinned: &'a [usize],
+    pub targets: &'a [[f64; 3]],
+}
 
 /// The reduced system of the free vertices.
 #[derive(Debug, Clone)]
@@ -55,17 +72,24 @@ pub struct ExactPins<B: LinearAlgebra> {
 }
 
 impl<B: LinearAlgebra> ExactPins<B> {
-    /// The reduced system of `system`'s network, with its current pins
-    /// and targets, `Q_ff` ordered and factored as `how` says.
+    /// The reduced system of the network `network` with its pins held at
+    /// their targets, `Q_ff` ordered and factored as `how` says.
     ///
     /// # Errors
     /// [`SimulationError::Linalg`] when `Q_ff` is not positive definite.
     pub fn new(
-        system: &MassSpringSystem<B>,
+        network: &PinnedNetwork<'_>,
         how: SparseFactorization,
     ) -> Result<Self, SimulationError> {
-        let (springs, n, m, k) = (&system.springs, system.n(), &system.m, system.k);
-        let (delta_t, pinned, targets) = (system.delta_t, &system.pinned, &system.pin_targets);
+        let PinnedNetwork {
+            springs,
+            m,
+            k,
+            delta_t,
+            pinned,
+            targets,
+        } = *network;
+        let n = m.len();
         let mut is_pinned = vec![false; n];
         for &c in pinned {
             is_pinned[c] = true;

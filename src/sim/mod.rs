@@ -1,77 +1,49 @@
 //! The assignment's mathematics: Fast Simulation of Mass-Spring Systems.
 //!
-//! | the handout's | here |
-//! |---|---|
-//! | `signed_incidence_matrix_dense/_sparse` | [`signed_incidence`] |
-//! | `fast_mass_springs_precomputation_dense/_sparse` (r, M, A, C, Q, factor) | [`precomputation`] |
-//! | `fast_mass_springs_step_dense/_sparse` (y, d, b, solve) | [`step`], [`local_step`] |
-//! | the energy a step minimises, its gradient and Hessian | [`energy`], [`hessian`] |
-//! | "more advanced stopping criteria": tolerances and faster methods | [`methods`] |
-//! | gravity, wind | [`forces`] |
-//! | dense or sparse matrices | [`backend`] |
-//! | a running simulation (state, time, pins) | [`simulation`] |
+//! Start at [`textbook`]: the handout's precomputation and step, written
+//! out. The files below it, in the order they build on each other (each
+//! uses only those listed before it):
 //!
-//! `docs/equations.md` maps every equation of the handout to the one place
-//! that computes it.
+//! | file | what it holds |
+//! |---|---|
+//! | [`error`], [`control`] | what can go wrong; the words of a step (method, stopping rules, pins) |
+//! | [`backend`] | dense or sparse matrices, one interface |
+//! | [`signed_incidence`], [`forces`] | the handout's `A`; gravity and wind |
+//! | [`local_step`] | `dᵢⱼ = rᵢⱼ (pᵢ − pⱼ)/‖pᵢ − pⱼ‖`, one spring at a time ([`simd`]: four) |
+//! | [`spring_pass`], [`energy`], [`hessian`] | the energy a step minimises, its gradient and Hessian |
+//! | [`precomputation`], [`exact_pins`] | `r`, `M`, `A`, `C`, `Q` and its factor: constant |
+//! | [`textbook`] | `fast_mass_springs_precomputation/step_{dense,sparse}` as the handout writes them |
+//! | [`global_step`], [`monitor`] | the fast path's iteration; stopping rules and observers |
+//! | [`methods`] | plain and the four methods that accelerate it |
+//! | [`step`] | one step on the fast path, with its own work arrays |
+//! | [`engine`], [`simulation`] | a running simulation: time, state, forces, pins |
+//!
+//! `docs/equations.md` maps every equation of the handout to the function
+//! that computes it on each path.
 
 pub mod backend;
+pub mod control;
 pub mod energy;
+pub mod engine;
+pub mod error;
 pub mod exact_pins;
 pub mod forces;
+pub mod global_step;
 pub mod hessian;
 pub mod local_step;
 pub mod methods;
+pub mod monitor;
 pub mod precomputation;
 pub mod signed_incidence;
+pub mod simd;
 pub mod simulation;
 pub mod spring_pass;
 pub mod step;
+pub mod textbook;
 
 pub use backend::{Dense, LinearAlgebra, Sparse};
-pub use methods::{StepControl, StepMethod, Stop};
+pub use control::{Pins, Start, StepControl, StepMethod, Stop, ITERATIONS};
+pub use error::SimulationError;
 pub use precomputation::{MassSpringSystem, DELTA_T, PIN_WEIGHT};
-pub use simulation::Simulation;
-pub use step::{StepReport, ITERATIONS};
-
-use crate::linalg::LinalgError;
-use std::fmt;
-
-/// What can go wrong in the simulation.
-#[derive(Debug, Clone, PartialEq)]
-pub enum SimulationError {
-    /// Inputs that do not fit together (sizes, indices, masses).
-    InvalidInput(String),
-    /// The linear algebra failed, e.g. `Q` is not positive definite.
-    Linalg(LinalgError),
-    /// A step produced NaN or infinity, first at this vertex (0-based).
-    NotFinite { vertex: usize },
-    /// A step's energy or gradient overflowed (positions beyond what
-    /// `f64` can square).
-    EnergyNotFinite,
-}
-
-impl fmt::Display for SimulationError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            SimulationError::InvalidInput(why) => write!(f, "invalid input: {why}"),
-            SimulationError::Linalg(error) => write!(f, "{error}"),
-            SimulationError::NotFinite { vertex } => write!(
-                f,
-                "the step produced a non-finite position (vertex {}, 1-based); the simulation stopped",
-                vertex + 1
-            ),
-            SimulationError::EnergyNotFinite => write!(
-                f,
-                "the step's energy or gradient is not finite (positions too large to square in f64); the simulation stopped"
-            ),
-        }
-    }
-}
-
-impl std::error::Error for SimulationError {}
-
-impl From<LinalgError> for SimulationError {
-    fn from(error: LinalgError) -> Self {
-        SimulationError::Linalg(error)
-    }
-}
+pub use simulation::{Simulation, SimulationOptions};
+pub use step::StepReport;

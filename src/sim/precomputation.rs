@@ -11,8 +11,9 @@
 //! `Q` is factored here, once (`L Lᵀ = Q`): the key observation of Liu et
 //! al. is that `Q` is the same in every iteration of every time step. The
 //! pinning penalty `w/2 Σ ‖pᵢ − Vᵢ‖²` also puts a constant term into the
-//! right-hand side, `w CᵀC V`, computed here too. Every buffer the step needs
-//! is sized here, so the step allocates nothing.
+//! right-hand side, `w CᵀC V`, computed here too. The output is constant:
+//! the step's work arrays live in the step's own workspace
+//! ([`StepWorkspace`](super::step::StepWorkspace)).
 //!
 //! What is kept: the handout's step takes `M` and `A` as matrices; here
 //! `M` is kept as its diagonal `m`, and `A` as the spring list, which is
@@ -20,7 +21,7 @@
 //! the step's `k Aᵀd` is taken from it,
 //! [`incidence_transpose_mul_points`](super::signed_incidence::incidence_transpose_mul_points)).
 //! Both are built as matrices here to assemble `Q` the way the handout
-//! writes it, then dropped: a sparse `A` and `M` held 160 MB at a million
+//! writes it ([`assemble_q`]), then dropped: a sparse `A` and `M` held 160 MB at a million
 //! vertices (`docs/performance.md`). `Q` itself is kept, unless a
 //! [`Simulation`](super::Simulation) whose method never multiplies by it
 //! releases it ([`MassSpringSystem::holds_q`]): only its factorization is
@@ -33,11 +34,10 @@
 //! Source: Liu et al. 2013, §3–4; the assignment, "Matrices" and "Pinned
 //! Vertices" (`fast_mass_springs_precomputation_dense.cpp` / `_sparse.cpp`).
 
-use super::backend::{Dense, LinearAlgebra, Sparse, SparseFactorization};
-use super::exact_pins::ExactPins;
-use super::methods::MethodWorkspaces;
+use super::backend::{LinearAlgebra, SparseFactorization};
+use super::error::SimulationError;
+use super::exact_pins::{ExactPins, PinnedNetwork};
 use super::signed_incidence::signed_incidence_matrix;
-use super::SimulationError;
 
 /// The pinning penalty weight `w` (large: pins move by about `f/w`).
 pub const PIN_WEIGHT: f64 = 1e10;
@@ -45,7 +45,8 @@ pub const PIN_WEIGHT: f64 = 1e10;
 /// The assignment's time step, one frame at 30 frames per second.
 pub const DELTA_T: f64 = 1.0 / 30.0;
 
-/// What the precomputation produces, and the step's work buffers.
+/// What the precomputation produces: constant from step to step (until
+/// the pins or the parameters are changed).
 #[allow(non_snake_case)] // the handout's names: r, M, A, C, Q
 #[derive(Debug, Clone)]
 pub struct MassSpringSystem<B: LinearAlgebra> {
@@ -80,29 +81,8 @@ pub struct MassSpringSystem<B: LinearAlgebra> {
     /// The reduced system when pins are exact constraints
     /// ([`MassSpringSystem::use_exact_pins`]); `None`: the penalty.
     pub exact_pins: Option<ExactPins<B>>,
-    /// Work arrays of the step, sized once.
-    pub(crate) buffers: StepBuffers,
     /// Is `Q` held (not released)?
     q_held: bool,
-}
-
-/// Work arrays of the step: `n`- and `m`-row blocks.
-#[derive(Debug, Clone)]
-pub(crate) struct StepBuffers {
-    /// `2 U_cur − U_prev`.
-    pub inertia: Vec<[f64; 3]>,
-    /// `y = M (2 U_cur − U_prev)/Δt² + f_ext`.
-    pub y: Vec<[f64; 3]>,
-    /// The last local step's `Aᵀd` (the spring directions `d` themselves
-    /// are never stored); with exact pins then `b = k Aᵀd + y + w CᵀC V`
-    /// and the solution of `Q_ff p = b`.
-    pub b: Vec<[f64; 3]>,
-    /// `∇E` where the stopping rule needs it.
-    pub gradient: Vec<[f64; 3]>,
-    /// Each spring's length where the step starts.
-    pub start_lengths: Vec<f64>,
-    /// The accelerated methods' work arrays, made when first used.
-    pub methods: MethodWorkspaces,
 }
 
 impl<B: LinearAlgebra> MassSpringSystem<B> {
@@ -141,7 +121,15 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
     /// # Errors
     /// [`SimulationError::Linalg`] when `Q_ff` is not positive definite.
     pub fn use_exact_pins(&mut self, how: SparseFactorization) -> Result<(), SimulationError> {
-        self.exact_pins = Some(ExactPins::new(self, how)?);
+        let network = PinnedNetwork {
+            springs: &self.springs,
+            m: &self.m,
+            k: self.k,
+            delta_t: self.delta_t,
+            pinned: &self.pinned,
+            targets: &self.pin_targets,
+        };
+        self.exact_pins = Some(ExactPins::new(&network, how)?);
         Ok(())
     }
 
@@ -205,7 +193,7 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
 
     /// `Q = k AᵀA + M/Δt² + w CᵀC` for the current values.
     fn assemble_q(&self) -> B::Matrix {
-        assemble_q::<B>(
+        network_q::<B>(
             &self.springs,
             &self.m,
             &self.C,
@@ -274,13 +262,11 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
     }
 
     /// What the system holds, in bytes (arrays' lengths), item by item:
-    /// the memory figures of `docs/performance.md` and their test. The
-    /// work arrays of a method other than `plain`, made when it first
-    /// runs, are not counted; `plain`'s renumbered springs are, once a
-    /// step has made them.
+    /// the memory figures of `docs/performance.md` and their test (the
+    /// step's work arrays are counted by
+    /// [`StepWorkspace::bytes`](super::step::StepWorkspace::bytes)).
     pub fn bytes(&self) -> Vec<(&'static str, usize)> {
         use std::mem::size_of_val as bytes;
-        let buffers = &self.buffers;
         let exact = self.exact_pins.as_ref().map_or(0, |e| {
             B::matrix_bytes(&e.q_without_pins)
                 + B::factorization_bytes(&e.factorization)
@@ -306,26 +292,7 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
                     + bytes(&self.pin_targets[..])
                     + bytes(&self.is_pinned[..]),
             ),
-            (
-                "step buffers: inertia, y, b, gradient",
-                bytes(&buffers.inertia[..])
-                    + bytes(&buffers.y[..])
-                    + bytes(&buffers.b[..])
-                    + bytes(&buffers.gradient[..]),
-            ),
-            (
-                "step buffers: start lengths",
-                bytes(&buffers.start_lengths[..]),
-            ),
             ("exact pins: Q without pins, Q_ff factor", exact),
-            (
-                "springs in the factor's order (plain)",
-                buffers
-                    .methods
-                    .factor_order
-                    .as_ref()
-                    .map_or(0, |w| w.bytes()),
-            ),
         ]
     }
 
@@ -384,7 +351,7 @@ pub fn fast_mass_springs_precomputation_with<B: LinearAlgebra>(
     check_pins(n, pinned, pinned.len())?;
     let r = rest_lengths(v, springs);
     let c = selection_matrix::<B>(n, pinned);
-    let q = assemble_q::<B>(springs, m, &c, k, delta_t, PIN_WEIGHT);
+    let q = network_q::<B>(springs, m, &c, k, delta_t, PIN_WEIGHT);
     let prefactorization = B::factor(&q, how)?;
     let mut pinned_rest = vec![[0.0; 3]; pinned.len()];
     B::mul_points(&c, v, &mut pinned_rest); // C V
@@ -404,50 +371,12 @@ pub fn fast_mass_springs_precomputation_with<B: LinearAlgebra>(
         pin_targets: pinned_rest,
         is_pinned: pinned_mask(n, pinned),
         exact_pins: None,
-        buffers: StepBuffers {
-            inertia: vec![[0.0; 3]; n],
-            y: vec![[0.0; 3]; n],
-            b: vec![[0.0; 3]; n],
-            gradient: vec![[0.0; 3]; n],
-            start_lengths: vec![0.0; springs.len()],
-            methods: MethodWorkspaces::default(),
-        },
         q_held: true,
     })
 }
 
-/// The assignment's `fast_mass_springs_precomputation_dense`.
-///
-/// # Errors
-/// As [`fast_mass_springs_precomputation`].
-pub fn fast_mass_springs_precomputation_dense(
-    v: &[[f64; 3]],
-    springs: &[[usize; 2]],
-    k: f64,
-    m: &[f64],
-    pinned: &[usize],
-    delta_t: f64,
-) -> Result<MassSpringSystem<Dense>, SimulationError> {
-    fast_mass_springs_precomputation(v, springs, k, m, pinned, delta_t)
-}
-
-/// The assignment's `fast_mass_springs_precomputation_sparse`.
-///
-/// # Errors
-/// As [`fast_mass_springs_precomputation`].
-pub fn fast_mass_springs_precomputation_sparse(
-    v: &[[f64; 3]],
-    springs: &[[usize; 2]],
-    k: f64,
-    m: &[f64],
-    pinned: &[usize],
-    delta_t: f64,
-) -> Result<MassSpringSystem<Sparse>, SimulationError> {
-    fast_mass_springs_precomputation(v, springs, k, m, pinned, delta_t)
-}
-
-/// `rₑ = ‖Vᵢ − Vⱼ‖`.
-fn rest_lengths(v: &[[f64; 3]], springs: &[[usize; 2]]) -> Vec<f64> {
+/// `rₑ = ‖Vᵢ − Vⱼ‖`, the rest length of every spring.
+pub fn rest_lengths(v: &[[f64; 3]], springs: &[[usize; 2]]) -> Vec<f64> {
     springs
         .iter()
         .map(|&[i, j]| {
@@ -459,8 +388,9 @@ fn rest_lengths(v: &[[f64; 3]], springs: &[[usize; 2]]) -> Vec<f64> {
         .collect()
 }
 
-/// `C`: row `p` has a 1 in column `pinned[p]`.
-fn selection_matrix<B: LinearAlgebra>(n: usize, pinned: &[usize]) -> B::Matrix {
+/// `C`, the `|b| × n` selection matrix: row `p` has a 1 in column
+/// `pinned[p]`, so that `C V` lists the pinned vertices' positions.
+pub fn selection_matrix<B: LinearAlgebra>(n: usize, pinned: &[usize]) -> B::Matrix {
     B::from_entries(
         pinned.len(),
         n,
@@ -468,12 +398,35 @@ fn selection_matrix<B: LinearAlgebra>(n: usize, pinned: &[usize]) -> B::Matrix {
     )
 }
 
-/// `Q = k AᵀA + M/Δt² + w CᵀC`, from the matrices `A` (of the springs),
-/// `M = diag(m)` and `C`, each term as the handout writes it (so the
+/// `M = diag(m)`, the `n × n` mass matrix.
+pub fn mass_matrix<B: LinearAlgebra>(m: &[f64]) -> B::Matrix {
+    let n = m.len();
+    B::from_entries(n, n, m.iter().enumerate().map(|(i, &mi)| (i, i, mi)))
+}
+
+/// `Q = k AᵀA + M/Δt² + w CᵀC`, each term as the handout writes it (so the
 /// rounding matches a direct transcription: `mᵢ/Δt²`, not `mᵢ·(1/Δt²)`).
-/// `A` and `M` are built here and dropped once `Q` is made.
+#[allow(non_snake_case)] // the handout's A, M, C
+pub fn assemble_q<B: LinearAlgebra>(
+    k: f64,
+    A: &B::Matrix,
+    M: &B::Matrix,
+    delta_t: f64,
+    w: f64,
+    C: &B::Matrix,
+) -> B::Matrix {
+    let AtA = B::gram(A);
+    let m_over_dt2 = B::divide(M, delta_t * delta_t);
+    let springs_and_mass = B::combine(k, &AtA, 1.0, &m_over_dt2);
+    drop((AtA, m_over_dt2));
+    B::combine(1.0, &springs_and_mass, w, &B::gram(C))
+}
+
+/// [`assemble_q`] for the network `springs` with masses `m`: `A` and `M`
+/// are built for it and dropped once `Q` is made (the fast path keeps the
+/// spring list and the masses instead).
 #[allow(non_snake_case)] // the handout's A and M
-fn assemble_q<B: LinearAlgebra>(
+pub fn network_q<B: LinearAlgebra>(
     springs: &[[usize; 2]],
     m: &[f64],
     c: &B::Matrix,
@@ -481,18 +434,13 @@ fn assemble_q<B: LinearAlgebra>(
     delta_t: f64,
     w: f64,
 ) -> B::Matrix {
-    let n = m.len();
-    let AtA = B::gram(&signed_incidence_matrix::<B>(n, springs));
-    let M = B::from_entries(n, n, m.iter().enumerate().map(|(i, &mi)| (i, i, mi)));
-    let m_over_dt2 = B::divide(&M, delta_t * delta_t);
-    drop(M);
-    let springs_and_mass = B::combine(k, &AtA, 1.0, &m_over_dt2);
-    drop((AtA, m_over_dt2));
-    B::combine(1.0, &springs_and_mass, w, &B::gram(c))
+    let A = signed_incidence_matrix::<B>(m.len(), springs);
+    let M = mass_matrix::<B>(m);
+    assemble_q::<B>(k, &A, &M, delta_t, w, c)
 }
 
 /// `y = M x` for the diagonal mass matrix `M = diag(m)`: `yᵢ = mᵢ xᵢ`.
-pub(crate) fn mass_mul_points(m: &[f64], x: &[[f64; 3]], y: &mut [[f64; 3]]) {
+pub fn mass_mul_points(m: &[f64], x: &[[f64; 3]], y: &mut [[f64; 3]]) {
     for ((y, x), &mi) in y.iter_mut().zip(x).zip(m) {
         *y = x.map(|xc| mi * xc);
     }
@@ -502,7 +450,7 @@ pub(crate) fn mass_mul_points(m: &[f64], x: &[[f64; 3]], y: &mut [[f64; 3]]) {
 /// computed from `C` by the precomputation). Rows of vertices that are not
 /// pinned are `+0.0` (an empty column's sum times `w > 0`), which the plain
 /// loop in the factor's order relies on (`methods::factor_order`).
-fn pin_right_hand_side<B: LinearAlgebra>(
+pub fn pin_right_hand_side<B: LinearAlgebra>(
     c: &B::Matrix,
     n: usize,
     targets: &[[f64; 3]],
@@ -517,7 +465,11 @@ fn pin_right_hand_side<B: LinearAlgebra>(
 }
 
 /// Sizes and indices consistent, values finite?
-fn check_inputs(v: &[[f64; 3]], springs: &[[usize; 2]], m: &[f64]) -> Result<(), SimulationError> {
+pub(crate) fn check_inputs(
+    v: &[[f64; 3]],
+    springs: &[[usize; 2]],
+    m: &[f64],
+) -> Result<(), SimulationError> {
     let n = v.len();
     let invalid = |why: String| Err(SimulationError::InvalidInput(why));
     if m.len() != n {
@@ -539,7 +491,11 @@ fn check_inputs(v: &[[f64; 3]], springs: &[[usize; 2]], m: &[f64]) -> Result<(),
 }
 
 /// Every pin is a vertex, and there is one target per pin.
-fn check_pins(n: usize, pinned: &[usize], targets: usize) -> Result<(), SimulationError> {
+pub(crate) fn check_pins(
+    n: usize,
+    pinned: &[usize],
+    targets: usize,
+) -> Result<(), SimulationError> {
     if let Some(&i) = pinned.iter().find(|&&i| i >= n) {
         return Err(SimulationError::InvalidInput(format!(
             "pinned vertex {i} is beyond the {n} vertices"

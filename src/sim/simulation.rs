@@ -2,15 +2,19 @@
 //! forces, and pins that can change (dragging a vertex).
 //!
 //! Starts at rest (`U_prev = U_cur = V`, zero velocity) and advances one
-//! [`fast_mass_springs_step`](super::step::fast_mass_springs_step) at a time. The state vectors are swapped, not
-//! copied, and no step allocates.
+//! step at a time, by the fast path ([`solve_step`](super::step::solve_step))
+//! or the handout's functions as written ([`textbook`](super::textbook),
+//! `SimulationOptions::textbook`). The state vectors are swapped, not
+//! copied, and no step of the fast path allocates.
 
 use super::backend::{LinearAlgebra, SparseFactorization};
+use super::control::{Pins, Start, StepControl, StepMethod};
+use super::engine::{Engine, Network};
+use super::error::SimulationError;
 use super::forces::{bounding_box_diagonal, external_forces};
-use super::methods::{Observer, Start, StepControl, StepMethod, DEFAULT_WINDOW};
-use super::precomputation::{fast_mass_springs_precomputation_with, MassSpringSystem, DELTA_T};
-use super::step::{solve_step, StepReport, ITERATIONS};
-use super::SimulationError;
+use super::monitor::Observer;
+use super::precomputation::{MassSpringSystem, DELTA_T};
+use super::step::{StepReport, StepState};
 use crate::linalg::sparse::{Method, Ordering};
 use crate::mesh::Scene;
 
@@ -19,96 +23,36 @@ use crate::mesh::Scene;
 pub struct SimulationOptions {
     /// Time step (the assignment: 1/30 s).
     pub delta_t: f64,
-    /// Local/global iterations per step (the assignment: 50), or the most
-    /// a step may take when there is a tolerance.
-    pub iterations: usize,
     /// Add the assignment viewer's wind to gravity.
     pub wind: bool,
-    /// How each step is solved (the assignment: plain local/global).
-    pub method: StepMethod,
-    /// Stop a step once its relative gradient is at most this.
-    pub tolerance: Option<f64>,
-    /// Stop a step once an iteration's energy decrease is at most this
-    /// fraction of the step's decrease so far.
-    pub energy_tolerance: Option<f64>,
-    /// Let no rule stop a step before its energy has fallen by this many
-    /// times the first plain iteration's decrease (with no other rule,
-    /// stop there).
-    pub at_least_plain: Option<f64>,
-    /// Chebyshev's spectral radius (estimated when `None`).
-    pub rho: Option<f64>,
-    /// Chebyshev's relaxation of each plain step.
-    pub relaxation: f64,
-    /// Anderson's and L-BFGS's history window.
-    pub window: usize,
-    /// Where each step's iterations start.
-    pub start: Start,
+    /// How each step is solved: the method, the iterations (the
+    /// assignment: 50 plain local/global iterations) and the stopping
+    /// rules.
+    pub step: StepControl,
     /// Pins by the assignment's penalty, or as exact constraints.
     pub pins: Pins,
     /// The sparse backend's fill-reducing ordering (AMD, or the natural
-    /// order of the textbook path).
+    /// order).
     pub ordering: Ordering,
     /// The sparse backend's numeric factorization and solves (supernodal,
     /// or the textbook simplicial method).
     pub factorization: Method,
-}
-
-/// How pinned vertices are held.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Pins {
-    /// The assignment's penalty `½ w ‖p_c − t_c‖²`, `w = 1e10`.
-    #[default]
-    Penalty,
-    /// Removed from the unknowns ([`exact_pins`](super::exact_pins)).
-    Exact,
-}
-
-impl std::str::FromStr for Pins {
-    type Err = String;
-
-    fn from_str(text: &str) -> Result<Self, String> {
-        match text {
-            "penalty" => Ok(Pins::Penalty),
-            "exact" => Ok(Pins::Exact),
-            _ => Err(format!("unknown pins '{text}' (expected penalty or exact)")),
-        }
-    }
-}
-
-impl SimulationOptions {
-    /// The method and stopping rule of each step.
-    pub fn step_control(&self) -> StepControl {
-        StepControl {
-            method: self.method,
-            iterations: self.iterations,
-            tolerance: self.tolerance,
-            energy_tolerance: self.energy_tolerance,
-            at_least_plain: self.at_least_plain,
-            rho: self.rho,
-            relaxation: self.relaxation,
-            window: self.window,
-            start: self.start,
-        }
-    }
+    /// Run the handout's functions as written ([`textbook`](super::textbook))
+    /// instead of the fast path: plain iterations, penalty pins, the
+    /// simplicial factor; `step` then only gives the iteration count.
+    pub textbook: bool,
 }
 
 impl Default for SimulationOptions {
     fn default() -> Self {
         SimulationOptions {
             delta_t: DELTA_T,
-            iterations: ITERATIONS,
             wind: false,
-            method: StepMethod::Plain,
-            tolerance: None,
-            energy_tolerance: None,
-            at_least_plain: None,
-            rho: None,
-            relaxation: crate::sim::methods::chebyshev::DEFAULT_RELAXATION,
-            window: DEFAULT_WINDOW,
-            start: Start::Current,
+            step: StepControl::default(),
             pins: Pins::Penalty,
             ordering: Ordering::default(),
             factorization: Method::default(),
+            textbook: false,
         }
     }
 }
@@ -143,7 +87,7 @@ impl Default for SimulationOptions {
 /// ```
 #[derive(Debug, Clone)]
 pub struct Simulation<B: LinearAlgebra> {
-    system: MassSpringSystem<B>,
+    engine: Engine<B>,
     rest: Vec<[f64; 3]>,
     pinned: Vec<usize>,
     u_prev: Vec<[f64; 3]>,
@@ -154,8 +98,8 @@ pub struct Simulation<B: LinearAlgebra> {
     /// Diagonal of the rest shape's bounding box (the wind's length scale).
     scale: f64,
     steps: usize,
-    /// The vertex being dragged, if any (an extra, last pin).
-    dragged: Option<usize>,
+    /// The vertex being dragged, if any (an extra, last pin), and where.
+    dragged: Option<(usize, [f64; 3])>,
     /// The scene's masses, before [`Simulation::set_parameters`] scales them.
     masses: Vec<f64>,
     /// The factor the scene's masses are multiplied by.
@@ -166,7 +110,9 @@ impl<B: LinearAlgebra> Simulation<B> {
     /// Precomputes the system for rest positions `vertices` and starts at rest.
     ///
     /// # Errors
-    /// As [`fast_mass_springs_precomputation`](super::precomputation::fast_mass_springs_precomputation).
+    /// As [`fast_mass_springs_precomputation`](super::precomputation::fast_mass_springs_precomputation);
+    /// [`SimulationError::InvalidInput`] for `textbook` options with
+    /// another method, a stopping rule or exact pins.
     pub fn new(
         vertices: &[[f64; 3]],
         springs: &[[usize; 2]],
@@ -175,28 +121,18 @@ impl<B: LinearAlgebra> Simulation<B> {
         pinned: &[usize],
         options: SimulationOptions,
     ) -> Result<Self, SimulationError> {
-        let how = SparseFactorization {
-            ordering: options.ordering,
-            method: options.factorization,
-        };
-        let mut system = fast_mass_springs_precomputation_with::<B>(
+        let network = Network {
             vertices,
             springs,
             k,
             masses,
             pinned,
-            options.delta_t,
-            how,
-        )?;
-        if options.pins == Pins::Exact {
-            system.use_exact_pins(how)?;
-        }
-        if !multiplies_by_q(options.method) {
-            system.release_q(); // the step only solves with Q
-        }
+            delta_t: options.delta_t,
+        };
+        let engine = new_engine::<B>(&network, &options)?;
         let n = vertices.len();
         Ok(Simulation {
-            system,
+            engine,
             rest: vertices.to_vec(),
             pinned: pinned.to_vec(),
             u_prev: vertices.to_vec(),
@@ -215,7 +151,7 @@ impl<B: LinearAlgebra> Simulation<B> {
     /// The simulation of a loaded scene, starting at rest.
     ///
     /// # Errors
-    /// As [`fast_mass_springs_precomputation`](super::precomputation::fast_mass_springs_precomputation).
+    /// As [`Simulation::new`].
     pub fn from_scene(scene: &Scene, options: SimulationOptions) -> Result<Self, SimulationError> {
         Self::new(
             &scene.vertices,
@@ -232,12 +168,13 @@ impl<B: LinearAlgebra> Simulation<B> {
     /// # Errors
     /// [`SimulationError::NotFinite`]; the state is then left as it was.
     pub fn step(&mut self) -> Result<StepReport, SimulationError> {
-        let control = self.options.step_control();
+        let control = self.options.step;
         self.step_with(&control, None)
     }
 
     /// Advances one time step solved as `control` says, showing every
-    /// iterate to `observer` (as `masssprings converge` does).
+    /// iterate to `observer` (as `masssprings converge` does). On the
+    /// textbook path only the handout's step runs.
     ///
     /// # Errors
     /// As [`Simulation::step`].
@@ -246,8 +183,10 @@ impl<B: LinearAlgebra> Simulation<B> {
         control: &StepControl,
         observer: Option<Observer<'_>>,
     ) -> Result<StepReport, SimulationError> {
-        if multiplies_by_q(control.method) {
-            self.system.hold_q();
+        if let Engine::Fast { system, .. } = &mut self.engine {
+            if multiplies_by_q(control.method) {
+                system.hold_q();
+            }
         }
         external_forces(
             &self.u_cur,
@@ -256,15 +195,14 @@ impl<B: LinearAlgebra> Simulation<B> {
             self.scale,
             &mut self.f_ext,
         );
-        let report = solve_step(
-            &mut self.system,
-            control,
-            &self.f_ext,
-            &self.u_prev,
-            &self.u_cur,
-            &mut self.u_next,
-            observer,
-        )?;
+        let state = StepState {
+            f_ext: &self.f_ext,
+            u_prev: &self.u_prev,
+            u_cur: &self.u_cur,
+        };
+        let report = self
+            .engine
+            .step(control, state, &mut self.u_next, observer)?;
         std::mem::swap(&mut self.u_prev, &mut self.u_cur); // U_prev ← U_cur
         std::mem::swap(&mut self.u_cur, &mut self.u_next); // U_cur ← U
         self.steps += 1;
@@ -301,18 +239,32 @@ impl<B: LinearAlgebra> Simulation<B> {
         self.steps as f64 * self.options.delta_t
     }
 
-    /// The precomputed system (matrices, factorization). Its `Q` is
-    /// released unless the method multiplies by it: read it through
-    /// [`MassSpringSystem::q`].
-    pub fn system(&self) -> &MassSpringSystem<B> {
-        &self.system
+    /// The precomputed system of the fast path (matrices, factorization);
+    /// `None` on the textbook path. Its `Q` is released unless the method
+    /// multiplies by it: read it through [`MassSpringSystem::q`].
+    pub fn system(&self) -> Option<&MassSpringSystem<B>> {
+        match &self.engine {
+            Engine::Fast { system, .. } => Some(system),
+            Engine::Textbook { .. } => None,
+        }
+    }
+
+    /// What advances the simulation: the fast path or the handout's
+    /// functions.
+    pub fn engine(&self) -> &Engine<B> {
+        &self.engine
+    }
+
+    /// Spring stiffness `k`.
+    pub fn k(&self) -> f64 {
+        self.engine.k()
     }
 
     /// What the simulation holds, in bytes (arrays' lengths), item by
-    /// item: the system's ([`MassSpringSystem::bytes`]) and the state.
+    /// item: the engine's and the state.
     pub fn bytes(&self) -> Vec<(&'static str, usize)> {
         use std::mem::size_of_val as bytes;
-        let mut items = self.system.bytes();
+        let mut items = self.engine.bytes();
         let state = [
             &self.rest,
             &self.u_prev,
@@ -353,7 +305,7 @@ impl<B: LinearAlgebra> Simulation<B> {
         mass_scale: f64,
     ) -> Result<(), SimulationError> {
         let masses: Vec<f64> = self.masses.iter().map(|&m| m * mass_scale).collect();
-        self.system.set_parameters(k, delta_t, &masses)?;
+        self.remake(k, delta_t, &masses, None)?;
         self.options.delta_t = delta_t;
         self.mass_scale = mass_scale;
         Ok(())
@@ -371,30 +323,31 @@ impl<B: LinearAlgebra> Simulation<B> {
 
     /// Local/global iterations per step from the next step on.
     pub fn set_iterations(&mut self, iterations: usize) {
-        self.options.iterations = iterations;
+        self.options.step.iterations = iterations;
+        self.engine.set_iterations(iterations);
     }
 
     /// Solves later steps by `method`, with `tolerance` (nothing to
     /// refactor: every method uses the same `Q`).
     pub fn set_method(&mut self, method: StepMethod, tolerance: Option<f64>) {
-        self.options.method = method;
-        self.options.tolerance = tolerance;
+        self.options.step.method = method;
+        self.options.step.tolerance = tolerance;
     }
 
     /// Stops later steps by the energy's progress (`None`: no such rule).
     pub fn set_energy_tolerance(&mut self, energy_tolerance: Option<f64>) {
-        self.options.energy_tolerance = energy_tolerance;
+        self.options.step.energy_tolerance = energy_tolerance;
     }
 
     /// Holds later steps to at least `multiple` plain iterations' worth of
     /// decrease (`None`: no such floor).
     pub fn set_at_least_plain(&mut self, multiple: Option<f64>) {
-        self.options.at_least_plain = multiple;
+        self.options.step.at_least_plain = multiple;
     }
 
     /// Where later steps start their iterations.
     pub fn set_start(&mut self, start: Start) {
-        self.options.start = start;
+        self.options.step.start = start;
     }
 
     /// Back to rest, time 0, nothing dragged.
@@ -449,12 +402,10 @@ impl<B: LinearAlgebra> Simulation<B> {
                 self.rest.len()
             )));
         }
-        let mut pins = self.pinned.clone();
-        pins.push(vertex);
-        let mut targets = self.pin_rest_targets();
-        targets.push(target);
-        self.system.set_pins(&pins, &targets)?;
-        self.dragged = Some(vertex);
+        let masses = self.scaled_masses();
+        let (k, delta_t) = (self.k(), self.options.delta_t);
+        self.remake(k, delta_t, &masses, Some((vertex, target)))?;
+        self.dragged = Some((vertex, target));
         Ok(())
     }
 
@@ -463,10 +414,11 @@ impl<B: LinearAlgebra> Simulation<B> {
     /// # Errors
     /// None in practice; see [`MassSpringSystem::set_pin_targets`].
     pub fn drag_to(&mut self, target: [f64; 3]) -> Result<(), SimulationError> {
-        if self.dragged.is_some() {
+        if let Some((vertex, _)) = self.dragged {
             let mut targets = self.pin_rest_targets();
             targets.push(target);
-            self.system.set_pin_targets(&targets)?;
+            self.engine.set_pin_targets(&targets)?;
+            self.dragged = Some((vertex, target));
         }
         Ok(())
     }
@@ -477,21 +429,91 @@ impl<B: LinearAlgebra> Simulation<B> {
     /// A factorization error.
     pub fn end_drag(&mut self) -> Result<(), SimulationError> {
         if self.dragged.take().is_some() {
-            let targets = self.pin_rest_targets();
-            self.system.set_pins(&self.pinned.clone(), &targets)?;
+            let masses = self.scaled_masses();
+            let (k, delta_t) = (self.k(), self.options.delta_t);
+            self.remake(k, delta_t, &masses, None)?;
         }
         Ok(())
     }
 
     /// The vertex being dragged.
     pub fn dragged(&self) -> Option<usize> {
-        self.dragged
+        self.dragged.map(|(vertex, _)| vertex)
     }
 
     /// Rest positions of the scene's pins, `C V`.
     fn pin_rest_targets(&self) -> Vec<[f64; 3]> {
         self.pinned.iter().map(|&i| self.rest[i]).collect()
     }
+
+    /// The scene's masses times the mass factor in force.
+    fn scaled_masses(&self) -> Vec<f64> {
+        self.masses.iter().map(|&m| m * self.mass_scale).collect()
+    }
+
+    /// The precomputation again for stiffness `k`, time step `delta_t`,
+    /// masses `masses` and the scene's pins, plus `drag` (a vertex and its
+    /// target) as the last pin.
+    fn remake(
+        &mut self,
+        k: f64,
+        delta_t: f64,
+        masses: &[f64],
+        drag: Option<(usize, [f64; 3])>,
+    ) -> Result<(), SimulationError> {
+        let mut pins = self.pinned.clone();
+        let mut targets = self.pin_rest_targets();
+        if let Some((vertex, target)) = drag.or(self.dragged) {
+            pins.push(vertex);
+            targets.push(target);
+        }
+        let springs = self.engine.springs().to_vec();
+        let network = Network {
+            vertices: &self.rest,
+            springs: &springs,
+            k,
+            masses,
+            pinned: &pins,
+            delta_t,
+        };
+        self.engine.remake(&network, &targets)
+    }
+}
+
+/// The engine `options` ask for: the handout's functions, or the fast path
+/// (which releases `Q` when its method only solves with it).
+fn new_engine<B: LinearAlgebra>(
+    network: &Network<'_>,
+    options: &SimulationOptions,
+) -> Result<Engine<B>, SimulationError> {
+    if options.textbook {
+        check_textbook(options)?;
+        return Engine::textbook(network, options.ordering, options.step.iterations);
+    }
+    let how = SparseFactorization {
+        ordering: options.ordering,
+        method: options.factorization,
+    };
+    let mut engine = Engine::fast(network, how, options.pins)?;
+    if let Engine::Fast { system, .. } = &mut engine {
+        if !multiplies_by_q(options.step.method) {
+            system.release_q(); // the step only solves with Q
+        }
+    }
+    Ok(engine)
+}
+
+/// The textbook path runs the handout's step only: plain iterations, no
+/// stopping rule, penalty pins.
+fn check_textbook(options: &SimulationOptions) -> Result<(), SimulationError> {
+    let step = &options.step;
+    let plain = step.method == StepMethod::Plain && !step.has_stopping_rule();
+    if !plain || step.start != Start::Current || options.pins != Pins::Penalty {
+        return Err(SimulationError::InvalidInput(
+            "the textbook path runs the handout's step as written: plain iterations from U_cur, no stopping rule, penalty pins".into(),
+        ));
+    }
+    Ok(())
 }
 
 /// Does a step by `method` multiply by `Q` (not only solve with its

@@ -1,50 +1,42 @@
-//! One time step: the local/global iteration.
+//! One time step on the fast path: the step's work arrays, and the choice
+//! of method.
 //!
-//! With `U_cur = p^t` and `U_prev = p^{t−Δt}`, the positions at `t + Δt`
-//! minimise `½ tr(pᵀQp) − tr(pᵀb)`, found by alternating
+//! With `U_cur = pᵗ` and `U_prev = pᵗ⁻ᐞᵗ`, the positions at `t + Δt`
+//! minimise the step's [`energy`](super::energy). The handout finds them by
+//! 50 local/global iterations from `pᵗ`; that loop, written out as the
+//! handout writes it, is [`textbook`](super::textbook). This file runs the
+//! same iteration fast, or one of the methods that accelerate it:
 //!
 //! ```text
-//! y = M (2 U_cur − U_prev) / Δt² + f_ext          once per step
-//! repeat (50 times):
-//!     dₑ = rₑ (pᵢ − pⱼ) / ‖pᵢ − pⱼ‖               local step, every spring
-//!     b  = k Aᵀ d + y + w CᵀC V                    right-hand side
-//!     p  = Q⁻¹ b                                   global step, two triangular solves
+//! y = M (2 U_cur − U_prev) / Δt² + f_ext          once per step (inertial_term)
+//! p⁰ = U_cur (or the inertial prediction)        first_iterate
+//! p = the method's iterations from p⁰             methods::solve, until the
+//!                                                 control's rule or budget stops it
 //! ```
 //!
-//! starting from `p = U_cur`. The factorization of `Q` comes from the
-//! precomputation; the three columns x, y, z are solved together.
+//! [`StepWorkspace`] owns every array a step writes (`y`, `Aᵀd`, a
+//! gradient, each method's history), sized once, so that after a method's
+//! first step a step allocates nothing; the system it reads
+//! ([`MassSpringSystem`]) stays constant.
 //!
-//! That is the `plain` method of [`methods`](super::methods); the step can
-//! instead run an accelerated one, and stop at a tolerance on the relative
-//! gradient of the step's [`energy`](super::energy), or on the energy's
-//! progress, instead of after a fixed count ([`StepControl`]). It reports
-//! the iterations it ran, the energy it took off and the relative gradient
-//! where it stopped. After a method's first step, a step allocates nothing.
-//!
-//! The iterations start at `pᵗ` (the assignment's start) or, with
-//! `--start inertial`, at the inertial prediction `2pᵗ − pᵗ⁻ᐞᵗ` when its
-//! energy is lower ([`Start`]). The initial gradient `∇E(pᵗ)` (the rule's
-//! yardstick) and the local step at the first iterate share passes over the
-//! springs, and a method that measured the energy of its last iterate hands
-//! it to the report, so that a short step (a few iterations to a tolerance)
-//! does not pay twice for its ends.
+//! A step measures only what someone asks for: with the assignment's plain
+//! iteration, a fixed count, no stopping rule and no observer, it computes
+//! no energy and no gradient, and its [`StepReport`] says they were not
+//! measured (`None`). [`StepControl::measure`] asks for them anyway.
 //!
 //! Cost per iteration: `O(m)` local step, `O(m + n)` for `b`,
 //! `O(nnz(L))` for the solve (sparse; `O(n²)` dense).
 //! Source: Liu et al. 2013, Algorithm 1 (§4); the assignment
 //! (`fast_mass_springs_step_dense.cpp` / `_sparse.cpp`, "Step 1–3").
 
-use super::backend::{Dense, LinearAlgebra, Sparse};
+use super::backend::LinearAlgebra;
+use super::control::{Start, StepControl, StepMethod, Stop};
 use super::energy::{free_norm, start_lengths, StepEnergy};
-use super::methods::{
-    anderson, chebyshev, factor_order, lbfgs, newton, plain, GlobalStep, Gradient, Monitor,
-    Observer, Outcome, Start, StepContext, StepControl, StepMethod, Stop,
-};
+use super::error::SimulationError;
+use super::global_step::{GlobalStep, StepContext};
+use super::methods::{self, MethodWorkspaces, Problem};
+use super::monitor::{Gradient, Monitor, Observer};
 use super::precomputation::{mass_mul_points, MassSpringSystem};
-use super::SimulationError;
-
-/// The assignment's number of local/global iterations per step.
-pub const ITERATIONS: usize = 50;
 
 /// What a step did.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -56,39 +48,86 @@ pub struct StepReport {
     /// Why it stopped.
     pub stop: Stop,
     /// `E(p⁰) − E(p)`: how much energy the step took off (≥ 0 for every
-    /// method, since none accepts a rise).
-    pub energy_decrease: f64,
+    /// method, since none accepts a rise); `None` when not measured.
+    pub energy_decrease: Option<f64>,
     /// `‖∇E(p)‖ / ‖∇E(p⁰)‖` over the free vertices where it stopped: how
-    /// far from the minimiser.
-    pub relative_gradient: f64,
+    /// far from the minimiser; `None` when not measured.
+    pub relative_gradient: Option<f64>,
 }
 
-/// Computes `u_next` from `u_cur` and `u_prev` under the forces `f_ext`,
-/// with the assignment's plain iteration run `iterations` times.
-///
-/// # Errors
-/// As [`solve_step`].
-///
-/// # Panics
-/// When a slice does not have one row per vertex.
-pub fn fast_mass_springs_step<B: LinearAlgebra>(
-    system: &mut MassSpringSystem<B>,
-    iterations: usize,
-    f_ext: &[[f64; 3]],
-    u_prev: &[[f64; 3]],
-    u_cur: &[[f64; 3]],
-    u_next: &mut [[f64; 3]],
-) -> Result<StepReport, SimulationError> {
-    let control = StepControl {
-        iterations,
-        ..StepControl::default()
-    };
-    solve_step(system, &control, f_ext, u_prev, u_cur, u_next, None)
+/// The state a step starts from, and the forces during it.
+#[derive(Debug, Clone, Copy)]
+pub struct StepState<'a> {
+    /// `f_ext`, one force per vertex.
+    pub f_ext: &'a [[f64; 3]],
+    /// `U_prev = pᵗ⁻ᐞᵗ`.
+    pub u_prev: &'a [[f64; 3]],
+    /// `U_cur = pᵗ`.
+    pub u_cur: &'a [[f64; 3]],
 }
 
-/// Computes `u_next` from `u_cur` and `u_prev` under the forces `f_ext`, by
-/// the method and stopping rule of `control`; `observer`, if any, sees
-/// every iterate (iteration 0 is `u_cur`).
+/// Every array a step writes, sized once for `n` vertices and `m` springs.
+#[derive(Debug, Clone)]
+pub struct StepWorkspace {
+    /// `ŷ = 2 U_cur − U_prev`.
+    inertia: Vec<[f64; 3]>,
+    /// `y = M ŷ / Δt² + f_ext`.
+    y: Vec<[f64; 3]>,
+    /// The last local step's `Aᵀd` (the spring directions `d` themselves
+    /// are never stored); with exact pins then `b = k Aᵀd + y + w CᵀC V`
+    /// and the solution of `Q_ff p = b`.
+    b: Vec<[f64; 3]>,
+    /// `∇E` where a stopping rule needs it.
+    gradient: Vec<[f64; 3]>,
+    /// Each spring's length where the step starts.
+    start_lengths: Vec<f64>,
+    /// The methods' work arrays, made when first used.
+    methods: MethodWorkspaces,
+}
+
+impl StepWorkspace {
+    /// The arrays of a step of `system`.
+    pub fn new<B: LinearAlgebra>(system: &MassSpringSystem<B>) -> Self {
+        let n = system.n();
+        StepWorkspace {
+            inertia: vec![[0.0; 3]; n],
+            y: vec![[0.0; 3]; n],
+            b: vec![[0.0; 3]; n],
+            gradient: vec![[0.0; 3]; n],
+            start_lengths: vec![0.0; system.springs.len()],
+            methods: MethodWorkspaces::default(),
+        }
+    }
+
+    /// What the workspace holds, in bytes (arrays' lengths), item by item.
+    /// The work arrays of a method other than `plain`, made when it first
+    /// runs, are not counted; `plain`'s renumbered springs are, once a
+    /// step has made them.
+    pub fn bytes(&self) -> Vec<(&'static str, usize)> {
+        use std::mem::size_of_val as bytes;
+        vec![
+            (
+                "step buffers: inertia, y, b, gradient",
+                bytes(&self.inertia[..])
+                    + bytes(&self.y[..])
+                    + bytes(&self.b[..])
+                    + bytes(&self.gradient[..]),
+            ),
+            (
+                "step buffers: start lengths",
+                bytes(&self.start_lengths[..]),
+            ),
+            (
+                "springs in the factor's order (plain)",
+                self.methods.bytes(),
+            ),
+        ]
+    }
+}
+
+/// Computes `u_next` from the state under its forces, by the method and
+/// stopping rule of `control`; `observer`, if any, sees every iterate
+/// (iteration 0 is the first iterate).
 ///
 /// # Errors
 /// [`SimulationError::NotFinite`] when the new positions hold NaN or
@@ -100,18 +139,145 @@ pub fn fast_mass_springs_step<B: LinearAlgebra>(
 /// When a slice does not have one row per vertex.
 pub fn solve_step<B: LinearAlgebra>(
     system: &mut MassSpringSystem<B>,
+    workspace: &mut StepWorkspace,
     control: &StepControl,
-    f_ext: &[[f64; 3]],
-    u_prev: &[[f64; 3]],
-    u_cur: &[[f64; 3]],
+    state: StepState<'_>,
     u_next: &mut [[f64; 3]],
     observer: Option<Observer<'_>>,
 ) -> Result<StepReport, SimulationError> {
+    begin(system, workspace, control, state)?; // the method's arrays, y, l⁰
+    u_next.copy_from_slice(state.u_cur);
+    let measure = measures(control, observer.is_some());
+    let StepWorkspace {
+        inertia,
+        y,
+        b,
+        gradient,
+        start_lengths,
+        methods: workspaces,
+    } = workspace;
+    let (f_ext, u_cur) = (state.f_ext, state.u_cur);
+    let parts = Borrowed {
+        inertia,
+        y,
+        start_lengths,
+        f_ext,
+        u_cur,
+    };
+    let (mut context, is_pinned) = step_context(system, parts, b);
+    let first = first_iterate(&mut context, control.start, measure, u_next, gradient);
+    let mut monitor = Monitor::new(control, first.initial_gradient, gradient, observer);
+    let start = if first.measured {
+        Gradient::InRoom
+    } else {
+        Gradient::Unknown
+    };
+    monitor.after(0, &context, u_next, start, Some(first.energy));
+    let outcome = methods::solve(workspaces, &mut context, control, u_next, &mut monitor);
+    if let Some(vertex) = u_next.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
+        return Err(SimulationError::NotFinite { vertex });
+    }
+    let ends = Ends {
+        context: &context,
+        is_pinned,
+        p: u_next,
+    };
+    let (energy_decrease, relative_gradient) = ends.measured(outcome.energy, measure, &mut monitor);
+    let finite = |x: Option<f64>| x.is_none_or(f64::is_finite);
+    if !(finite(energy_decrease) && finite(relative_gradient)) {
+        return Err(SimulationError::EnergyNotFinite);
+    }
+    Ok(StepReport {
+        method: control.method,
+        iterations: outcome.iterations,
+        stop: outcome.stop,
+        energy_decrease,
+        relative_gradient,
+    })
+}
+
+/// Before the iterations: the method's work arrays (the first time it
+/// runs), `y`, and the springs' lengths at `U_cur`.
+fn begin<B: LinearAlgebra>(
+    system: &mut MassSpringSystem<B>,
+    workspace: &mut StepWorkspace,
+    control: &StepControl,
+    state: StepState<'_>,
+) -> Result<(), SimulationError> {
     let n = system.n();
-    assert!(f_ext.len() == n && u_prev.len() == n && u_cur.len() == n && u_next.len() == n);
-    prepare_workspace(system, control)?;
-    inertial_term(system, f_ext, u_prev, u_cur);
-    u_next.copy_from_slice(u_cur);
+    let StepState {
+        f_ext,
+        u_prev,
+        u_cur,
+    } = state;
+    assert!(f_ext.len() == n && u_prev.len() == n && u_cur.len() == n);
+    let problem = Problem::<B> {
+        n,
+        springs: &system.springs,
+        factorization: &mut system.prefactorization,
+        exact_pins: system.exact_pins.is_some(),
+    };
+    methods::prepare(&mut workspace.methods, problem, control)?;
+    inertial_term(system, workspace, state);
+    start_lengths(&system.springs, u_cur, &mut workspace.start_lengths);
+    Ok(())
+}
+
+/// Where a step ended, to measure for its report.
+struct Ends<'c, 'a, B: LinearAlgebra> {
+    context: &'c StepContext<'a, B>,
+    is_pinned: &'c [bool],
+    p: &'c [[f64; 3]],
+}
+
+impl<B: LinearAlgebra> Ends<'_, '_, B> {
+    /// `(E(p⁰) − E(p), relative gradient)` where the step ended: measured
+    /// when `measure`, otherwise only the energy a method measured anyway.
+    fn measured(
+        &self,
+        energy: Option<f64>,
+        measure: bool,
+        monitor: &mut Monitor<'_, '_>,
+    ) -> (Option<f64>, Option<f64>) {
+        if !measure {
+            return (energy.map(|e| -e), None);
+        }
+        let energy = energy.unwrap_or_else(|| self.context.energy.change(self.p).total());
+        let gradient =
+            monitor.final_relative_gradient(&self.context.energy, self.is_pinned, self.p);
+        (Some(-energy), gradient)
+    }
+}
+
+/// Does a step by `control` measure its energy and gradient? Always with a
+/// stopping rule, an observer, or when asked; the accelerated methods
+/// measure their iterates anyway. Only the assignment's plain, fixed-count
+/// step skips them.
+fn measures(control: &StepControl, observed: bool) -> bool {
+    control.measure
+        || observed
+        || control.has_stopping_rule()
+        || control.method != StepMethod::Plain
+}
+
+/// The workspace's arrays and the state that the step's energy and global
+/// step read, borrowed while the other arrays are written.
+struct Borrowed<'a> {
+    inertia: &'a [[f64; 3]],
+    y: &'a [[f64; 3]],
+    start_lengths: &'a [f64],
+    f_ext: &'a [[f64; 3]],
+    u_cur: &'a [[f64; 3]],
+}
+
+/// The step's energy and global step, over `system` and the workspace's
+/// arrays (`b`: room for `Aᵀd`); and which vertices are pinned.
+#[allow(non_snake_case)] // the handout's Q
+fn step_context<'a, B: LinearAlgebra>(
+    system: &'a mut MassSpringSystem<B>,
+    parts: Borrowed<'a>,
+    b: &'a mut [[f64; 3]],
+) -> (StepContext<'a, B>, &'a [bool]) {
     let MassSpringSystem {
         r,
         m,
@@ -125,11 +291,9 @@ pub fn solve_step<B: LinearAlgebra>(
         pinned,
         pin_targets,
         is_pinned,
-        buffers,
         exact_pins,
         ..
     } = system;
-    start_lengths(springs, u_cur, &mut buffers.start_lengths);
     let energy = StepEnergy {
         springs,
         r,
@@ -139,97 +303,39 @@ pub fn solve_step<B: LinearAlgebra>(
         w: if exact_pins.is_some() { 0.0 } else { *w },
         pinned,
         pin_targets,
-        inertial_target: &buffers.inertia,
-        f_ext,
-        start: u_cur,
-        start_lengths: &buffers.start_lengths,
+        inertial_target: parts.inertia,
+        f_ext: parts.f_ext,
+        start: parts.u_cur,
+        start_lengths: parts.start_lengths,
     };
-    let first = first_iterate(
-        &energy,
-        control.start,
-        exact_pins.is_some(),
-        is_pinned,
-        u_next,
-        &mut buffers.b,
-        &mut buffers.gradient,
-    );
-    let mut context = StepContext {
+    let global = GlobalStep::<B> {
+        springs,
+        r,
+        k: *k,
+        Q,
+        y: parts.y,
+        pin_rhs,
+        factorization: prefactorization,
+        exact_pins: exact_pins.as_mut(),
+        pinned,
+        pin_targets,
+        b,
+    };
+    let context = StepContext {
         energy,
         pinned: is_pinned,
-        global: GlobalStep::<B> {
-            springs,
-            r,
-            k: *k,
-            Q,
-            y: &buffers.y,
-            pin_rhs,
-            factorization: prefactorization,
-            exact_pins: exact_pins.as_mut(),
-            pinned,
-            pin_targets,
-            b: &mut buffers.b,
-        },
-        start_measured: first.measured,
-        start_energy: first.energy,
+        global,
+        start_measured: false,
+        start_energy: 0.0,
     };
-    let mut monitor = Monitor::new(
-        control,
-        first.initial_gradient,
-        &mut buffers.gradient,
-        observer,
-    );
-    let start = match first.measured {
-        true => Gradient::InRoom, // ∇E at the first iterate is in the room
-        false => Gradient::Unknown,
-    };
-    monitor.after(0, &context, u_next, start, Some(first.energy));
-    let workspaces = &mut buffers.methods;
-    let outcome: Outcome = match control.method {
-        StepMethod::Plain => {
-            let work = workspaces.factor_order.as_ref();
-            plain::solve(&mut context, control, work, u_next, &mut monitor)
-        }
-        StepMethod::Chebyshev => {
-            let work = workspaces.chebyshev.as_mut().expect("prepared");
-            chebyshev::solve(&mut context, control, work, u_next, &mut monitor)
-        }
-        StepMethod::Anderson => {
-            let work = workspaces.anderson.as_mut().expect("prepared");
-            anderson::solve(&mut context, control, work, u_next, &mut monitor)
-        }
-        StepMethod::Lbfgs => {
-            let work = workspaces.lbfgs.as_mut().expect("prepared");
-            lbfgs::solve(&mut context, control, work, u_next, &mut monitor)
-        }
-        StepMethod::Newton => {
-            let work = workspaces.newton.as_mut().expect("prepared");
-            newton::solve(&mut context, control, work, u_next, &mut monitor)
-        }
-    };
-    if let Some(vertex) = u_next.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
-        return Err(SimulationError::NotFinite { vertex });
-    }
-    let relative_gradient =
-        monitor.final_relative_gradient(&context.energy, context.pinned, u_next);
-    let energy_decrease = -outcome
-        .energy
-        .unwrap_or_else(|| context.energy.change(u_next).total());
-    if !(energy_decrease.is_finite() && relative_gradient.is_finite()) {
-        return Err(SimulationError::EnergyNotFinite);
-    }
-    Ok(StepReport {
-        method: control.method,
-        iterations: outcome.iterations,
-        stop: outcome.stop,
-        energy_decrease,
-        relative_gradient,
-    })
+    (context, is_pinned)
 }
 
 /// What [`first_iterate`] knows when the iterations begin.
 struct FirstIterate {
-    /// `‖∇E(pᵗ)‖` over the free vertices: the stopping rule's yardstick.
-    initial_gradient: f64,
+    /// `‖∇E(pᵗ)‖` over the free vertices (the stopping rule's
+    /// yardstick), when measured.
+    initial_gradient: Option<f64>,
     /// Is the local step at the first iterate made (its `Aᵀd` in place, its
     /// gradient in the monitor's room)?
     measured: bool,
@@ -240,41 +346,57 @@ struct FirstIterate {
 /// Sets `u_next` (holding `pᵗ`) to the first iterate: `pᵗ`, or with
 /// [`Start::Inertial`] the inertial prediction `ŷ` (the energy's
 /// `inertial_target`) when its energy is below `pᵗ`'s; exact pins at their
-/// targets.
+/// targets. Records in `context` what it measured there.
 ///
 /// The passes are shared: with the assignment's start and penalty pins,
 /// one pass makes `∇E(pᵗ)` and the local step at `pᵗ`; the inertial start
-/// tests `ŷ` with the pass that makes the local step there.
-fn first_iterate(
-    energy: &StepEnergy<'_>,
+/// tests `ŷ` with the pass that makes the local step there. Without
+/// `measure` (the plain fixed-count step) nothing is measured at `pᵗ`.
+fn first_iterate<B: LinearAlgebra>(
+    context: &mut StepContext<'_, B>,
     start: Start,
-    exact_pins: bool,
-    is_pinned: &[bool],
+    measure: bool,
     u_next: &mut [[f64; 3]],
-    a_t_d: &mut [[f64; 3]],
     gradient: &mut [[f64; 3]],
 ) -> FirstIterate {
-    let hold_pins = |p: &mut [[f64; 3]]| {
-        if exact_pins {
-            for (&c, &t) in energy.pinned.iter().zip(energy.pin_targets) {
-                p[c] = t;
+    let exact = context.global.exact();
+    let first = match (start, exact, measure) {
+        (Start::Current, false, false) => FirstIterate {
+            initial_gradient: None,
+            measured: false,
+            energy: 0.0,
+        },
+        (Start::Current, false, true) => {
+            let energy = &context.energy;
+            energy.change_with_local_step(energy.start, context.global.b, Some(gradient));
+            FirstIterate {
+                initial_gradient: Some(free_norm(gradient, context.pinned)),
+                measured: true,
+                energy: 0.0,
             }
         }
+        _ => moved_start(context, start, u_next, gradient),
     };
-    if start == Start::Current && !exact_pins {
-        energy.change_with_local_step(energy.start, a_t_d, Some(gradient));
-        return FirstIterate {
-            initial_gradient: free_norm(gradient, is_pinned),
-            measured: true,
-            energy: 0.0,
-        };
-    }
+    context.start_measured = first.measured;
+    context.start_energy = first.energy;
+    first
+}
+
+/// [`first_iterate`] when the first iterate may not be `pᵗ`: the inertial
+/// start, or exact pins moved to their targets.
+fn moved_start<B: LinearAlgebra>(
+    context: &mut StepContext<'_, B>,
+    start: Start,
+    u_next: &mut [[f64; 3]],
+    gradient: &mut [[f64; 3]],
+) -> FirstIterate {
+    let energy = &context.energy;
     energy.gradient(energy.start, gradient);
-    let initial_gradient = free_norm(gradient, is_pinned);
+    let initial_gradient = Some(free_norm(gradient, context.pinned));
     if start == Start::Inertial {
         u_next.copy_from_slice(energy.inertial_target);
-        hold_pins(u_next);
-        let change = energy.change_with_local_step(u_next, a_t_d, Some(gradient));
+        context.global.hold_pins(u_next);
+        let change = energy.change_with_local_step(u_next, context.global.b, Some(gradient));
         if change.total() < 0.0 {
             return FirstIterate {
                 initial_gradient,
@@ -284,112 +406,34 @@ fn first_iterate(
         }
         u_next.copy_from_slice(energy.start);
     }
-    hold_pins(u_next); // exact pins start at their (maybe moved) targets
+    context.global.hold_pins(u_next); // exact pins start at their (maybe moved) targets
     FirstIterate {
         initial_gradient,
         measured: false,
-        energy: match exact_pins {
+        energy: match context.global.exact() {
             true => energy.change(u_next).total(),
             false => 0.0, // u_next = pᵗ
         },
     }
 }
 
-/// Makes the work arrays of `control`'s method the first time it runs (or
-/// when the history window changed).
-fn prepare_workspace<B: LinearAlgebra>(
-    system: &mut MassSpringSystem<B>,
-    control: &StepControl,
-) -> Result<(), SimulationError> {
-    let n = system.n();
-    let workspaces = &mut system.buffers.methods;
-    match control.method {
-        StepMethod::Plain => {
-            // the loop in the factor's order runs with penalty pins and
-            // no tolerance (and no observer, known only later)
-            let in_factor_order = system.exact_pins.is_none() && !control.has_stopping_rule();
-            if in_factor_order && workspaces.factor_order.is_none() {
-                if let Some(cholesky) = B::as_sparse_cholesky(&mut system.prefactorization) {
-                    let new_index = cholesky.symbolic().permutation().inverse();
-                    let work = factor_order::Workspace::new(&system.springs, new_index);
-                    workspaces.factor_order = Some(work);
-                }
-            }
-        }
-        StepMethod::Chebyshev => {
-            workspaces
-                .chebyshev
-                .get_or_insert_with(|| chebyshev::Workspace::new(n));
-        }
-        StepMethod::Anderson => {
-            if workspaces
-                .anderson
-                .as_ref()
-                .is_none_or(|w| w.window() != control.window.max(1))
-            {
-                workspaces.anderson = Some(anderson::Workspace::new(n, control.window));
-            }
-        }
-        StepMethod::Lbfgs => {
-            if workspaces
-                .lbfgs
-                .as_ref()
-                .is_none_or(|w| w.window() != control.window.max(1))
-            {
-                workspaces.lbfgs = Some(lbfgs::Workspace::new(n, control.window));
-            }
-        }
-        StepMethod::Newton => {
-            if workspaces.newton.is_none() {
-                workspaces.newton = Some(newton::Workspace::new(n, &system.springs)?);
-            }
-        }
-    }
-    Ok(())
-}
-
-/// `y = M (2 U_cur − U_prev) / Δt² + f_ext`, into the system's buffer.
+/// `ŷ = 2 U_cur − U_prev` and `y = M ŷ / Δt² + f_ext`, into the workspace.
 fn inertial_term<B: LinearAlgebra>(
-    system: &mut MassSpringSystem<B>,
-    f_ext: &[[f64; 3]],
-    u_prev: &[[f64; 3]],
-    u_cur: &[[f64; 3]],
+    system: &MassSpringSystem<B>,
+    workspace: &mut StepWorkspace,
+    state: StepState<'_>,
 ) {
-    let buffers = &mut system.buffers;
-    for ((inertia, cur), prev) in buffers.inertia.iter_mut().zip(u_cur).zip(u_prev) {
+    let StepState {
+        f_ext,
+        u_prev,
+        u_cur,
+    } = state;
+    for ((inertia, cur), prev) in workspace.inertia.iter_mut().zip(u_cur).zip(u_prev) {
         *inertia = std::array::from_fn(|c| 2.0 * cur[c] - prev[c]);
     }
-    mass_mul_points(&system.m, &buffers.inertia, &mut buffers.y); // M (2 U_cur − U_prev)
+    mass_mul_points(&system.m, &workspace.inertia, &mut workspace.y); // M (2 U_cur − U_prev)
     let dt2 = system.delta_t * system.delta_t;
-    for (y, f) in buffers.y.iter_mut().zip(f_ext) {
+    for (y, f) in workspace.y.iter_mut().zip(f_ext) {
         *y = std::array::from_fn(|c| y[c] / dt2 + f[c]);
     }
-}
-
-/// The assignment's `fast_mass_springs_step_dense` (50 iterations).
-///
-/// # Errors
-/// As [`fast_mass_springs_step`].
-pub fn fast_mass_springs_step_dense(
-    system: &mut MassSpringSystem<Dense>,
-    f_ext: &[[f64; 3]],
-    u_prev: &[[f64; 3]],
-    u_cur: &[[f64; 3]],
-    u_next: &mut [[f64; 3]],
-) -> Result<StepReport, SimulationError> {
-    fast_mass_springs_step(system, ITERATIONS, f_ext, u_prev, u_cur, u_next)
-}
-
-/// The assignment's `fast_mass_springs_step_sparse` (50 iterations).
-///
-/// # Errors
-/// As [`fast_mass_springs_step`].
-pub fn fast_mass_springs_step_sparse(
-    system: &mut MassSpringSystem<Sparse>,
-    f_ext: &[[f64; 3]],
-    u_prev: &[[f64; 3]],
-    u_cur: &[[f64; 3]],
-    u_next: &mut [[f64; 3]],
-) -> Result<StepReport, SimulationError> {
-    fast_mass_springs_step(system, ITERATIONS, f_ext, u_prev, u_cur, u_next)
 }

@@ -44,6 +44,7 @@ use super::convergence_flags::{
     self, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START,
     TOLERANCE, WINDOW,
 };
+use super::factorization_flags::{self, FACTORIZATION, ORDERING, TEXTBOOK};
 use super::limits::{check_frames, precompute};
 use super::progress::Progress;
 use super::timing::median;
@@ -147,6 +148,9 @@ point mass (always drawn for scenes made only of springs).",
         RELAXATION,
         START,
         WINDOW,
+        ORDERING,
+        FACTORIZATION,
+        TEXTBOOK,
         PINS,
     ],
     shorts: &[('o', "out")],
@@ -254,6 +258,7 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
         ..SimulationOptions::default()
     };
     convergence_flags::apply(&args, &mut simulation_options)?;
+    factorization_flags::apply(&args, &mut simulation_options)?;
     Ok(Request {
         scene,
         out,

@@ -153,10 +153,12 @@ pub struct StepRecord {
     pub step: usize,
     /// Local/global iterations run.
     pub iterations: usize,
-    /// `E(p⁰) − E(p)`: the energy the step took off.
-    pub energy_decrease: f64,
-    /// `‖∇E(p)‖ / ‖∇E(p⁰)‖` over the free vertices where the step stopped.
-    pub relative_gradient: f64,
+    /// `E(p⁰) − E(p)`: the energy the step took off (`null` when the step
+    /// did not measure it: the textbook path).
+    pub energy_decrease: Option<f64>,
+    /// `‖∇E(p)‖ / ‖∇E(p⁰)‖` over the free vertices where the step stopped
+    /// (`null` when not measured).
+    pub relative_gradient: Option<f64>,
     /// Did the step stop on the tolerance (rather than on its iteration
     /// budget or a stalled line search)?
     pub converged: bool,

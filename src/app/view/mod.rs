@@ -29,7 +29,7 @@ use super::convergence_flags::{
     self, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START,
     TOLERANCE, WINDOW,
 };
-use super::factorization_flags::{self, FACTORIZATION, ORDERING};
+use super::factorization_flags::{self, FACTORIZATION, ORDERING, TEXTBOOK};
 use super::limits::precompute;
 use super::{load_scene, AppError};
 use api::{Frame, Status};
@@ -96,6 +96,7 @@ shift-drag to pull a vertex. Ctrl-C stops it.",
         PINS,
         ORDERING,
         FACTORIZATION,
+        TEXTBOOK,
     ],
     shorts: &[],
     run,
@@ -116,6 +117,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let mut options = SimulationOptions::default();
     convergence_flags::apply(&args, &mut options)?;
     factorization_flags::apply(&args, &mut options)?;
+    options.step.measure = true; // the viewer plots every step's gradient
     if args.switch("dense") {
         serve::<Dense>(&scene, scenes, address, options)
     } else {

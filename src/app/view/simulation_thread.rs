@@ -19,9 +19,9 @@ use super::display_mesh::display_mesh;
 use super::watchers::Watchers;
 use masssprings::mesh::bounding_box::BoundingBox;
 use masssprings::mesh::Scene;
-use masssprings::sim::methods::{Start, StepControl};
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{LinearAlgebra, Simulation, StepMethod, StepReport, Stop};
+use masssprings::sim::{Start, StepControl};
 use std::path::PathBuf;
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::sync::{Arc, Mutex};
@@ -371,7 +371,7 @@ impl<B: LinearAlgebra> SimulationThread<B> {
             return Err(format!("{iterations} iterations: expected from 1 to 1000"));
         }
         let current = (
-            self.simulation.system().k,
+            self.simulation.k(),
             self.simulation.options().delta_t,
             self.simulation.mass_scale(),
         );
@@ -396,14 +396,12 @@ impl<B: LinearAlgebra> SimulationThread<B> {
         })?;
         let current = self.simulation.options();
         let options = SimulationOptions {
-            iterations: current.iterations,
-            wind: current.wind,
-            method: current.method,
-            tolerance: current.tolerance,
-            energy_tolerance: current.energy_tolerance,
-            at_least_plain: current.at_least_plain,
-            start: current.start,
-            ..SimulationOptions::default()
+            // the user's choices carry over; Chebyshev's ρ is the old scene's
+            step: StepControl {
+                rho: None,
+                ..current.step
+            },
+            ..*current
         };
         let simulation = Simulation::<B>::from_scene(&scene, options)
             .map_err(|e| format!("{}: {e}", path.display()))?;
@@ -562,15 +560,15 @@ impl<B: LinearAlgebra> SimulationThread<B> {
         }
         status.pages = pages;
         status.watched = pages > 0;
-        status.k = self.simulation.system().k;
+        status.k = self.simulation.k();
         status.delta_t = self.simulation.options().delta_t;
         status.mass_scale = self.simulation.mass_scale();
-        status.iterations = self.simulation.options().iterations;
-        status.method = self.simulation.options().method.name();
-        status.tolerance = self.simulation.options().tolerance;
-        status.energy_tolerance = self.simulation.options().energy_tolerance;
-        status.at_least_plain = self.simulation.options().at_least_plain;
-        status.start = self.simulation.options().start.name();
+        status.iterations = self.simulation.options().step.iterations;
+        status.method = self.simulation.options().step.method.name();
+        status.tolerance = self.simulation.options().step.tolerance;
+        status.energy_tolerance = self.simulation.options().step.energy_tolerance;
+        status.at_least_plain = self.simulation.options().step.at_least_plain;
+        status.start = self.simulation.options().step.start.name();
         status.refactor_ms = self.refactor.map(|d| 1e3 * d.as_secs_f64());
         status.scene_index = self.scene_index;
     }

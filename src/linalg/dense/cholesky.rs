@@ -154,6 +154,12 @@ impl DenseCholesky {
         &self.l
     }
 
+    /// `Lᵀ`, the upper-triangular factor (zeros below the diagonal), as
+    /// back substitution reads it.
+    pub fn l_transpose(&self) -> &DenseMatrix {
+        &self.l_transpose
+    }
+
     /// The size `n` of the factored `n × n` matrix.
     pub fn dim(&self) -> usize {
         self.l.nrows()

@@ -244,6 +244,24 @@ impl SparseCholesky {
         .expect("the symbolic pattern is a valid CSC structure")
     }
 
+    /// The factor `L` of the simplicial method, as the substitutions of
+    /// [`triangular_solve`] read it (columns of `P A Pᵀ`, diagonal first);
+    /// `None` for the supernodal method, whose rows are kept per
+    /// supernode.
+    pub fn simplicial_factor(&self) -> Option<FactorView<'_>> {
+        let Workspace::Simplicial(..) = self.workspace else {
+            return None;
+        };
+        let std::borrow::Cow::Borrowed(row_idx) = self.symbolic.row_idx() else {
+            return None;
+        };
+        Some(FactorView {
+            col_ptr: self.symbolic.col_ptr(),
+            row_idx,
+            values: &self.values,
+        })
+    }
+
     /// `b ← A⁻¹ b` for one vector.
     ///
     /// # Panics

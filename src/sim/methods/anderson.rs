@@ -26,7 +26,7 @@
 //! from blowing `γ` up.
 //!
 //! The energy of a candidate is measured by the local step made at it
-//! ([`local_step_measuring`](super::StepContext::local_step_measuring)),
+//! ([`local_step_measuring`](crate::sim::global_step::StepContext::local_step_measuring)),
 //! which the next global step needs anyway: testing costs a pass over the
 //! vertices, and a rejection one more local step.
 //!
@@ -44,9 +44,11 @@
 //! Simulation", ACM TOG 37(4), 2018, Algorithm 1 (the energy safeguard).
 
 use super::block_vector::subtract;
-use super::{Gradient, Monitor, Outcome, StepContext, StepControl, Stop, MAX_WINDOW};
 use crate::linalg::dense::{DenseCholesky, DenseMatrix};
 use crate::sim::backend::LinearAlgebra;
+use crate::sim::control::{Outcome, StepControl, Stop, MAX_WINDOW};
+use crate::sim::global_step::StepContext;
+use crate::sim::monitor::{Gradient, Monitor};
 
 /// Anderson's history and work arrays.
 #[derive(Debug, Clone)]
@@ -150,17 +152,7 @@ impl Workspace {
         let (newest, after) = rest.split_first_mut().expect("slot < window");
         let newest = &mut newest.as_flattened_mut()[..len];
         // the other held columns, and where each one's products go
-        let mut others: [(usize, &[f64]); MAX_WINDOW] = [(0, &[]); MAX_WINDOW];
-        let columns = before
-            .iter()
-            .chain(after.iter())
-            .map(|c| &c.as_flattened()[..len]);
-        let numbers = (0..slot).chain(slot + 1..window);
-        let mut count = 0;
-        for (j, column) in numbers.zip(columns).filter(|&(j, _)| j < held) {
-            others[count] = (j, column);
-            count += 1;
-        }
+        let (others, count) = held_columns(before, after, slot, (held, window), len);
         // four lanes of (Δf_slot · Δf_j, Δf_j · f) for each j
         let mut lanes = [[[0.0; 4]; 2]; MAX_WINDOW];
         let quads = len / 4;
@@ -192,25 +184,15 @@ impl Workspace {
             newest[i] = f[i] - previous_f[i];
             delta_g[i] = g[i] - previous_g[i];
         }
-        // the lanes added, and the last values that did not fill four
-        let total = |l: [f64; 4], x: &[f64], y: &[f64]| -> f64 {
-            let tail: f64 = x[4 * quads..]
-                .iter()
-                .zip(&y[4 * quads..])
-                .map(|(u, v)| u * v)
-                .sum();
-            (l[0] + l[1]) + (l[2] + l[3]) + tail
+        let products = Products {
+            lanes: &lanes,
+            tail: 4 * quads,
+            slot,
+            newest,
+            f,
+            others: &others[..count],
         };
-        let (newest, f) = (&*newest, &*f);
-        let own = total(lanes[slot][0], newest, newest);
-        self.gram[(slot, slot)] = own;
-        self.delta_f_dot_f[slot] = total(lanes[slot][1], newest, f);
-        for &(j, column) in &others[..count] {
-            let product = total(lanes[j][0], newest, column);
-            self.gram[(slot, j)] = product;
-            self.gram[(j, slot)] = product;
-            self.delta_f_dot_f[j] = total(lanes[j][1], column, f);
-        }
+        products.store(&mut self.gram, &mut self.delta_f_dot_f);
     }
 
     /// At the end of an iteration: `gₖ` becomes `gₖ₋₁` (by trading buffers:
@@ -304,6 +286,68 @@ pub(crate) fn solve<B: LinearAlgebra>(
         }
     }
     Outcome::measured(control.iterations, Stop::Iterations, energy)
+}
+
+/// The held columns of `ΔF` other than `slot` (of `window`, the first
+/// `held` in use), each with its number, as slices of length `len`; and
+/// how many there are.
+fn held_columns<'a>(
+    before: &'a [Vec<[f64; 3]>],
+    after: &'a [Vec<[f64; 3]>],
+    slot: usize,
+    (held, window): (usize, usize),
+    len: usize,
+) -> ([(usize, &'a [f64]); MAX_WINDOW], usize) {
+    let mut others: [(usize, &[f64]); MAX_WINDOW] = [(0, &[]); MAX_WINDOW];
+    let columns = before
+        .iter()
+        .chain(after.iter())
+        .map(|c| &c.as_flattened()[..len]);
+    let numbers = (0..slot).chain(slot + 1..window);
+    let mut count = 0;
+    for (j, column) in numbers.zip(columns).filter(|&(j, _)| j < held) {
+        others[count] = (j, column);
+        count += 1;
+    }
+    (others, count)
+}
+
+/// The inner products of the newest `Δf` as four lanes each, finished
+/// with the values past the last full four.
+struct Products<'a> {
+    /// `(Δf_j · Δf_slot, Δf_j · f)` in four lanes, for every column `j`.
+    lanes: &'a [[[f64; 4]; 2]; MAX_WINDOW],
+    /// The first value the lanes did not take.
+    tail: usize,
+    slot: usize,
+    newest: &'a [f64],
+    f: &'a [f64],
+    others: &'a [(usize, &'a [f64])],
+}
+
+impl Products<'_> {
+    /// `l₀ + l₁ + l₂ + l₃` plus `x · y` over the tail.
+    fn total(&self, l: [f64; 4], x: &[f64], y: &[f64]) -> f64 {
+        let tail: f64 = x[self.tail..]
+            .iter()
+            .zip(&y[self.tail..])
+            .map(|(u, v)| u * v)
+            .sum();
+        (l[0] + l[1]) + (l[2] + l[3]) + tail
+    }
+
+    /// Into the Gram matrix `ΔFᵀΔF` (row and column `slot`) and `ΔFᵀf`.
+    fn store(&self, gram: &mut DenseMatrix, delta_f_dot_f: &mut [f64]) {
+        let (slot, newest, f) = (self.slot, self.newest, self.f);
+        gram[(slot, slot)] = self.total(self.lanes[slot][0], newest, newest);
+        delta_f_dot_f[slot] = self.total(self.lanes[slot][1], newest, f);
+        for &(j, column) in self.others {
+            let product = self.total(self.lanes[j][0], newest, column);
+            gram[(slot, j)] = product;
+            gram[(j, slot)] = product;
+            delta_f_dot_f[j] = self.total(self.lanes[j][1], column, f);
+        }
+    }
 }
 
 #[cfg(test)]

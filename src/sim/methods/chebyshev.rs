@@ -41,7 +41,7 @@
 //! rises, the iterate is replaced by the plain `x̂ₖ₊₁` (whose energy never
 //! rises) and the recurrence restarts from `ω₁`. The energy of a candidate
 //! is measured by the local step made at it
-//! ([`local_step_measuring`](super::StepContext::local_step_measuring)),
+//! ([`local_step_measuring`](crate::sim::global_step::StepContext::local_step_measuring)),
 //! which the next global step needs anyway, so the test costs a pass over
 //! the vertices, and a restart one more local step.
 //!
@@ -56,12 +56,10 @@
 //! Computations*, 4th ed., §11.2.8 (the semi-iterative method).
 
 use super::block_vector::{norm, subtract};
-use super::{Gradient, Monitor, Outcome, StepContext, StepControl, Stop};
 use crate::sim::backend::LinearAlgebra;
-
-/// The relaxation `γ` of each plain step when none is given (measured:
-/// see the module's header).
-pub const DEFAULT_RELAXATION: f64 = 1.5;
+use crate::sim::control::{Outcome, StepControl, Stop};
+use crate::sim::global_step::StepContext;
+use crate::sim::monitor::{Gradient, Monitor};
 
 /// The largest spectral radius an estimate may give.
 pub const RHO_CAP: f64 = 0.995;
@@ -131,8 +129,7 @@ pub(crate) fn solve<B: LinearAlgebra>(
 ) -> Outcome {
     let mut rho = control.rho.or(work.estimated_rho);
     work.estimate.new_step();
-    let mut k = 0; // extrapolations since the recurrence (re)started
-    let mut omega_k = 1.0;
+    let mut recurrence = Recurrence { k: 0, omega: 1.0 };
     // xₖ in `current`, xₖ₋₁ in `previous`; the buffers trade places
     // instead of being copied.
     work.current.copy_from_slice(p);
@@ -157,26 +154,11 @@ pub(crate) fn solve<B: LinearAlgebra>(
                 }
             }
             Some(radius) => {
-                if monitor.wants_plain_first() {
-                    // the first iteration: x̂₁ = G(p⁰), which the extrapolation
-                    // moves away from
-                    monitor.plain_first(context.energy.change(&work.plain).total());
-                }
-                k += 1;
-                omega_k = omega(k, radius, omega_k);
-                extrapolate(context, work, omega_k, control.relaxation);
-                let candidate =
-                    context.local_step_measuring(&work.previous, monitor.room_for_gradient());
-                if candidate <= energy {
-                    std::mem::swap(&mut work.current, &mut work.previous);
-                    energy = candidate;
-                } else {
-                    // overshoot: the plain iterate, and the recurrence restarts
-                    work.take_plain();
-                    energy =
-                        context.local_step_measuring(&work.current, monitor.room_for_gradient());
-                    k = 0;
-                }
+                let step = Extrapolation {
+                    radius,
+                    relaxation: control.relaxation,
+                };
+                energy = step.iterate(context, work, monitor, &mut recurrence, energy);
             }
         }
         // the last local step was made at `work.current`
@@ -191,6 +173,54 @@ pub(crate) fn solve<B: LinearAlgebra>(
     }
     p.copy_from_slice(&work.current);
     Outcome::measured(outcome.iterations, outcome.stop, energy)
+}
+
+/// Chebyshev's recurrence: extrapolations since it (re)started, and the
+/// last weight `ωₖ`.
+struct Recurrence {
+    k: usize,
+    omega: f64,
+}
+
+/// One extrapolated iteration, with the spectral radius `radius` and the
+/// relaxation `γ`.
+struct Extrapolation {
+    radius: f64,
+    relaxation: f64,
+}
+
+impl Extrapolation {
+    /// After the plain iterate `G(xₖ)` in `work.plain`: extrapolates, and
+    /// keeps the candidate if its energy is no higher than `energy` (the
+    /// current iterate's); otherwise takes the plain iterate and restarts
+    /// the recurrence. Returns the energy at the new `xₖ`, whose local step
+    /// is made.
+    fn iterate<B: LinearAlgebra>(
+        &self,
+        context: &mut StepContext<'_, B>,
+        work: &mut Workspace,
+        monitor: &mut Monitor<'_, '_>,
+        recurrence: &mut Recurrence,
+        energy: f64,
+    ) -> f64 {
+        if monitor.wants_plain_first() {
+            // the first iteration: x̂₁ = G(p⁰), which the extrapolation
+            // moves away from
+            monitor.plain_first(context.energy.change(&work.plain).total());
+        }
+        recurrence.k += 1;
+        recurrence.omega = omega(recurrence.k, self.radius, recurrence.omega);
+        extrapolate(context, work, recurrence.omega, self.relaxation);
+        let candidate = context.local_step_measuring(&work.previous, monitor.room_for_gradient());
+        if candidate <= energy {
+            std::mem::swap(&mut work.current, &mut work.previous);
+            return candidate;
+        }
+        // overshoot: the plain iterate, and the recurrence restarts
+        work.take_plain();
+        recurrence.k = 0;
+        context.local_step_measuring(&work.current, monitor.room_for_gradient())
+    }
 }
 
 impl Workspace {

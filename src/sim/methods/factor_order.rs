@@ -37,7 +37,7 @@
 //! Used by `plain` with the sparse backend and penalty pins when nothing
 //! watches the iterates (no tolerance, no observer): the loop never forms
 //! `p` in the vertices' order until the step ends. The textbook loop stays
-//! in `GlobalStep::iterate_in_place` (`methods/mod.rs`),
+//! in `GlobalStep::iterate_in_place` (`global_step.rs`),
 //! used with a tolerance, by `masssprings converge`, by the dense backend
 //! and by exact pins.
 //!
@@ -56,7 +56,7 @@
 //! permutations moved out of the loop.
 
 use crate::linalg::sparse::SparseCholesky;
-use crate::sim::local_step::project_springs_into_transpose;
+use crate::sim::simd::local_step::project_springs_into_transpose;
 
 /// The springs renumbered into the factor's order, made once per
 /// system (the factor's ordering never changes: a refactorization keeps

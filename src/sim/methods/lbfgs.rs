@@ -49,8 +49,10 @@
 
 use super::block_vector::{add_scaled, dot, moved, scale, subtract};
 use super::line_search::{line_search, Search};
-use super::{Gradient, Monitor, Outcome, StepContext, StepControl, Stop, MAX_WINDOW};
 use crate::sim::backend::LinearAlgebra;
+use crate::sim::control::{Outcome, StepControl, Stop, MAX_WINDOW};
+use crate::sim::global_step::StepContext;
+use crate::sim::monitor::{Gradient, Monitor};
 
 /// L-BFGS's history and work arrays.
 #[derive(Debug, Clone)]

@@ -34,13 +34,15 @@
 
 use super::block_vector::{dot, moved, scale};
 use super::line_search::{energy_along, line_search, Search};
-use super::{Gradient, Monitor, Outcome, StepContext, StepControl, Stop};
 use crate::linalg::sparse::{Method, Ordering, SparseCholesky, SymbolicCholesky};
 use crate::linalg::LinalgError;
 use crate::sim::backend::LinearAlgebra;
+use crate::sim::control::{Outcome, StepControl, Stop};
 use crate::sim::energy::StepEnergy;
+use crate::sim::error::SimulationError;
+use crate::sim::global_step::StepContext;
 use crate::sim::hessian::{expanded_permutation, vertex_pattern, Hessian};
-use crate::sim::SimulationError;
+use crate::sim::monitor::{Gradient, Monitor};
 
 /// The first damping tried when `H` is not positive definite.
 pub const FIRST_DAMPING: f64 = 1e-6;

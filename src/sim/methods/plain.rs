@@ -18,15 +18,17 @@
 //! Cost per iteration: `O(m)` local step, `O(m + n)` for `b`, one solve
 //! with the prefactored `Q` (`O(nnz(L))`). When a tolerance is tested, the
 //! local step's pass over the springs also makes the gradient
-//! ([`local_step_measuring`](super::StepContext::local_step_measuring)),
+//! ([`local_step_measuring`](crate::sim::global_step::StepContext::local_step_measuring)),
 //! for one more pass over the vertices.
 //!
 //! Source: Liu et al. 2013, Algorithm 1; the assignment,
 //! `fast_mass_springs_step_dense.cpp` / `_sparse.cpp`.
 
 use super::factor_order::{self, PlainProblem};
-use super::{Gradient, Monitor, Outcome, StepContext, StepControl, Stop};
 use crate::sim::backend::LinearAlgebra;
+use crate::sim::control::{Outcome, StepControl, Stop};
+use crate::sim::global_step::StepContext;
+use crate::sim::monitor::{Gradient, Monitor};
 
 /// Iterates from `p` (in place) until the control says stop. With the
 /// sparse backend, penalty pins and nothing watching the iterates, the

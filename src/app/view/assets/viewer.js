@@ -780,8 +780,10 @@ function updateOverlay() {
     running,
   ];
   if (last) {
+    const gradient = last.relative_gradient === null ? 'not measured'
+      : last.relative_gradient.toExponential(1);
     lines.push(`last step: ${last.iterations} iterations, relative gradient `
-      + `${last.relative_gradient.toExponential(1)}${last.converged ? ' (converged)' : ''}`);
+      + `${gradient}${last.converged ? ' (converged)' : ''}`);
   }
   if (s.dragged !== null) lines.push(`dragging vertex ${s.dragged + 1}`);
   if (s.error) lines.push(`stopped: ${s.error}`);
@@ -834,6 +836,7 @@ function drawPlot() {
   c.lineWidth = 1.5;
   c.beginPath();
   s.history.forEach((record, i) => {
+    if (record.relative_gradient === null) return; // not measured (textbook path)
     const decades = -Math.log10(Math.max(record.relative_gradient, 10 ** -PLOT_DECADES));
     const y = top + (bottom - top) * Math.min(PLOT_DECADES, Math.max(0, decades)) / PLOT_DECADES;
     const x = left + (i + 0.5) * columnWidth;

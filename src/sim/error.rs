@@ -1,0 +1,47 @@
+//! What can go wrong in the simulation.
+//!
+//! A leaf of the simulation's layers: every other file may report these,
+//! and this one uses none of them.
+
+use crate::linalg::LinalgError;
+use std::fmt;
+
+/// What can go wrong in the simulation.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SimulationError {
+    /// Inputs that do not fit together (sizes, indices, masses).
+    InvalidInput(String),
+    /// The linear algebra failed, e.g. `Q` is not positive definite.
+    Linalg(LinalgError),
+    /// A step produced NaN or infinity, first at this vertex (0-based).
+    NotFinite { vertex: usize },
+    /// A step's energy or gradient overflowed (positions beyond what
+    /// `f64` can square).
+    EnergyNotFinite,
+}
+
+impl fmt::Display for SimulationError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SimulationError::InvalidInput(why) => write!(f, "invalid input: {why}"),
+            SimulationError::Linalg(error) => write!(f, "{error}"),
+            SimulationError::NotFinite { vertex } => write!(
+                f,
+                "the step produced a non-finite position (vertex {}, 1-based); the simulation stopped",
+                vertex + 1
+            ),
+            SimulationError::EnergyNotFinite => write!(
+                f,
+                "the step's energy or gradient is not finite (positions too large to square in f64); the simulation stopped"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for SimulationError {}
+
+impl From<LinalgError> for SimulationError {
+    fn from(error: LinalgError) -> Self {
+        SimulationError::Linalg(error)
+    }
+}

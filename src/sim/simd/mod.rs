@@ -1,0 +1,18 @@
+//! The fast path's kernels, several springs or vertices per instruction.
+//!
+//! Each file here is the twin of a file one level up, which holds the
+//! formula one spring (or vertex) at a time: read that first. The twins do
+//! the same arithmetic lane by lane on a CPU with AVX2 (checked at run time)
+//! and fall back to the formula elsewhere; the tests hold each to its
+//! formula, bit for bit where the order of the sums is the same
+//! (`tests/kernels.rs`).
+//!
+//! | here | the formula |
+//! |---|---|
+//! | [`local_step`] | [`sim::local_step`](super::local_step) |
+//! | [`spring_pass`] | [`sim::spring_pass`](super::spring_pass) |
+//! | [`energy`] | [`sim::energy`](super::energy) (the vertices' sums) |
+
+pub mod energy;
+pub mod local_step;
+pub mod spring_pass;
