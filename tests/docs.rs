@@ -59,6 +59,14 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
+/// `path` as the repository names it.
+fn shown(path: &Path) -> String {
+    path.strip_prefix(root())
+        .unwrap_or(path)
+        .display()
+        .to_string()
+}
+
 fn read(path: &Path) -> String {
     fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
@@ -118,11 +126,15 @@ fn link_targets(text: &str) -> Vec<(usize, String)> {
 /// Each relative link of `page` that does not name a file or folder inside
 /// `repository`.
 fn broken_links(page: &Path, text: &str, repository: &Path) -> Vec<String> {
-    let repository = repository.canonicalize().expect("the repository's root exists");
+    let repository = repository
+        .canonicalize()
+        .expect("the repository's root exists");
     let folder = page.parent().expect("a page is in a folder");
     let mut broken = Vec::new();
     for (line, target) in link_targets(text) {
-        let external = ["http://", "https://", "mailto:"].iter().any(|s| target.starts_with(s));
+        let external = ["http://", "https://", "mailto:"]
+            .iter()
+            .any(|s| target.starts_with(s));
         let path = target.split('#').next().unwrap_or("");
         if external || path.is_empty() {
             continue;
@@ -132,7 +144,7 @@ fn broken_links(page: &Path, text: &str, repository: &Path) -> Vec<String> {
             .canonicalize()
             .is_ok_and(|resolved| resolved.starts_with(&repository));
         if !inside {
-            broken.push(format!("{}:{line}: {target}", page.display()));
+            broken.push(format!("{}:{line}: {target}", shown(page)));
         }
     }
     broken
@@ -141,7 +153,10 @@ fn broken_links(page: &Path, text: &str, repository: &Path) -> Vec<String> {
 /// Each line that points into the folder beside the clone.
 fn outside_references(text: &str) -> Vec<usize> {
     let lines = text.lines().enumerate();
-    lines.filter(|(_, line)| line.contains("shared/")).map(|(n, _)| n + 1).collect()
+    lines
+        .filter(|(_, line)| line.contains("shared/"))
+        .map(|(n, _)| n + 1)
+        .collect()
 }
 
 /// Whether `word`, case aside, is followed (after spaces and a `#`) by a digit
@@ -150,7 +165,9 @@ fn word_then_number(line: &str, word: &str) -> bool {
     let lower = line.to_lowercase();
     lower.match_indices(word).any(|(at, _)| {
         let before = lower[..at].chars().next_back();
-        let after = lower[at + word.len()..].trim_start_matches(' ').trim_start_matches('#');
+        let after = lower[at + word.len()..]
+            .trim_start_matches(' ')
+            .trim_start_matches('#');
         !before.is_some_and(char::is_alphanumeric)
             && lower[at + word.len()..].starts_with(' ')
             && after.starts_with(|c: char| c.is_ascii_digit())
@@ -172,7 +189,9 @@ fn hash_number(line: &str) -> bool {
 fn commit_hash(line: &str) -> bool {
     line.split('`').skip(1).step_by(2).any(|span| {
         (7..=40).contains(&span.len())
-            && span.chars().all(|c| c.is_ascii_digit() || ('a'..='f').contains(&c))
+            && span
+                .chars()
+                .all(|c| c.is_ascii_digit() || ('a'..='f').contains(&c))
             && span.chars().any(|c| c.is_ascii_alphabetic())
     })
 }
@@ -182,9 +201,7 @@ fn clock_time(line: &str) -> bool {
     line.match_indices(" UTC").any(|(at, _)| {
         let time = line[..at].chars().rev().take(5).collect::<String>();
         let time: Vec<char> = time.chars().rev().collect();
-        time.len() == 5
-            && time[2] == ':'
-            && [0, 1, 3, 4].iter().all(|&i| time[i].is_ascii_digit())
+        time.len() == 5 && time[2] == ':' && [0, 1, 3, 4].iter().all(|&i| time[i].is_ascii_digit())
     })
 }
 
@@ -198,18 +215,32 @@ fn history(text: &str) -> Vec<(usize, &'static str)> {
             (hash_number(line), "an issue number (#N)"),
             (commit_hash(line), "a commit hash"),
             (clock_time(line), "a clock time"),
-            (line.to_lowercase().contains("load average"), "a load average"),
+            (
+                line.to_lowercase().contains("load average"),
+                "a load average",
+            ),
         ];
-        found.extend(checks.iter().filter(|(hit, _)| *hit).map(|&(_, what)| (number + 1, what)));
+        found.extend(
+            checks
+                .iter()
+                .filter(|(hit, _)| *hit)
+                .map(|&(_, what)| (number + 1, what)),
+        );
     }
     found
 }
 
 #[test]
 fn every_relative_link_and_image_names_a_file_inside_the_repository() {
-    let broken: Vec<String> =
-        pages().iter().flat_map(|page| broken_links(page, &read(page), &root())).collect();
-    assert!(broken.is_empty(), "links that lead nowhere or out of the repository:\n{}", broken.join("\n"));
+    let broken: Vec<String> = pages()
+        .iter()
+        .flat_map(|page| broken_links(page, &read(page), &root()))
+        .collect();
+    assert!(
+        broken.is_empty(),
+        "links that lead nowhere or out of the repository:\n{}",
+        broken.join("\n")
+    );
 }
 
 #[test]
@@ -217,10 +248,14 @@ fn nothing_points_into_the_folder_beside_the_clone() {
     let mut found = Vec::new();
     for file in everything_a_reader_sees() {
         for line in outside_references(&read(&file)) {
-            found.push(format!("{}:{line}", file.display()));
+            found.push(format!("{}:{line}", shown(&file)));
         }
     }
-    assert!(found.is_empty(), "references to shared/, which a clone does not have:\n{}", found.join("\n"));
+    assert!(
+        found.is_empty(),
+        "references to shared/, which a clone does not have:\n{}",
+        found.join("\n")
+    );
 }
 
 #[test]
@@ -228,15 +263,23 @@ fn the_docs_hold_no_development_history() {
     let mut found = Vec::new();
     for page in pages() {
         for (line, what) in history(&read(&page)) {
-            found.push(format!("{}:{line}: {what}", page.display()));
+            found.push(format!("{}:{line}: {what}", shown(&page)));
         }
     }
-    assert!(found.is_empty(), "development history (it belongs in the git log):\n{}", found.join("\n"));
+    assert!(
+        found.is_empty(),
+        "development history (it belongs in the git log):\n{}",
+        found.join("\n")
+    );
 }
 
 #[test]
 fn the_readme_and_the_chapters_on_results_keep_their_lengths() {
-    for (page, most) in [("README.md", 150), ("docs/performance.md", 300), ("docs/convergence.md", 450)] {
+    for (page, most) in [
+        ("README.md", 150),
+        ("docs/performance.md", 300),
+        ("docs/convergence.md", 450),
+    ] {
         let lines = read(&root().join(page)).lines().count();
         assert!(lines <= most, "{page} has {lines} lines, more than {most}");
     }
@@ -249,12 +292,20 @@ fn each_check_reports_the_mistake_it_looks_for() {
     let good = "[equations](equations.md), ![flag](images/flag.gif), [x](#anchor), \
                 [handout](https://github.com/alecjacobson/computer-graphics-mass-spring-systems)";
     assert!(broken_links(&page, good, &repository).is_empty());
-    for bad in ["[gone](missing.md)", "![gone](images/missing.png)", "[out](../../../etc/passwd)", "<img src=\"nope.png\">"] {
+    for bad in [
+        "[gone](missing.md)",
+        "![gone](images/missing.png)",
+        "[out](../../../etc/passwd)",
+        "<img src=\"nope.png\">",
+    ] {
         assert_eq!(broken_links(&page, bad, &repository).len(), 1, "{bad}");
     }
     assert!(broken_links(&page, "`[code](missing.md)`", &repository).is_empty());
 
-    assert_eq!(outside_references("fine\nsee ../shared/anchors.md\n"), vec![2]);
+    assert_eq!(
+        outside_references("fine\nsee ../shared/anchors.md\n"),
+        vec![2]
+    );
 
     let clean = "A session of the viewer; the issue of rounding; `Aᵀd`; ## 9. Pictures; \
                  `1234567`; 12:34 on the clock; an average load";
@@ -269,6 +320,10 @@ fn each_check_reports_the_mistake_it_looks_for() {
         ("(03:57 UTC)", "a clock time"),
         ("load average 1.1", "a load average"),
     ] {
-        assert!(history(bad).iter().any(|&(_, found)| found == what), "{bad}: {:?}", history(bad));
+        assert!(
+            history(bad).iter().any(|&(_, found)| found == what),
+            "{bad}: {:?}",
+            history(bad)
+        );
     }
 }
