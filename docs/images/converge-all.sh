@@ -14,7 +14,7 @@ for scene in data/flag.json data/skirt.json "$tmp/grid-32.json"; do
 done
 rm -r "$tmp"
 # Steps 1-30 solved by the floor and the energy rule, each against plain-50
-# (docs/convergence.md, "A floor from the first plain iteration").
+# (docs/convergence.md, "When to stop").
 for name in flag skirt; do
   "$bin" converge "data/$name.json" --steps 30 --energy-tolerance 0.15 --at-least-plain 50 \
     --methods chebyshev,anderson,lbfgs --iterations 50 --plot "docs/images/steps-$name-floor.png"

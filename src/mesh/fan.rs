@@ -8,7 +8,7 @@
 //! the same triangles.
 //!
 //! Cost `O(c)` per face. Source: the assignment's mass computation
-//! (`shared/design/scene-format.md`); Marschner & Shirley, *Fundamentals of
+//! (`data/README.md`); Marschner & Shirley, *Fundamentals of
 //! Computer Graphics*, §12.1.
 
 /// The triangles of a face with `corner_count` corners, as corner positions

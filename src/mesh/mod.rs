@@ -3,7 +3,7 @@
 //! knows nothing about solvers.
 //!
 //! A scene file is a small JSON object naming an OBJ mesh
-//! (`../shared/design/scene-format.md` is the specification):
+//! (`data/README.md` is the specification):
 //!
 //! ```text
 //! {"obj": "flag.obj", "k": 1e5, "b": [1, 2, 3], "png": "flag.png"}

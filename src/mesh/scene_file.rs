@@ -19,7 +19,7 @@
 //! Cost: one pass over the text (serde_json), which reports the line of
 //! every problem.
 //!
-//! Source: the assignment's `read_json`; `../shared/design/scene-format.md`.
+//! Source: the assignment's `read_json`; the scene format in `data/README.md`.
 
 use std::fmt;
 use std::path::Path;

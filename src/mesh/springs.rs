@@ -30,7 +30,7 @@
 //! [`crate::memory`], at [`BYTES_PER_SPRING`] each.
 //!
 //! Source: the assignment's `read_json` (2-corner faces as edges, otherwise
-//! `igl::edges`); `../shared/design/scene-format.md`.
+//! `igl::edges`); the scene format in `data/README.md`.
 
 use super::SceneError;
 use crate::memory;

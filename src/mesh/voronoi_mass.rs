@@ -35,7 +35,7 @@
 //! Source: Meyer, Desbrun, Schröder, Barr, "Discrete Differential-Geometry
 //! Operators for Triangulated 2-Manifolds", VisMath 2002 (published 2003),
 //! §3.3 and Fig. 4 ("mixed area"); Kahan, "Miscalculating Area and Angles of
-//! a Needle-like Triangle", 2014; `../shared/design/scene-format.md`.
+//! a Needle-like Triangle", 2014; the scene format in `data/README.md`.
 
 use super::fan::fan_triangles;
 use std::fmt;

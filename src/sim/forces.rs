@@ -14,7 +14,7 @@
 //! Unlike the assignment, whose `t` is wall-clock time, `t` here is the
 //! simulated time (steps × Δt), so that a run with wind repeats exactly.
 //!
-//! Source: the assignment's `main.cpp`; `shared/design/scene-format.md`.
+//! Source: the assignment's `main.cpp`; the scene format in `data/README.md`.
 
 use crate::mesh::bounding_box::BoundingBox;
 

@@ -3,7 +3,7 @@
 # installs what is missing (Debian's chromium, the npm packages pinned by
 # package-lock.json), builds the binary, and runs the test with node's test
 # runner. The screenshots go to target/browser/; with --update-screenshots,
-# the two the README shows are then copied to docs/images/.
+# the two docs/viewer.md shows are then copied to docs/images/.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"

@@ -6,7 +6,7 @@
 // simulation's state, that F fits and right-drag pans the camera, that
 // shift-drag pulls a vertex, that the page loads nothing from elsewhere, and
 // saves screenshots to target/browser/ (viewer.png and skirt.png are the
-// ones in the README: `tests/browser/run.sh --update-screenshots` copies
+// ones in docs/viewer.md: `tests/browser/run.sh --update-screenshots` copies
 // them to docs/images/).
 //
 // Run with tests/browser/run.sh (it builds the binary and installs what is

@@ -8,7 +8,7 @@
 //! mass 1), and the two top corners (`j = 0`, `i = 0` and `i = N−1`) pinned.
 //!
 //! The files are byte for byte those of `tools/eigen-ref/ref grid N`
-//! (`../shared/anchors.md` defines the scene): numbers as `%.17g`, no
+//! (the reference tool that made `tests/fixtures/reference/`): numbers as `%.17g`, no
 //! comment, the JSON `{"obj":"grid-N.obj","k":10000,"m":…,"b":[1,N]}`.
 //!
 //! Cost: `O(N²)`.

@@ -31,7 +31,7 @@
 //!
 //! Source: J. Nocedal & S. J. Wright, *Numerical Optimization*, 2nd ed.,
 //! 2006, §3.1 (Armijo, backtracking), §3.5 (interpolation); the expansion
-//! as in the project's prototype (`shared/tools/convergence-prototype`).
+//! as in an independent numpy prototype of the step.
 
 use super::block_vector::moved;
 use crate::sim::energy::StepEnergy;
