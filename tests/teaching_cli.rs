@@ -1,6 +1,7 @@
 //! The commands of the student's path, run as a user runs them:
-//! `simulate --ordering natural --factorization simplicial` (the textbook
-//! code) against the default path and the reference; `export-q` read back
+//! `simulate --textbook` (the handout's functions as written) and
+//! `--ordering natural --factorization simplicial` against the default
+//! path and the reference; `export-q` read back
 //! by `analyze`; `spy` and `etree` pictures and the counts they print.
 mod common;
 
@@ -85,6 +86,49 @@ fn the_textbook_flags_match_the_default_path_and_the_reference() {
     );
     let error = max_distance(&a, &reference);
     assert!(error <= 1e-6, "textbook path {error:e} from the reference");
+    std::fs::remove_dir_all(&folder).unwrap();
+}
+
+#[test]
+fn simulate_textbook_runs_the_handouts_functions_and_says_so() {
+    let folder = temp_folder("textbook-switch");
+    let scene = data("net.json");
+    let run = |extra: &[&str], out: &Path| {
+        let out = out.to_str().unwrap();
+        let mut args = vec!["simulate", &scene, "--steps", "10", "--out", out, "--json"];
+        args.extend_from_slice(extra);
+        succeeded(&masssprings(&args))
+    };
+    let textbook = run(&["--textbook"], &folder.join("textbook"));
+    let dense = run(&["--textbook", "--dense"], &folder.join("dense"));
+    let fast = run(&[], &folder.join("fast"));
+    for (json, path) in [
+        (&textbook, "textbook"),
+        (&dense, "textbook"),
+        (&fast, "fast"),
+    ] {
+        let summary: serde_json::Value = serde_json::from_str(json.trim()).unwrap();
+        assert_eq!(summary["path"], path, "{json}");
+    }
+    let frame = |run: &str| obj_positions(&folder.join(run).join("frame-000010.obj"));
+    for run in ["textbook", "dense"] {
+        let apart = max_distance(&frame(run), &frame("fast"));
+        assert!(apart <= 1e-8, "{run}: {apart:e} from the fast path");
+    }
+    // the handout's step has no other method, rule or kind of pin
+    let refused = masssprings(&[
+        "simulate",
+        &data("net.json"),
+        "--textbook",
+        "--method",
+        "lbfgs",
+    ]);
+    assert_ne!(refused.status.code(), Some(0));
+    assert!(
+        stderr(&refused).contains("textbook"),
+        "{}",
+        stderr(&refused)
+    );
     std::fs::remove_dir_all(&folder).unwrap();
 }
 

@@ -326,6 +326,22 @@ impl<B: LinearAlgebra> SimulationThread<B> {
         };
         rules.check_rules()?;
         let start: Option<Start> = start.map(str::parse).transpose()?;
+        let plain = StepControl {
+            method,
+            start: start.unwrap_or_default(),
+            ..rules
+        };
+        if self.simulation.options().textbook
+            && (plain.method != StepMethod::Plain
+                || plain.has_stopping_rule()
+                || plain.start != Start::Current)
+        {
+            return Err(
+                "the viewer runs the handout's step as written (--textbook): plain \
+                        iterations from where the cloth is, no stopping rule"
+                    .into(),
+            );
+        }
         self.simulation.set_method(method, tolerance);
         self.simulation.set_energy_tolerance(energy_tolerance);
         self.simulation.set_at_least_plain(at_least_plain);
