@@ -30,7 +30,7 @@
 //! (`fast_mass_springs_step_dense.cpp` / `_sparse.cpp`, "Step 1–3").
 
 use super::backend::LinearAlgebra;
-use super::control::{Start, StepControl, StepMethod, Stop};
+use super::control::{Outcome, Start, StepControl, StepMethod, Stop};
 use super::energy::{free_norm, start_lengths, StepEnergy};
 use super::error::SimulationError;
 use super::global_step::{GlobalStep, StepContext};
@@ -182,18 +182,7 @@ pub fn solve_step<B: LinearAlgebra>(
         is_pinned,
         p: u_next,
     };
-    let (energy_decrease, relative_gradient) = ends.measured(outcome.energy, measure, &mut monitor);
-    let finite = |x: Option<f64>| x.is_none_or(f64::is_finite);
-    if !(finite(energy_decrease) && finite(relative_gradient)) {
-        return Err(SimulationError::EnergyNotFinite);
-    }
-    Ok(StepReport {
-        method: control.method,
-        iterations: outcome.iterations,
-        stop: outcome.stop,
-        energy_decrease,
-        relative_gradient,
-    })
+    ends.report(control.method, outcome, measure, &mut monitor)
 }
 
 /// Before the iterations: the method's work arrays (the first time it
@@ -231,21 +220,42 @@ struct Ends<'c, 'a, B: LinearAlgebra> {
 }
 
 impl<B: LinearAlgebra> Ends<'_, '_, B> {
-    /// `(E(p⁰) − E(p), relative gradient)` where the step ended: measured
-    /// when `measure`, otherwise only the energy a method measured anyway.
-    fn measured(
+    /// The step's report: what `outcome` says, and the energy decrease
+    /// and relative gradient where the step ended, measured when
+    /// `measure`, otherwise only the energy a method measured anyway.
+    ///
+    /// # Errors
+    /// [`SimulationError::EnergyNotFinite`] when a measured one is not
+    /// finite.
+    fn report(
         &self,
-        energy: Option<f64>,
+        method: StepMethod,
+        outcome: Outcome,
         measure: bool,
         monitor: &mut Monitor<'_, '_>,
-    ) -> (Option<f64>, Option<f64>) {
-        if !measure {
-            return (energy.map(|e| -e), None);
+    ) -> Result<StepReport, SimulationError> {
+        let (energy_decrease, relative_gradient) = match measure {
+            false => (outcome.energy.map(|e| -e), None),
+            true => {
+                let energy = &self.context.energy;
+                let change = outcome
+                    .energy
+                    .unwrap_or_else(|| energy.change(self.p).total());
+                let gradient = monitor.final_relative_gradient(energy, self.is_pinned, self.p);
+                (Some(-change), gradient)
+            }
+        };
+        let finite = |x: Option<f64>| x.is_none_or(f64::is_finite);
+        if !(finite(energy_decrease) && finite(relative_gradient)) {
+            return Err(SimulationError::EnergyNotFinite);
         }
-        let energy = energy.unwrap_or_else(|| self.context.energy.change(self.p).total());
-        let gradient =
-            monitor.final_relative_gradient(&self.context.energy, self.is_pinned, self.p);
-        (Some(-energy), gradient)
+        Ok(StepReport {
+            method,
+            iterations: outcome.iterations,
+            stop: outcome.stop,
+            energy_decrease,
+            relative_gradient,
+        })
     }
 }
 
