@@ -25,15 +25,16 @@ use super::convergence_flags::{
 use super::limits::precompute;
 use super::render::plot::Scale;
 use super::steps_plot::{StepPlot, StepSeries};
-use super::{load_scene, AppError};
-use masssprings::files::write_file;
+use super::{load_scene, plan_scene_inputs, AppError};
+use masssprings::files::{write_file, FilePlan};
+use masssprings::mesh::Scene;
 use masssprings::sim::energy::free_norm;
 use masssprings::sim::methods::chebyshev::estimate_rho;
 use masssprings::sim::methods::{Iterate, Start};
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Simulation, Sparse, StepControl, StepMethod, Stop};
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 /// One row of the CSV.
@@ -132,10 +133,18 @@ two-panel plot.",
 
 pub fn run(args: &[String]) -> Result<(), AppError> {
     let request = parse(args)?;
-    if let Some(steps) = request.over_steps {
-        return run_over_steps(&request, steps);
-    }
     let scene = load_scene(&request.scene)?;
+    let mut plan = FilePlan::default();
+    plan_scene_inputs(&mut plan, &request.scene, &scene);
+    for (flag, path) in [("--csv", &request.csv), ("--plot", &request.plot)] {
+        if let Some(path) = path {
+            plan.output(flag, path);
+        }
+    }
+    plan.output("the table", Path::new("-")).check()?;
+    if let Some(steps) = request.over_steps {
+        return run_over_steps(&request, &scene, steps);
+    }
     let mut simulation = precompute::<Sparse>(&scene, &request.scene, request.canonical)?;
     for step in 1..request.step {
         simulation
@@ -198,7 +207,7 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
         ));
     }
     let path = |name: &str| -> Result<Option<PathBuf>, AppError> {
-        Ok(args.text(name).filter(|s| !s.is_empty()).map(PathBuf::from))
+        Ok(args.text(name).map(PathBuf::from))
     };
     Ok(Request {
         scene,
@@ -386,12 +395,11 @@ fn curves_for_plot(curves: &[Curve]) -> Vec<super::convergence_plot::PlotCurve> 
 /// method needs to reach the energy of 50 plain iterations of that step
 /// (the accuracy the assignment settles for); prints, per method, the
 /// median over the steps and its ratio to plain-50's median.
-fn run_over_steps(request: &Request, steps: usize) -> Result<(), AppError> {
+fn run_over_steps(request: &Request, scene: &Scene, steps: usize) -> Result<(), AppError> {
     if request.control.has_stopping_rule() {
-        return run_over_steps_to_tolerance(request, steps);
+        return run_over_steps_to_tolerance(request, scene, steps);
     }
-    let scene = load_scene(&request.scene)?;
-    let mut simulation = precompute::<Sparse>(&scene, &request.scene, request.canonical)?;
+    let mut simulation = precompute::<Sparse>(scene, &request.scene, request.canonical)?;
     let mut control = request.control;
     let mut times: Vec<Vec<f64>> = vec![Vec::new(); request.methods.len()];
     let mut iterations: Vec<Vec<f64>> = vec![Vec::new(); request.methods.len()];
@@ -530,9 +538,12 @@ fn write_reach_csv(out: &mut dyn Write, rows: &[ReachRow]) -> std::io::Result<()
 /// method, the median step time, its ratio to plain-50's, the median
 /// iterations, and on how many steps the method ended at or below
 /// plain-50's energy (the accuracy it is compared at).
-fn run_over_steps_to_tolerance(request: &Request, steps: usize) -> Result<(), AppError> {
-    let scene = load_scene(&request.scene)?;
-    let mut simulation = precompute::<Sparse>(&scene, &request.scene, request.canonical)?;
+fn run_over_steps_to_tolerance(
+    request: &Request,
+    scene: &Scene,
+    steps: usize,
+) -> Result<(), AppError> {
+    let mut simulation = precompute::<Sparse>(scene, &request.scene, request.canonical)?;
     let plain_50 = StepControl {
         method: StepMethod::Plain,
         iterations: YARDSTICKS[0],

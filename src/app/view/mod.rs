@@ -56,9 +56,6 @@ const DEFAULT_PORT: u16 = 8080;
 const MAX_CONNECTIONS: usize = 64;
 /// Scenes listed in the page's picker at most.
 const MAX_SCENES: usize = 32;
-/// The first bytes of every PNG file.
-const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
-
 /// `view`'s operands and flags.
 pub static COMMAND: CommandSpec = CommandSpec {
     name: "view",
@@ -128,7 +125,11 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
 /// others beside the given one, each once, by name.
 fn scene_list(given: &Path) -> Vec<PathBuf> {
     let bundled = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
-    let beside = given.parent().unwrap_or(Path::new(".")).to_path_buf();
+    // `net.json`'s parent is the empty path, which names no folder to list.
+    let beside = match given.parent() {
+        Some(folder) if !folder.as_os_str().is_empty() => folder.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
     let mut scenes = vec![given.to_path_buf()];
     let mut seen = vec![std::fs::canonicalize(given).unwrap_or_else(|_| given.to_path_buf())];
     for folder in [bundled, beside] {
@@ -155,15 +156,8 @@ fn scene_list(given: &Path) -> Vec<PathBuf> {
 /// (with a warning) when it cannot be read or is not a PNG.
 fn read_texture(scene: &Scene) -> Option<Vec<u8>> {
     let path = scene.texture.as_ref()?;
-    match masssprings::files::read_bytes(path) {
-        Ok(bytes) if bytes.starts_with(PNG_SIGNATURE) => Some(bytes),
-        Ok(_) => {
-            eprintln!(
-                "masssprings: warning: {} is not a PNG file; drawing without texture",
-                path.display()
-            );
-            None
-        }
+    match super::render::texture::read_png_file(path) {
+        Ok(bytes) => Some(bytes),
         Err(error) => {
             eprintln!("masssprings: warning: {error}; drawing without texture");
             None
