@@ -1139,3 +1139,83 @@ fn a_texture_that_is_not_a_png_is_refused_by_every_command_at_once() {
     }
     assert!(!folder.join("frames").exists() && !folder.join("out.gif").exists());
 }
+
+// ------------------------------------ 7. one memory rule on every path --
+
+#[test]
+fn converge_refuses_iterations_and_steps_it_could_not_keep() {
+    let started = Instant::now();
+    let net = data("net.json");
+    let huge = run(&["converge", &net, "--iterations", "1000000000"]);
+    assert_fails(
+        &huge,
+        &[
+            "keeping 6,000,000,006 iterates of 64 bytes each would need 384 GB",
+            "use fewer --iterations",
+        ],
+    );
+    let wrapping = run(&["converge", &net, "--iterations", "18446744073709551615"]);
+    assert_fails(&wrapping, &["iterates", "overflows 64 bits"]);
+    let steps = run(&["converge", &net, "--steps", "1000000000000"]);
+    assert_fails(
+        &steps,
+        &["keeping 6,000,000,000,000 step rows", "use fewer --steps"],
+    );
+    assert!(started.elapsed() < Duration::from_secs(10));
+}
+
+#[test]
+fn bench_sizes_are_checked_as_generate_grid_is() {
+    for args in [["bench", "--sizes", "100000"], ["bench", "--one", "100000"]] {
+        let output = run(&args);
+        assert_fails(
+            &output,
+            &[
+                "grid 100000 (10,000,000,000 vertices) would need 560 GB",
+                "choose a smaller N",
+            ],
+        );
+    }
+}
+
+#[test]
+fn the_memory_limit_heeds_the_address_space_limit() {
+    // 4 GB of address space: the skirt's dense path (6.9 GB) is refused
+    // with the reason, instead of aborting on its first allocation.
+    let program = env!("CARGO_BIN_EXE_masssprings");
+    let output = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -v 4000000 && exec {program} simulate {} --dense --steps 1",
+            data("skirt.json")
+        ))
+        .env_remove(masssprings::memory::LIMIT_VARIABLE)
+        .output()
+        .unwrap();
+    assert_fails(
+        &output,
+        &[
+            "the dense path for n = 9,840",
+            "would need 6.9 GB",
+            "half of what the address-space limit, ulimit -v, leaves",
+        ],
+    );
+    // The variable does not lift the process's own limit.
+    let lifted = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -v 4000000 && exec {program} simulate {} --dense --steps 1",
+            data("skirt.json")
+        ))
+        .env(masssprings::memory::LIMIT_VARIABLE, "100")
+        .output()
+        .unwrap();
+    assert_fails(&lifted, &["ulimit -v"]);
+}
+
+#[test]
+fn the_viewer_takes_as_many_iterations_from_the_command_line_as_from_its_page() {
+    let output = run(&["view", &data("net.json"), "--iterations", "1000000000000"]);
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+    assert!(stderr(&output).contains("--iterations 1000000000000: the viewer takes at most 1000"));
+}

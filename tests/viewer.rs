@@ -29,8 +29,19 @@ impl Viewer {
     /// Starts `masssprings view data/SCENE --port 0` and reads the URL it
     /// prints.
     fn start(scene: &str) -> Viewer {
-        let child = Command::new(env!("CARGO_BIN_EXE_masssprings"))
+        Viewer::start_with(scene, &[], None)
+    }
+
+    /// [`Viewer::start`] with more flags, and a memory limit (GB) if given.
+    fn start_with(scene: &str, flags: &[&str], memory_limit_gb: Option<&str>) -> Viewer {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_masssprings"));
+        command
             .args(["view", &data(scene), "--port", "0"])
+            .args(flags);
+        if let Some(limit) = memory_limit_gb {
+            command.env(masssprings::memory::LIMIT_VARIABLE, limit);
+        }
+        let child = command
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
@@ -525,6 +536,21 @@ fn the_page_can_switch_to_another_bundled_scene() {
     let missing = viewer.post_command(&json!({"command": "load_scene", "scene": 999}));
     assert_eq!(missing.status, 409);
     assert_eq!(viewer.status()["scene"], "horizontal-chain");
+}
+
+#[test]
+fn switching_scenes_on_the_dense_path_checks_its_memory_as_the_command_line_does() {
+    let viewer = Viewer::start_with("net.json", &["--dense"], Some("4"));
+    let scenes: Vec<String> = serde_json::from_value(viewer.status()["scenes"].clone()).unwrap();
+    let skirt = scenes.iter().position(|s| s == "skirt").unwrap();
+    let refused = viewer.post_command(&json!({"command": "load_scene", "scene": skirt}));
+    assert_eq!(refused.status, 409, "{}", refused.text());
+    let text = refused.text();
+    assert!(
+        text.contains("the dense path for n = 9,840") && text.contains("use the sparse path"),
+        "{text}"
+    );
+    assert_eq!(viewer.status()["scene"], "net", "the scene shown stays");
 }
 
 #[test]

@@ -22,7 +22,7 @@ use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{
     self, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, PINS, RELAXATION, RHO, START, WINDOW,
 };
-use super::limits::precompute;
+use super::limits::{check_kept, precompute};
 use super::render::plot::Scale;
 use super::steps_plot::{StepPlot, StepSeries};
 use super::{load_scene, plan_scene_inputs, AppError};
@@ -142,6 +142,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         }
     }
     plan.output("the table", Path::new("-")).check()?;
+    check_records(&request)?;
     if let Some(steps) = request.over_steps {
         return run_over_steps(&request, &scene, steps);
     }
@@ -224,6 +225,26 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
     })
 }
 
+/// Refuses, before any work, records that would not fit in memory: every
+/// iterate of every method's curve (one step), and the rows kept per step
+/// and method (`--steps S`).
+fn check_records(request: &Request) -> Result<(), AppError> {
+    let curves = request.methods.len() as u64 + 1; // and plain's yardstick
+    let iterates = (request.control.iterations as u64)
+        .max(YARDSTICKS[1] as u64)
+        .saturating_add(1)
+        .saturating_mul(curves);
+    // a sample, and its point in the plot
+    let each = (std::mem::size_of::<Sample>() + 3 * std::mem::size_of::<f64>()) as u64;
+    check_kept(iterates, "iterates", each, "use fewer --iterations")?;
+    if let Some(steps) = request.over_steps {
+        let rows = (steps as u64).saturating_mul(curves);
+        let each = (std::mem::size_of::<RuleRow>() + 4 * std::mem::size_of::<f64>()) as u64;
+        check_kept(rows, "step rows", each, "use fewer --steps")?;
+    }
+    Ok(())
+}
+
 /// The control of the yardstick runs (plain-50, plain-200): the
 /// assignment's iteration from the assignment's start, whatever `--start`
 /// says for the methods compared with it.
@@ -261,7 +282,7 @@ fn trace(
     let (u_prev, u_cur) = (simulation.previous_positions(), simulation.positions());
     copy.set_state(u_prev, u_cur, simulation.steps())
         .map_err(failed)?;
-    let mut samples = Vec::with_capacity(iterations + 1);
+    let mut samples = Vec::with_capacity(iterations.saturating_add(1));
     let mut gradient = vec![[0.0; 3]; copy.positions().len()];
     let mut previous = copy.positions().to_vec();
     let mut initial_gradient = 0.0;

@@ -72,13 +72,23 @@ pub fn check_dense(scene: &Scene) -> Result<(), AppError> {
 /// # Errors
 /// A failure with the estimate, the limit and `advice`.
 pub fn check_frames(frames: u64, bytes_per_frame: u64, advice: &str) -> Result<(), AppError> {
+    check_kept(frames, "frames", bytes_per_frame, advice)
+}
+
+/// Refuses to keep `count` `items` (a plural: "iterates") of `each` bytes
+/// for the whole run: the one rule for every record whose number a flag
+/// sets (`--iterations`, `--steps`, `--repeats`).
+///
+/// # Errors
+/// A failure with the estimate, the limit and `advice`.
+pub fn check_kept(count: u64, items: &str, each: u64, advice: &str) -> Result<(), AppError> {
     memory::check(
-        bytes_for(frames, bytes_per_frame),
+        bytes_for(count, each),
         || {
             format!(
-                "keeping {} frames of {} bytes each",
-                thousands(frames),
-                thousands(bytes_per_frame)
+                "keeping {} {items} of {} bytes each",
+                thousands(count),
+                thousands(each)
             )
         },
         advice,

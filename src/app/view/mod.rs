@@ -56,6 +56,10 @@ const DEFAULT_PORT: u16 = 8080;
 const MAX_CONNECTIONS: usize = 64;
 /// Scenes listed in the page's picker at most.
 const MAX_SCENES: usize = 32;
+/// The most iterations a step of the viewer may take, from the command line
+/// as from the page: a step must end within moments for the viewer to
+/// answer and to stop.
+pub const MAX_ITERATIONS: usize = 1000;
 /// `view`'s operands and flags.
 pub static COMMAND: CommandSpec = CommandSpec {
     name: "view",
@@ -113,6 +117,13 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let mut options = SimulationOptions::default();
     convergence_flags::apply(&args, &mut options)?;
     factorization_flags::apply(&args, &mut options)?;
+    if options.iterations > MAX_ITERATIONS {
+        return Err(AppError::Usage(format!(
+            "--iterations {}: the viewer takes at most {MAX_ITERATIONS} a step (as its slider \
+             does), so that every step ends within moments",
+            options.iterations
+        )));
+    }
     if args.switch("dense") {
         serve::<Dense>(&scene, scenes, address, options)
     } else {

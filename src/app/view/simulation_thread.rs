@@ -367,8 +367,11 @@ impl<B: LinearAlgebra> SimulationThread<B> {
                 "mass scale {mass_scale}: expected from 0.001 to 1000"
             ));
         }
-        if !(1..=1000).contains(&iterations) {
-            return Err(format!("{iterations} iterations: expected from 1 to 1000"));
+        if !(1..=super::MAX_ITERATIONS).contains(&iterations) {
+            return Err(format!(
+                "{iterations} iterations: expected from 1 to {}",
+                super::MAX_ITERATIONS
+            ));
         }
         let current = (
             self.simulation.system().k,
@@ -405,8 +408,11 @@ impl<B: LinearAlgebra> SimulationThread<B> {
             start: current.start,
             ..SimulationOptions::default()
         };
-        let simulation = Simulation::<B>::from_scene(&scene, options)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        // The command line's checks too: the dense path's memory first.
+        let simulation =
+            crate::app::limits::precompute::<B>(&scene, &path, options).map_err(|e| match e {
+                crate::app::AppError::Usage(why) | crate::app::AppError::Failed(why) => why,
+            })?;
         // A new scene is a new precomputation, not a refactorization.
         self.refactor = None;
         let assets = SceneAssets::of(&scene, B::NAME);
