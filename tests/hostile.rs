@@ -375,14 +375,130 @@ fn inputs_are_read_up_to_a_stated_size_and_dev_zero_fails_at_once() {
 // --------------------------------------------------- 3. minor cases --
 
 #[test]
-fn a_scene_that_is_not_positive_definite_is_named() {
-    let output = run(&["simulate", &corpus("k-1e308.json")]);
+fn a_stiffness_or_mass_that_overflows_q_is_named_with_its_bound() {
+    for command in [&["simulate"][..], &["export-q", "-o", "/dev/null"][..]] {
+        let mut args = command.to_vec();
+        let scene = corpus("k-1e308.json");
+        args.insert(1, &scene);
+        assert_fails(
+            &run(&args),
+            &[
+                "k-1e308.json: k = 1e308 overflows Q: its diagonal holds k × 3",
+                "Q fits with k up to 2.9e307 here",
+            ],
+        );
+    }
+    let folder = temp_folder("mass-overflow");
+    std::fs::copy(corpus_path("square.obj"), folder.join("square.obj")).unwrap();
+    let square = |name: &str, k: &str, m: &str| {
+        let json = format!(r#"{{"obj": "square.obj", "k": {k}, "b": [1], "m": {m}}}"#);
+        std::fs::write(folder.join(name), json).unwrap();
+        run_in(&folder, &["simulate", name])
+    };
     assert_fails(
-        &output,
+        &square("m.json", "1", "1e308"),
         &[
-            "k-1e308.json: the precomputation failed:",
-            "not positive definite",
+            "m.json: the mass 1e308 of vertex 1 overflows Q",
+            "m / Δt² = m × 900",
+            "Q fits with masses up to 9.9e304",
         ],
+    );
+    // At the bound, Q is factored; the step then names its own overflow.
+    assert_fails(
+        &square("k.json", "2.9e307", "1"),
+        &["step 1: the step's energy or gradient is not finite"],
+    );
+}
+
+#[test]
+fn degenerate_matrices_are_refused_not_reported() {
+    let folder = temp_folder("degenerate-matrices");
+    let write = |name: &str, text: &str| {
+        std::fs::write(folder.join(name), text).unwrap();
+        text_of(&folder.join(name))
+    };
+    let tiny = write(
+        "tiny.mtx",
+        "%%MatrixMarket matrix coordinate real symmetric\n1 1 1\n1 1 5e-324\n",
+    );
+    assert_fails(
+        &run(&["analyze", &tiny]),
+        &[
+            "tiny.mtx: the solve gave a solution that is not finite (x[1, 1] = inf)",
+            "too close to singular",
+        ],
+    );
+    let empty = write(
+        "empty.mtx",
+        "%%MatrixMarket matrix coordinate real symmetric\n0 0 0\n",
+    );
+    for args in [
+        vec!["analyze", &empty],
+        vec!["spy", &empty, "-o", "spy.png"],
+        vec!["etree", &empty, "-o", "etree.png"],
+    ] {
+        assert_fails(
+            &run(&args),
+            &["empty.mtx: the matrix is 0 × 0: there is nothing to factor or draw"],
+        );
+    }
+}
+
+#[test]
+fn coordinates_too_large_or_too_small_for_f64_are_named_as_such() {
+    let folder = temp_folder("extreme-coordinates");
+    let scene = |name: &str, side: &str| {
+        let obj = format!("v 0 0 0\nv {side} 0 0\nv 0 {side} 0\nv {side} {side} 0\nf 1 2 4 3\n");
+        std::fs::write(folder.join(format!("{name}.obj")), obj).unwrap();
+        let json = format!(r#"{{"obj": "{name}.obj", "k": 1, "b": [1]}}"#);
+        std::fs::write(folder.join(format!("{name}.json")), json).unwrap();
+        text_of(&folder.join(format!("{name}.json")))
+    };
+    assert_fails(
+        &run(&["simulate", &scene("large", "1e200")]),
+        &[
+            "large.obj:1: vertex 1 has a non-finite mass",
+            "corners of a face around it are 1e200 apart, which overflows f64",
+            "sides up to 1e76 work); scale the mesh down",
+        ],
+    );
+    assert_fails(
+        &run(&["simulate", &scene("small", "1e-200")]),
+        &[
+            "small.obj:1: vertex 1 has",
+            "only 1e-200 apart, which underflows f64",
+            "scale the mesh up",
+        ],
+    );
+    for side in ["1e70", "1e-70"] {
+        let output = run(&["simulate", &scene("fits", side), "--steps", "0"]);
+        assert!(output.status.success(), "{side}: {}", stderr(&output));
+    }
+    let repeated = folder.join("repeated.obj");
+    std::fs::write(&repeated, "v 0 0 0\nv 0 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    std::fs::write(
+        folder.join("repeated.json"),
+        r#"{"obj": "repeated.obj", "k": 1, "b": [1]}"#,
+    )
+    .unwrap();
+    assert_fails(
+        &run(&["simulate", &text_of(&folder.join("repeated.json"))]),
+        &["two corners at one point (a repeated corner)"],
+    );
+}
+
+fn text_of(path: &Path) -> String {
+    path.display().to_string()
+}
+
+#[test]
+fn generate_grid_blames_the_extra_argument_not_n() {
+    let output = run(&["generate", "grid", "3", "4"]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(
+        stderr(&output).contains("unexpected argument '4'"),
+        "{}",
+        stderr(&output)
     );
 }
 

@@ -38,6 +38,19 @@ impl Viewer {
         command
             .args(["view", &data(scene), "--port", "0"])
             .args(flags);
+        Viewer::spawn(command, memory_limit_gb)
+    }
+
+    /// `masssprings view SCENE --port 0` run in `folder`, `scene` as given.
+    fn start_in(folder: &std::path::Path, scene: &str) -> Viewer {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_masssprings"));
+        command
+            .args(["view", scene, "--port", "0"])
+            .current_dir(folder);
+        Viewer::spawn(command, None)
+    }
+
+    fn spawn(mut command: Command, memory_limit_gb: Option<&str>) -> Viewer {
         if let Some(limit) = memory_limit_gb {
             command.env(masssprings::memory::LIMIT_VARIABLE, limit);
         }
@@ -536,6 +549,33 @@ fn the_page_can_switch_to_another_bundled_scene() {
     let missing = viewer.post_command(&json!({"command": "load_scene", "scene": 999}));
     assert_eq!(missing.status, 409);
     assert_eq!(viewer.status()["scene"], "horizontal-chain");
+}
+
+#[test]
+fn a_bare_scene_name_lists_the_scenes_beside_it_as_a_path_does() {
+    let folder = std::env::temp_dir().join(format!("masssprings-viewer-{}", std::process::id()));
+    std::fs::create_dir_all(&folder).unwrap();
+    for name in ["mine.json", "mine.obj", "other.json", "other.obj"] {
+        let source = if name.ends_with("json") {
+            "net.json"
+        } else {
+            "net.obj"
+        };
+        let text = std::fs::read_to_string(data(source)).unwrap();
+        std::fs::write(
+            folder.join(name),
+            text.replace("net.obj", &name.replace("json", "obj")),
+        )
+        .unwrap();
+    }
+    for given in ["mine.json", "./mine.json"] {
+        let viewer = Viewer::start_in(&folder, given);
+        let scenes: Vec<String> =
+            serde_json::from_value(viewer.status()["scenes"].clone()).unwrap();
+        assert_eq!(scenes[0], "mine");
+        assert!(scenes.iter().any(|s| s == "other"), "{given}: {scenes:?}");
+    }
+    let _ = std::fs::remove_dir_all(&folder);
 }
 
 #[test]

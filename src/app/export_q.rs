@@ -35,7 +35,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let mut plan = FilePlan::default();
     plan_scene_inputs(&mut plan, &scene_path, &scene);
     plan.output("-o", &out).check()?;
-    let q = scene_q(&scene)?;
+    let q = scene_q(&scene, &scene_path)?;
     let comment = format!(
         "Q = k A'A + M/dt^2 + w C'C of {} ({} vertices, {} springs, {} pins, k = {}, dt = 1/30, w = {PIN_WEIGHT:e})\n\
          lower triangle; written by masssprings export-q",

@@ -52,7 +52,10 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
                 "generate what? `grid N` or `examples`".into(),
             ))
         }
-        [what, extra, ..] if what == "grid" || what == "examples" => {
+        [what, _, extra, ..] if what == "grid" => {
+            return Err(AppError::Usage(format!("unexpected argument '{extra}'")))
+        }
+        [what, extra, ..] if what == "examples" => {
             return Err(AppError::Usage(format!("unexpected argument '{extra}'")))
         }
         [other, ..] => {

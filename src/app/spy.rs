@@ -152,7 +152,7 @@ pub fn load_lower(path: &Path, plan: &mut FilePlan) -> Result<CscMatrix, AppErro
     if path.extension().is_some_and(|e| e == "json") {
         let scene = load_scene(path)?;
         plan_scene_inputs(plan, path, &scene);
-        Ok(scene_q(&scene)?.triangle(Triangle::Lower))
+        Ok(scene_q(&scene, path)?.triangle(Triangle::Lower))
     } else {
         plan.input("the matrix", path);
         read_symmetric_lower(path)
@@ -161,7 +161,8 @@ pub fn load_lower(path: &Path, plan: &mut FilePlan) -> Result<CscMatrix, AppErro
 
 /// `Q = k AᵀA + M/Δt² + w CᵀC` of `scene`, as the simulation builds it
 /// (both triangles).
-pub fn scene_q(scene: &Scene) -> Result<CscMatrix, AppError> {
+pub fn scene_q(scene: &Scene, scene_path: &Path) -> Result<CscMatrix, AppError> {
+    super::limits::check_q_overflow(scene, scene_path, DELTA_T)?;
     let system = fast_mass_springs_precomputation::<Sparse>(
         &scene.vertices,
         &scene.springs,
