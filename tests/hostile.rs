@@ -1,9 +1,12 @@
-//! Hostile input (issue 9): every case the issue lists, through the command
-//! line as a user meets it (exit code, message, nothing written), and a
-//! seeded mutation test of the readers (Matrix Market, scene JSON + OBJ)
-//! over the bundled scenes of `data/` and the corpus in `tests/hostile/`:
-//! thousands of damaged files, each read to a value or to an error that
-//! names the file and, for a problem on a line, the line. (The PNG texture
+//! Hostile input: every hostile case of `docs/reliability.md`, through the
+//! command line as a user meets it (exit code, message, nothing written or
+//! destroyed: outputs that would replace inputs, FIFOs and links as inputs
+//! and outputs, limits on every path, degenerate numbers), a seeded
+//! mutation test of the output paths, and one of the readers (Matrix
+//! Market, scene JSON + OBJ) over the bundled scenes of `data/` and the
+//! corpus in `tests/hostile/`: thousands of damaged files, each read to a
+//! value or to an error that names the file and, for a problem on a line,
+//! the line. FIFOs and links are made in temporary folders. (The PNG texture
 //! and the HTTP request parser live in the binary; their mutation tests are
 //! unit tests in `src/app/render/texture.rs` and `src/app/view/http.rs`.)
 #[path = "common/cli.rs"]
