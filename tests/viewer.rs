@@ -915,6 +915,91 @@ fn sigint_stops_the_server_with_status_0() {
     );
 }
 
+/// Sends `POST /api/command` with `command` on a new connection and
+/// returns the connection without reading the answer.
+fn send_command(viewer: &Viewer, command: &str) -> TcpStream {
+    let body = json!({ "command": command }).to_string();
+    let request = format!(
+        "POST /api/command HTTP/1.1\r\nHost: {}\r\nContent-Type: application/json\r\n\
+         Content-Length: {}\r\nConnection: close\r\n\r\n{body}",
+        viewer.address,
+        body.len()
+    );
+    let mut stream = viewer.connect();
+    stream.write_all(request.as_bytes()).unwrap();
+    stream
+}
+
+#[test]
+fn sigterm_stops_the_viewer_within_a_second_even_in_the_middle_of_a_step() {
+    // 1000 Newton iterations on the skirt: a step of minutes.
+    let flags = ["--method", "newton", "--iterations", "1000"];
+    let mut viewer = Viewer::start_with("skirt.json", &flags, None);
+    let _stepping = send_command(&viewer, "step");
+    thread::sleep(Duration::from_millis(1000));
+    let killed = Command::new("kill")
+        .args(["-TERM", &viewer.child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(killed.success());
+    let status = viewer
+        .wait_for_exit(Duration::from_millis(1000))
+        .expect("exits within 1 s of SIGTERM, mid-step");
+    assert_eq!(status.code(), Some(0), "{status:?}");
+}
+
+#[test]
+fn a_command_answered_not_applied_is_never_applied_later() {
+    // A step of some seconds (30 Newton iterations on the skirt): a command
+    // sent meanwhile either waits and is applied (200), or is answered 503
+    // "not applied" and stays so once the step is over.
+    let flags = ["--method", "newton", "--iterations", "30"];
+    let viewer = Viewer::start_with("skirt.json", &flags, None);
+    let _stepping = send_command(&viewer, "step");
+    thread::sleep(Duration::from_millis(300));
+    let wind = viewer.post_command(&json!({"command": "toggle_wind"}));
+    let applied = match wind.status {
+        200 => true,
+        503 => {
+            assert!(wind.text().contains("not applied"), "{}", wind.text());
+            false
+        }
+        other => panic!("{other}: {}", wind.text()),
+    };
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while viewer.status()["steps"] != 1 {
+        assert!(Instant::now() < deadline, "the step ends");
+        thread::sleep(Duration::from_millis(200));
+    }
+    thread::sleep(Duration::from_millis(300));
+    assert_eq!(viewer.status()["wind"], applied, "{}", wind.text());
+}
+
+#[test]
+fn clients_that_do_not_read_are_evicted_like_idle_ones() {
+    let viewer = Viewer::start("skirt.json");
+    let request = format!(
+        "GET /api/scene HTTP/1.1\r\nHost: {}\r\n\r\n",
+        viewer.address
+    );
+    let silent: Vec<TcpStream> = (0..64)
+        .map(|_| {
+            let mut stream = viewer.connect();
+            stream.write_all(request.as_bytes()).unwrap();
+            stream
+        })
+        .collect();
+    thread::sleep(Duration::from_millis(500));
+    let started = Instant::now();
+    assert_eq!(viewer.get("/api/status").status, 200);
+    assert!(
+        started.elapsed() < Duration::from_secs(2),
+        "{:?}",
+        started.elapsed()
+    );
+    drop(silent);
+}
+
 #[test]
 fn wrong_command_lines_exit_with_2_and_bad_scenes_with_1() {
     let run = |args: &[&str]| {

@@ -11,7 +11,8 @@
 //!   the connection waiting longest is closed to make room, see [`pool`]),
 //!   which reads requests with [`http`] and answers them with [`routes`];
 //! * the **main thread** waits for Ctrl-C (SIGINT, or SIGTERM), then stops
-//!   the other two and returns, so the program exits with status 0.
+//!   the other two and returns, so the program exits with status 0 (within
+//!   [`STOP_GRACE`] even in the middle of a long step, which is dropped).
 //!
 //! The page polls `GET /api/frame` once per animation frame of the browser
 //! and posts key presses and drags to `POST /api/command` ([`api`]).
@@ -237,9 +238,17 @@ where
     if wake_acceptor(local) {
         let _ = acceptor.join();
     }
-    let _ = simulation_handle.join();
+    // The simulation thread sees Quit after the step it is in; a long step
+    // is not waited for: returning ends the process, and the step with it.
+    let grace = std::time::Instant::now() + STOP_GRACE;
+    while !simulation_handle.is_finished() && std::time::Instant::now() < grace {
+        thread::sleep(Duration::from_millis(10));
+    }
     Ok(())
 }
+
+/// How long a stopping viewer waits for the step in progress to end.
+const STOP_GRACE: Duration = Duration::from_millis(500);
 
 /// Why the server cannot listen, in plain words.
 fn bind_error(address: SocketAddr, error: &std::io::Error) -> AppError {
@@ -331,6 +340,9 @@ fn serve_connection(stream: TcpStream, routes: &Routes, member: &Member) {
             Ok(request) => {
                 let response = routes.respond(&request);
                 let head_only = request.method == Method::Head;
+                // Sending waits on the client, as reading does: a client
+                // that does not read may be evicted like an idle one.
+                member.waiting();
                 if connection
                     .write_response(&response, head_only, request.keep_alive)
                     .is_err()
