@@ -1064,6 +1064,16 @@ fn empty_names_and_folders_given_as_files_are_named_as_such() {
     let empty_folder = run_in(&folder, &["simulate", "net.json", "--out", ""]);
     assert_eq!(empty_folder.status.code(), Some(2));
     assert!(stderr(&empty_folder).contains("--out '': simulate writes a folder of frames"));
+    for out in ["", "-"] {
+        let generate = run_in(&folder, &["generate", "grid", "3", "--out", out]);
+        assert_eq!(generate.status.code(), Some(2));
+        assert!(stderr(&generate).contains("generate writes scene files into a folder"));
+    }
+    let onto_a_file = run_in(&folder, &["generate", "grid", "3", "--out", "net.obj"]);
+    assert_fails(
+        &onto_a_file,
+        &["--out net.obj: this is a file, not a folder"],
+    );
     std::fs::create_dir(folder.join("pictures")).unwrap();
     let into_folder = run_in(&folder, &["spy", "net.json", "-o", "pictures"]);
     assert_fails(

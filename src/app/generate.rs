@@ -68,6 +68,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         }
     };
     let folder = PathBuf::from(options.text("out").unwrap_or("."));
+    super::check_output_folder(&folder, "generate writes scene files into a folder")?;
     fs::create_dir_all(&folder)
         .map_err(|e| AppError::Failed(format!("{}: {e}", folder.display())))?;
     remove_stale_temporaries(&folder)?;

@@ -70,6 +70,27 @@ pub fn plan_scene_inputs(plan: &mut FilePlan, scene_path: &Path, scene: &Scene) 
     }
 }
 
+/// Refuses an `--out` folder that names nothing, standard output (`-`) or a
+/// file; `writes` says what the command puts there, for the message.
+///
+/// # Errors
+/// A usage error for an empty name or `-`, a failure for a file.
+pub fn check_output_folder(folder: &Path, writes: &str) -> Result<(), AppError> {
+    if folder == Path::new("-") || folder.as_os_str().is_empty() {
+        return Err(AppError::Usage(format!(
+            "--out '{}': {writes}; name a folder",
+            folder.display()
+        )));
+    }
+    if std::fs::metadata(folder).is_ok_and(|m| !m.is_dir()) {
+        return Err(AppError::Failed(format!(
+            "--out {}: this is a file, not a folder; {writes}",
+            folder.display()
+        )));
+    }
+    Ok(())
+}
+
 /// Prints a command's one-line report on standard output, or on standard
 /// error when its output file is `-` (standard output carries the file).
 pub fn report(out: &Path, line: &str) {

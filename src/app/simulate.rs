@@ -268,18 +268,7 @@ fn check_files(scene_path: &Path, scene: &Scene, out: Option<&Path>) -> Result<(
     let mut plan = FilePlan::default();
     super::plan_scene_inputs(&mut plan, scene_path, scene);
     if let Some(folder) = out {
-        if folder == Path::new("-") || folder.as_os_str().is_empty() {
-            return Err(AppError::Usage(format!(
-                "--out '{}': simulate writes a folder of frames; name a folder",
-                folder.display()
-            )));
-        }
-        if std::fs::metadata(folder).is_ok_and(|m| !m.is_dir()) {
-            return Err(AppError::Failed(format!(
-                "--out {}: this is a file, not a folder; name a folder for the frames",
-                folder.display()
-            )));
-        }
+        super::check_output_folder(folder, "simulate writes a folder of frames")?;
         plan.writes_into(
             "--out",
             folder,
