@@ -1,10 +1,12 @@
-//! Files: errors that say where a problem is (file and line), and writing a
-//! file all or nothing.
+//! Files: errors that say where a problem is (file and line), reading that
+//! never runs away or hangs, and writing that never destroys what the user
+//! gave.
 //!
-//! Every reader of the crate (Matrix Market matrices, OBJ + JSON scenes)
-//! reports bad input as a [`FileError`], displayed `path:line: problem`, so
-//! a user can go straight to the place. Every text reader gets its text from
-//! [`read_text`], which applies the same rules to all of them:
+//! Every reader of the crate (Matrix Market matrices, OBJ + JSON scenes,
+//! textures) reports bad input as a [`FileError`], displayed
+//! `path:line: problem`, so a user can go straight to the place. Every
+//! reader gets its bytes from [`read_text`] or [`read_bytes`], which apply
+//! the same rules to all of them:
 //!
 //! * **size**: at most [`max_input_bytes`] (an eighth of the memory limit of
 //!   [`crate::memory`]: parsing holds the text and builds structures a few
@@ -12,23 +14,44 @@
 //!   reading; anything else (a pipe, `/dev/zero`) is read in chunks and
 //!   dropped as soon as it passes the limit, so nothing unbounded is
 //!   buffered.
+//! * **time**: anything that is not a regular file (a FIFO, a terminal) is
+//!   opened without blocking and waited for at most
+//!   [`patient::PATIENCE`] without a byte ([`patient`]), so a FIFO nobody
+//!   writes to fails instead of hanging.
 //! * **text**: UTF-8 (an invalid byte is reported with its line) without NUL
 //!   bytes (reported at once with their line: `/dev/zero` fails on its first
-//!   chunk).
+//!   chunk); **binary** files may be required to start with their format's
+//!   signature ([`read_bytes_of_format`]: a PNG), checked on the first
+//!   chunk.
 //! * **byte-order mark**: a UTF-8 BOM (`EF BB BF`) at the very start is
 //!   skipped (editors on Windows write one), so the first line reads as
 //!   written in every format.
 //!
-//! Every writer (matrices, frames, scenes, images) goes through
-//! [`write_file`]: the content is written to a temporary file beside the
-//! destination, flushed to disk and renamed into place, so a failure never
-//! leaves a half-written file behind. The temporary is removed on every
-//! error; a process killed while writing leaves it, named
-//! `.NAME.PID-COUNTER.tmp`, and [`remove_stale_temporaries`] (run by the
-//! commands before they write into a folder) removes it later.
+//! Every writer (matrices, frames, scenes, images, CSV) goes through
+//! [`write_file`], after the command has checked its [`FilePlan`] (no
+//! output is an input or another output, [`outputs`]). What it does
+//! depends on what is at the path:
+//!
+//! * **nothing, or a regular file**: the content is written to a temporary
+//!   file beside the destination, flushed to disk and renamed into place,
+//!   so a failure never leaves a half-written file behind (a file replaced
+//!   keeps its permissions). The temporary is removed on every error; a
+//!   process killed while writing leaves it, named `.NAME.PID-COUNTER.tmp`,
+//!   and [`remove_stale_temporaries`] (run by the commands before they
+//!   write into a folder) removes it later.
+//! * **a symbolic link**: followed; its target is replaced as above, and the
+//!   link stays a link.
+//! * **a FIFO, a device, `-`**: written to directly (a FIFO waits at most
+//!   [`patient::PATIENCE`] for its reader), never replaced: `/dev/null`
+//!   stays a device, and `-` is standard output.
 //!
 //! This module sits below every layer and knows nothing about what the
 //! files contain.
+
+mod outputs;
+pub mod patient;
+
+pub use outputs::{resolve, same_file, FilePlan};
 
 use std::fmt;
 use std::fs;
@@ -151,7 +174,7 @@ const BYTE_ORDER_MARK: char = '\u{feff}';
 /// [`FileError`] naming the path (and the line, for a NUL or a byte that is
 /// not UTF-8) when the file cannot be read, is too large, or is not text.
 pub fn read_text(path: &Path) -> Result<String, FileError> {
-    let bytes = read_limited(path, true)?;
+    let bytes = read_limited(path, Content::Text)?;
     let text = String::from_utf8(bytes).map_err(|error| {
         let bytes = error.as_bytes();
         let valid = error.utf8_error().valid_up_to();
@@ -173,12 +196,73 @@ pub fn read_text(path: &Path) -> Result<String, FileError> {
 /// # Errors
 /// [`FileError`] naming the path when the file cannot be read or is larger.
 pub fn read_bytes(path: &Path) -> Result<Vec<u8>, FileError> {
-    read_limited(path, false)
+    read_limited(path, Content::Bytes)
+}
+
+/// The bytes of the file at `path` (at most [`max_input_bytes`]), which must
+/// start with `signature`, the mark of the `format` it must be in (a PNG's
+/// eight bytes): checked on the first chunk, so `/dev/zero` or a text file
+/// is refused at once, not after reading the whole limit.
+///
+/// # Errors
+/// [`FileError`] naming the path when the file cannot be read, is larger,
+/// or does not start with the signature.
+pub fn read_bytes_of_format(
+    path: &Path,
+    signature: &[u8],
+    format: &str,
+) -> Result<Vec<u8>, FileError> {
+    read_limited(path, Content::Format(signature, format))
+}
+
+/// What a reader expects of the bytes.
+#[derive(Clone, Copy)]
+enum Content<'a> {
+    Bytes,
+    /// UTF-8 text without NUL bytes.
+    Text,
+    /// A binary format: its signature and name.
+    Format(&'a [u8], &'a str),
+}
+
+/// Opens `path` for reading: a regular file the ordinary way, anything else
+/// without blocking ([`patient::PatientReader`]); a folder is refused.
+fn open_input(path: &Path) -> Result<(Box<dyn Read>, Option<u64>), FileError> {
+    let unreadable = |error| FileError::unreadable(path, error);
+    if path.as_os_str().is_empty() {
+        return Err(FileError::invalid("an empty file name names no file"));
+    }
+    let metadata = fs::metadata(path).map_err(unreadable)?;
+    if metadata.is_dir() {
+        return Err(unreadable(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            "this is a folder, not a file",
+        )));
+    }
+    if metadata.is_file() {
+        let file = fs::File::open(path).map_err(unreadable)?;
+        let length = file.metadata().map_err(unreadable)?.len();
+        return Ok((Box::new(file), Some(length)));
+    }
+    let reader = patient::PatientReader::open(path, is_fifo(&metadata)).map_err(unreadable)?;
+    Ok((Box::new(reader), None))
+}
+
+#[cfg(unix)]
+fn is_fifo(metadata: &fs::Metadata) -> bool {
+    use std::os::unix::fs::FileTypeExt;
+    metadata.file_type().is_fifo()
+}
+
+#[cfg(not(unix))]
+fn is_fifo(_: &fs::Metadata) -> bool {
+    false
 }
 
 /// The file's bytes, refusing it once it passes the limit (and, for text,
-/// at its first NUL byte) without reading further.
-fn read_limited(path: &Path, text: bool) -> Result<Vec<u8>, FileError> {
+/// at its first NUL byte; for a format, on a wrong signature) without
+/// reading further.
+fn read_limited(path: &Path, content: Content) -> Result<Vec<u8>, FileError> {
     let unreadable = |error| FileError::unreadable(path, error);
     let max = max_input_bytes();
     let too_large = || {
@@ -188,15 +272,8 @@ fn read_limited(path: &Path, text: bool) -> Result<Vec<u8>, FileError> {
         ))
         .in_file(path)
     };
-    let file = fs::File::open(path).map_err(unreadable)?;
-    let metadata = file.metadata().map_err(unreadable)?;
-    if metadata.is_dir() {
-        return Err(unreadable(io::Error::new(
-            io::ErrorKind::InvalidInput,
-            "this is a folder, not a file",
-        )));
-    }
-    if metadata.is_file() && metadata.len() > max {
+    let (file, length) = open_input(path).map_err(|e| e.in_file(path))?;
+    if length.is_some_and(|length| length > max) {
         return Err(too_large());
     }
     let mut reader = file.take(max.saturating_add(1));
@@ -209,7 +286,7 @@ fn read_limited(path: &Path, text: bool) -> Result<Vec<u8>, FileError> {
             Err(error) if error.kind() == io::ErrorKind::Interrupted => continue,
             Err(error) => return Err(unreadable(error)),
         };
-        if text {
+        if let Content::Text = content {
             if let Some(position) = chunk[..count].iter().position(|&byte| byte == 0) {
                 let offset = bytes.len() + position;
                 bytes.extend_from_slice(&chunk[..position]);
@@ -221,8 +298,25 @@ fn read_limited(path: &Path, text: bool) -> Result<Vec<u8>, FileError> {
             }
         }
         bytes.extend_from_slice(&chunk[..count]);
+        if let Content::Format(signature, format) = content {
+            let checked = bytes.len().min(signature.len());
+            if bytes[..checked] != signature[..checked] {
+                return Err(FileError::invalid(format!(
+                    "this is not a {format} file (it does not start with the {format} signature)"
+                ))
+                .in_file(path));
+            }
+        }
         if bytes.len() as u64 > max {
             return Err(too_large());
+        }
+    }
+    if let Content::Format(signature, format) = content {
+        if bytes.len() < signature.len() {
+            return Err(FileError::invalid(format!(
+                "this is not a {format} file (shorter than the {format} signature)"
+            ))
+            .in_file(path));
         }
     }
     Ok(bytes)
@@ -236,12 +330,14 @@ fn line_of_offset(bytes: &[u8], offset: usize) -> usize {
         .count()
 }
 
-/// Creates (or replaces) the file at `path` with what `write` produces, all
-/// or nothing.
+/// Writes what `write` produces to `path`: a regular file (or nothing yet)
+/// is created or replaced all or nothing, through a symbolic link to its
+/// target; a FIFO or a device is written to directly; `-` is standard
+/// output (see the module header).
 ///
-/// `write` fills a temporary file in the same folder, which is flushed to
-/// disk and then renamed to `path`; if `write` or any step fails, the
-/// temporary is removed and `path` is left as it was.
+/// A regular file is filled as a temporary in the same folder, flushed to
+/// disk and renamed to `path`; if `write` or any step fails, the temporary
+/// is removed and `path` is left as it was.
 ///
 /// ```no_run
 /// # use masssprings::files::write_file;
@@ -252,23 +348,71 @@ fn line_of_offset(bytes: &[u8], offset: usize) -> usize {
 ///
 /// # Errors
 /// The first I/O error (from `write`, creating, syncing or renaming), with
-/// `path` in the message.
+/// `path` in the message; a folder at `path` is refused.
 pub fn write_file(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
 ) -> Result<(), FileError> {
-    let temporary = temporary_path(path).map_err(|e| FileError::unwritable(path, e))?;
-    let result = write_then_rename(&temporary, path, write);
+    let unwritable = |error| FileError::unwritable(path, error);
+    if path == Path::new("-") {
+        let mut out = BufWriter::new(io::stdout().lock());
+        return write(&mut out)
+            .and_then(|()| out.flush())
+            .map_err(unwritable);
+    }
+    match fs::metadata(path) {
+        Ok(metadata) if metadata.is_dir() => Err(unwritable(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            "this is a folder; name a file in it",
+        ))),
+        Ok(metadata) if !metadata.is_file() => {
+            write_directly(path, is_fifo(&metadata), write).map_err(unwritable)
+        }
+        // A regular file, or nothing (or a link to nothing) yet: replaced
+        // at the end of its links, with the permissions it had.
+        Ok(_) | Err(_) => {
+            let target = resolve(path).map_err(unwritable)?;
+            let permissions = fs::metadata(&target).ok().map(|m| m.permissions());
+            replace(&target, permissions, write).map_err(unwritable)
+        }
+    }
+}
+
+/// Writes into a FIFO or a device as it is: no temporary, no rename.
+fn write_directly(
+    path: &Path,
+    fifo: bool,
+    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> io::Result<()> {
+    let file: Box<dyn Write> = if fifo {
+        Box::new(patient::PatientWriter::open(path)?)
+    } else {
+        Box::new(fs::OpenOptions::new().write(true).open(path)?)
+    };
+    let mut out = BufWriter::new(file);
+    write(&mut out)?;
+    out.flush()
+}
+
+/// Replaces (or creates) the regular file `target` all or nothing.
+fn replace(
+    target: &Path,
+    permissions: Option<fs::Permissions>,
+    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> io::Result<()> {
+    let temporary = temporary_path(target)?;
+    let result = write_then_rename(&temporary, target, permissions, write);
     if result.is_err() {
         // The temporary may not exist (creation failed, or it was renamed); either is fine.
         let _ = fs::remove_file(&temporary);
     }
-    result.map_err(|e| FileError::unwritable(path, e))
+    result
 }
 
 fn write_then_rename(
     temporary: &Path,
     path: &Path,
+    permissions: Option<fs::Permissions>,
     write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
 ) -> io::Result<()> {
     let file = fs::OpenOptions::new()
@@ -278,6 +422,9 @@ fn write_then_rename(
     let mut out = BufWriter::new(file);
     write(&mut out)?;
     let file = out.into_inner().map_err(|e| e.into_error())?;
+    if let Some(permissions) = permissions {
+        file.set_permissions(permissions)?;
+    }
     file.sync_all()?;
     fs::rename(temporary, path)
 }

@@ -6,14 +6,26 @@
 //! estimate of the bytes it will cost *before* anything is allocated for it,
 //! and [`check`] compares the estimate with the limit of this machine:
 //!
-//! * **the limit** is half of the memory the kernel says is available now
-//!   (`MemAvailable` in `/proc/meminfo`): the other half is left for the
-//!   work that follows the allocation being checked (an ordering, a
-//!   factorization, the frames) and for the other programs of the machine.
-//!   Where `/proc/meminfo` cannot be read the limit is a conservative 2 GB.
-//!   The environment variable `MASSSPRINGS_MEMORY_LIMIT_GB` (a number of GB,
-//!   decimals allowed) replaces it, to allow more on a dedicated machine or
-//!   less in a test.
+//! * **the limit** is half of the memory this process can still get: the
+//!   other half is left for the work that follows the allocation being
+//!   checked (an ordering, a factorization, the frames) and for the other
+//!   programs of the machine. What the process can still get is the least
+//!   of
+//!   - the memory the kernel says is available now (`MemAvailable` in
+//!     `/proc/meminfo`; where it cannot be read, the limit is a fixed,
+//!     conservative 2 GB),
+//!   - what the process's address-space limit (`ulimit -v`, `RLIMIT_AS`
+//!     in `/proc/self/limits`) leaves beyond what it has mapped already
+//!     (`VmSize` in `/proc/self/status`),
+//!   - what the memory limit of its control group leaves beyond what the
+//!     group uses (cgroup v2 `memory.max` − `memory.current`, v1
+//!     `memory.limit_in_bytes` − `memory.usage_in_bytes`, of the group and
+//!     each group above it).
+//!
+//!   The environment variable `MASSSPRINGS_MEMORY_LIMIT_GB` (a number of
+//!   GB, decimals allowed) replaces the available memory (not halved), to
+//!   allow more on a dedicated machine or less in a test; the process's own
+//!   limits still apply, since going past them aborts it.
 //! * **an estimate** is a count times the bytes of one item, computed with
 //!   saturating arithmetic, so a size of 2⁶⁴ − 1 gives "too large", not an
 //!   overflow.
@@ -34,6 +46,9 @@ use std::sync::OnceLock;
 const GB: f64 = 1e9;
 /// The limit when `/proc/meminfo` cannot be read.
 const FALLBACK_LIMIT_BYTES: u64 = 2_000_000_000;
+/// A limit at or above this (2⁶²) means "no limit" (cgroup v1 writes
+/// 9223372036854771712 for none).
+const UNLIMITED: u64 = 1 << 62;
 /// The environment variable that replaces the limit (in GB).
 pub const LIMIT_VARIABLE: &str = "MASSSPRINGS_MEMORY_LIMIT_GB";
 
@@ -53,30 +68,151 @@ pub fn limit() -> Limit {
 }
 
 fn decide_limit() -> Limit {
-    if let Some(gb) = std::env::var(LIMIT_VARIABLE)
+    let read = |path: &str| std::fs::read_to_string(path).ok();
+    let mut limit = match std::env::var(LIMIT_VARIABLE)
         .ok()
         .and_then(|text| text.trim().parse::<f64>().ok())
         .filter(|gb| gb.is_finite() && *gb > 0.0)
     {
-        return Limit {
+        Some(gb) => Limit {
             bytes: (gb * GB) as u64,
             source: LIMIT_VARIABLE,
+        },
+        None => match read("/proc/meminfo")
+            .as_deref()
+            .and_then(mem_available_bytes)
+        {
+            Some(available) => Limit {
+                bytes: available / 2,
+                source: "half of MemAvailable",
+            },
+            None => Limit {
+                bytes: FALLBACK_LIMIT_BYTES,
+                source: "no /proc/meminfo: a fixed conservative limit",
+            },
+        },
+    };
+    let address_space = read("/proc/self/limits")
+        .zip(read("/proc/self/status"))
+        .and_then(|(limits, status)| address_space_left(&limits, &status));
+    if let Some(left) = address_space.filter(|left| left / 2 < limit.bytes) {
+        limit = Limit {
+            bytes: left / 2,
+            source: "half of what the address-space limit, ulimit -v, leaves",
         };
     }
-    match std::fs::read_to_string("/proc/meminfo")
-        .ok()
-        .as_deref()
-        .and_then(mem_available_bytes)
-    {
-        Some(available) => Limit {
-            bytes: available / 2,
-            source: "half of MemAvailable",
-        },
-        None => Limit {
-            bytes: FALLBACK_LIMIT_BYTES,
-            source: "no /proc/meminfo: a fixed conservative limit",
-        },
+    if let Some(left) = cgroup_memory_left(&|path| std::fs::read_to_string(path).ok()) {
+        if left / 2 < limit.bytes {
+            limit = Limit {
+                bytes: left / 2,
+                source: "half of what the control group's memory limit leaves",
+            };
+        }
     }
+    limit
+}
+
+/// What the soft address-space limit (`Max address space` of a
+/// `/proc/self/limits` text) leaves beyond `VmSize` (of a
+/// `/proc/self/status` text), in bytes; `None` when unlimited or unknown.
+pub fn address_space_left(limits: &str, status: &str) -> Option<u64> {
+    let soft = limits
+        .lines()
+        .find_map(|line| line.strip_prefix("Max address space"))?
+        .split_whitespace()
+        .next()?
+        .parse::<u64>()
+        .ok()?;
+    let mapped_kb: u64 = status
+        .lines()
+        .find_map(|line| line.strip_prefix("VmSize:"))?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()?;
+    Some(soft.saturating_sub(mapped_kb.saturating_mul(1024)))
+}
+
+/// What the memory limits of this process's control group, and of every
+/// group above it, leave beyond what each uses, in bytes (the least);
+/// `None` when no group has a limit. `read` reads a file of `/proc` or
+/// `/sys/fs/cgroup` (a parameter, for tests).
+pub fn cgroup_memory_left(read: &dyn Fn(&str) -> Option<String>) -> Option<u64> {
+    let groups = read("/proc/self/cgroup")?;
+    let mounts = read("/proc/self/mountinfo")?;
+    let mut least: Option<u64> = None;
+    for (mount, group, [max, current]) in cgroup_folders(&groups, &mounts) {
+        let mut folder = format!("{mount}{group}");
+        loop {
+            let number = |name: &str| {
+                read(&format!("{folder}/{name}"))?
+                    .trim()
+                    .parse::<u64>()
+                    .ok()
+            };
+            if let (Some(max), Some(current)) = (number(max), number(current)) {
+                if max < UNLIMITED {
+                    let left = max.saturating_sub(current);
+                    least = Some(least.map_or(left, |l| l.min(left)));
+                }
+            }
+            if folder.len() <= mount.len() {
+                break;
+            }
+            folder.truncate(folder.rfind('/').unwrap_or(0).max(mount.len()));
+        }
+    }
+    least
+}
+
+/// The memory controller's folders of this process: (mount point, group
+/// path below it, [limit file, usage file]), for cgroup v2 and v1, from the
+/// texts of `/proc/self/cgroup` and `/proc/self/mountinfo`.
+fn cgroup_folders(groups: &str, mounts: &str) -> Vec<(String, String, [&'static str; 2])> {
+    let mut folders = Vec::new();
+    for line in mounts.lines() {
+        let Some((before, after)) = line.split_once(" - ") else {
+            continue;
+        };
+        let fields: Vec<&str> = before.split_whitespace().collect();
+        let rest: Vec<&str> = after.split_whitespace().collect();
+        let (Some(root), Some(mount), Some(kind)) = (fields.get(3), fields.get(4), rest.first())
+        else {
+            continue;
+        };
+        let options = rest.get(2).copied().unwrap_or("");
+        let (controller, files) = match *kind {
+            "cgroup2" => ("", ["memory.max", "memory.current"]),
+            "cgroup" if options.split(',').any(|o| o == "memory") => {
+                ("memory", ["memory.limit_in_bytes", "memory.usage_in_bytes"])
+            }
+            _ => continue,
+        };
+        let group = groups.lines().find_map(|line| {
+            let mut parts = line.splitn(3, ':');
+            let (_, controllers, path) = (parts.next()?, parts.next()?, parts.next()?);
+            let wanted = if controller.is_empty() {
+                controllers.is_empty()
+            } else {
+                controllers.split(',').any(|c| c == controller)
+            };
+            wanted.then(|| path.to_string())
+        });
+        if let Some(group) = group {
+            let below = group.strip_prefix(root).unwrap_or(&group);
+            let below = if below.is_empty() || below.starts_with('/') {
+                below.to_string()
+            } else {
+                format!("/{below}")
+            };
+            folders.push((
+                mount.to_string(),
+                below.trim_end_matches('/').to_string(),
+                files,
+            ));
+        }
+    }
+    folders
 }
 
 /// `MemAvailable` of a `/proc/meminfo` text, in bytes.
@@ -222,6 +358,73 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("overflows 64 bits"));
+    }
+
+    #[test]
+    fn the_address_space_limit_counts_what_is_mapped_already() {
+        let limits = "Limit                     Soft Limit           Hard Limit           Units\n\
+                      Max address space         4096000000           unlimited            bytes\n";
+        let status = "Name:\tx\nVmSize:\t   96000 kB\n";
+        assert_eq!(
+            address_space_left(limits, status),
+            Some(4_096_000_000 - 96_000 * 1024)
+        );
+        let unlimited = limits.replace("4096000000", "unlimited");
+        assert_eq!(address_space_left(&unlimited, status), None);
+    }
+
+    /// A fake `/proc` and `/sys/fs/cgroup`.
+    fn files(entries: &[(&str, &str)]) -> impl Fn(&str) -> Option<String> {
+        let entries: Vec<(String, String)> = entries
+            .iter()
+            .map(|(name, text)| (name.to_string(), text.to_string()))
+            .collect();
+        move |path| {
+            entries
+                .iter()
+                .find(|(name, _)| name == path)
+                .map(|(_, text)| text.clone())
+        }
+    }
+
+    #[test]
+    fn the_cgroup_limit_is_the_least_left_by_the_group_and_its_parents() {
+        let mountinfo = "30 23 0:26 / /sys/fs/cgroup rw,nosuid - cgroup2 cgroup2 rw\n";
+        let v2 = files(&[
+            ("/proc/self/cgroup", "0::/user/job\n"),
+            ("/proc/self/mountinfo", mountinfo),
+            ("/sys/fs/cgroup/user/job/memory.max", "max\n"),
+            ("/sys/fs/cgroup/user/job/memory.current", "100\n"),
+            ("/sys/fs/cgroup/user/memory.max", "4000000000\n"),
+            ("/sys/fs/cgroup/user/memory.current", "1000000000\n"),
+        ]);
+        assert_eq!(cgroup_memory_left(&v2), Some(3_000_000_000));
+        let mountinfo_v1 = "40 25 0:35 / /sys/fs/cgroup/memory rw - cgroup cgroup rw,memory\n";
+        let v1 = files(&[
+            ("/proc/self/cgroup", "4:memory:/job\n0::/\n"),
+            ("/proc/self/mountinfo", mountinfo_v1),
+            (
+                "/sys/fs/cgroup/memory/job/memory.limit_in_bytes",
+                "2000000000\n",
+            ),
+            (
+                "/sys/fs/cgroup/memory/job/memory.usage_in_bytes",
+                "500000000\n",
+            ),
+            (
+                "/sys/fs/cgroup/memory/memory.limit_in_bytes",
+                "9223372036854771712\n",
+            ),
+            ("/sys/fs/cgroup/memory/memory.usage_in_bytes", "7\n"),
+        ]);
+        assert_eq!(cgroup_memory_left(&v1), Some(1_500_000_000));
+        let none = files(&[
+            ("/proc/self/cgroup", "0::/\n"),
+            ("/proc/self/mountinfo", mountinfo),
+            ("/sys/fs/cgroup/memory.max", "max\n"),
+            ("/sys/fs/cgroup/memory.current", "1\n"),
+        ]);
+        assert_eq!(cgroup_memory_left(&none), None);
     }
 
     #[test]

@@ -29,8 +29,32 @@ impl Viewer {
     /// Starts `masssprings view data/SCENE --port 0` and reads the URL it
     /// prints.
     fn start(scene: &str) -> Viewer {
-        let child = Command::new(env!("CARGO_BIN_EXE_masssprings"))
+        Viewer::start_with(scene, &[], None)
+    }
+
+    /// [`Viewer::start`] with more flags, and a memory limit (GB) if given.
+    fn start_with(scene: &str, flags: &[&str], memory_limit_gb: Option<&str>) -> Viewer {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_masssprings"));
+        command
             .args(["view", &data(scene), "--port", "0"])
+            .args(flags);
+        Viewer::spawn(command, memory_limit_gb)
+    }
+
+    /// `masssprings view SCENE --port 0` run in `folder`, `scene` as given.
+    fn start_in(folder: &std::path::Path, scene: &str) -> Viewer {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_masssprings"));
+        command
+            .args(["view", scene, "--port", "0"])
+            .current_dir(folder);
+        Viewer::spawn(command, None)
+    }
+
+    fn spawn(mut command: Command, memory_limit_gb: Option<&str>) -> Viewer {
+        if let Some(limit) = memory_limit_gb {
+            command.env(masssprings::memory::LIMIT_VARIABLE, limit);
+        }
+        let child = command
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
@@ -528,6 +552,48 @@ fn the_page_can_switch_to_another_bundled_scene() {
 }
 
 #[test]
+fn a_bare_scene_name_lists_the_scenes_beside_it_as_a_path_does() {
+    let folder = std::env::temp_dir().join(format!("masssprings-viewer-{}", std::process::id()));
+    std::fs::create_dir_all(&folder).unwrap();
+    for name in ["mine.json", "mine.obj", "other.json", "other.obj"] {
+        let source = if name.ends_with("json") {
+            "net.json"
+        } else {
+            "net.obj"
+        };
+        let text = std::fs::read_to_string(data(source)).unwrap();
+        std::fs::write(
+            folder.join(name),
+            text.replace("net.obj", &name.replace("json", "obj")),
+        )
+        .unwrap();
+    }
+    for given in ["mine.json", "./mine.json"] {
+        let viewer = Viewer::start_in(&folder, given);
+        let scenes: Vec<String> =
+            serde_json::from_value(viewer.status()["scenes"].clone()).unwrap();
+        assert_eq!(scenes[0], "mine");
+        assert!(scenes.iter().any(|s| s == "other"), "{given}: {scenes:?}");
+    }
+    let _ = std::fs::remove_dir_all(&folder);
+}
+
+#[test]
+fn switching_scenes_on_the_dense_path_checks_its_memory_as_the_command_line_does() {
+    let viewer = Viewer::start_with("net.json", &["--dense"], Some("4"));
+    let scenes: Vec<String> = serde_json::from_value(viewer.status()["scenes"].clone()).unwrap();
+    let skirt = scenes.iter().position(|s| s == "skirt").unwrap();
+    let refused = viewer.post_command(&json!({"command": "load_scene", "scene": skirt}));
+    assert_eq!(refused.status, 409, "{}", refused.text());
+    let text = refused.text();
+    assert!(
+        text.contains("the dense path for n = 9,840") && text.contains("use the sparse path"),
+        "{text}"
+    );
+    assert_eq!(viewer.status()["scene"], "net", "the scene shown stays");
+}
+
+#[test]
 fn a_frame_is_sent_again_only_when_it_changed() {
     let viewer = Viewer::start("net.json");
     viewer.pause();
@@ -847,6 +913,91 @@ fn sigint_stops_the_server_with_status_0() {
         TcpStream::connect_timeout(&viewer.address, Duration::from_secs(1)).is_err(),
         "no longer listening"
     );
+}
+
+/// Sends `POST /api/command` with `command` on a new connection and
+/// returns the connection without reading the answer.
+fn send_command(viewer: &Viewer, command: &str) -> TcpStream {
+    let body = json!({ "command": command }).to_string();
+    let request = format!(
+        "POST /api/command HTTP/1.1\r\nHost: {}\r\nContent-Type: application/json\r\n\
+         Content-Length: {}\r\nConnection: close\r\n\r\n{body}",
+        viewer.address,
+        body.len()
+    );
+    let mut stream = viewer.connect();
+    stream.write_all(request.as_bytes()).unwrap();
+    stream
+}
+
+#[test]
+fn sigterm_stops_the_viewer_within_a_second_even_in_the_middle_of_a_step() {
+    // 1000 Newton iterations on the skirt: a step of minutes.
+    let flags = ["--method", "newton", "--iterations", "1000"];
+    let mut viewer = Viewer::start_with("skirt.json", &flags, None);
+    let _stepping = send_command(&viewer, "step");
+    thread::sleep(Duration::from_millis(1000));
+    let killed = Command::new("kill")
+        .args(["-TERM", &viewer.child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(killed.success());
+    let status = viewer
+        .wait_for_exit(Duration::from_millis(1000))
+        .expect("exits within 1 s of SIGTERM, mid-step");
+    assert_eq!(status.code(), Some(0), "{status:?}");
+}
+
+#[test]
+fn a_command_answered_not_applied_is_never_applied_later() {
+    // A step of some seconds (30 Newton iterations on the skirt): a command
+    // sent meanwhile either waits and is applied (200), or is answered 503
+    // "not applied" and stays so once the step is over.
+    let flags = ["--method", "newton", "--iterations", "30"];
+    let viewer = Viewer::start_with("skirt.json", &flags, None);
+    let _stepping = send_command(&viewer, "step");
+    thread::sleep(Duration::from_millis(300));
+    let wind = viewer.post_command(&json!({"command": "toggle_wind"}));
+    let applied = match wind.status {
+        200 => true,
+        503 => {
+            assert!(wind.text().contains("not applied"), "{}", wind.text());
+            false
+        }
+        other => panic!("{other}: {}", wind.text()),
+    };
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while viewer.status()["steps"] != 1 {
+        assert!(Instant::now() < deadline, "the step ends");
+        thread::sleep(Duration::from_millis(200));
+    }
+    thread::sleep(Duration::from_millis(300));
+    assert_eq!(viewer.status()["wind"], applied, "{}", wind.text());
+}
+
+#[test]
+fn clients_that_do_not_read_are_evicted_like_idle_ones() {
+    let viewer = Viewer::start("skirt.json");
+    let request = format!(
+        "GET /api/scene HTTP/1.1\r\nHost: {}\r\n\r\n",
+        viewer.address
+    );
+    let silent: Vec<TcpStream> = (0..64)
+        .map(|_| {
+            let mut stream = viewer.connect();
+            stream.write_all(request.as_bytes()).unwrap();
+            stream
+        })
+        .collect();
+    thread::sleep(Duration::from_millis(500));
+    let started = Instant::now();
+    assert_eq!(viewer.get("/api/status").status, 200);
+    assert!(
+        started.elapsed() < Duration::from_secs(2),
+        "{:?}",
+        started.elapsed()
+    );
+    drop(silent);
 }
 
 #[test]

@@ -160,7 +160,14 @@ fn parse_method(args: &Args) -> Result<Method, AppError> {
 /// The lower triangle of the symmetric sparse matrix in `path` (a `general`
 /// file is checked for symmetry, see `matrix_market::read_symmetric`).
 pub(super) fn read_symmetric_lower(path: &Path) -> Result<CscMatrix, AppError> {
-    Ok(matrix_market::read_symmetric(path)?.triangle(Triangle::Lower))
+    let lower = matrix_market::read_symmetric(path)?.triangle(Triangle::Lower);
+    if lower.ncols() == 0 {
+        return Err(AppError::Failed(format!(
+            "{}: the matrix is 0 × 0: there is nothing to factor or draw",
+            path.display()
+        )));
+    }
+    Ok(lower)
 }
 
 /// `MATRIX.b.mtx` next to `MATRIX.mtx` when it exists (an n×3 array), else
@@ -190,8 +197,9 @@ pub(super) fn analyze(
     method: Method,
     relaxation: Relaxation,
     repeats: Repeats,
-) -> Result<Analysis, masssprings::linalg::LinalgError> {
-    let perm = ordering.permutation(lower)?;
+) -> Result<Analysis, String> {
+    let failed = |e: masssprings::linalg::LinalgError| e.to_string();
+    let perm = ordering.permutation(lower).map_err(failed)?;
     let (ordering_s, ordering_runs) = median_seconds(repeats, || {
         ordering.permutation(lower).expect("ordered once already");
     });
@@ -203,7 +211,7 @@ pub(super) fn analyze(
             Method::Simplicial => exact,
         })
     };
-    let symbolic = symbolic_for(method)?;
+    let symbolic = symbolic_for(method).map_err(failed)?;
     let (symbolic_s, symbolic_runs) = median_seconds(repeats, || {
         symbolic_for(method).expect("analysed once already");
     });
@@ -214,7 +222,7 @@ pub(super) fn analyze(
         Method::Supernodal => supernodes_by_width(&symbolic),
         Method::Simplicial => Vec::new(),
     };
-    let mut cholesky = SparseCholesky::factor(symbolic, lower, method)?;
+    let mut cholesky = SparseCholesky::factor(symbolic, lower, method).map_err(failed)?;
     let (numeric_s, numeric_runs) = median_seconds(repeats, || {
         cholesky.refactor(lower).expect("factored once already");
     });
@@ -223,6 +231,11 @@ pub(super) fn analyze(
         x.copy_from_slice(rhs);
         cholesky.solve_points_in_place(&mut x);
     });
+    let (residual, backward_error) = (
+        relative_residual(lower, &x, rhs),
+        backward_error(lower, &x, rhs),
+    );
+    refuse_non_finite(&x, residual, backward_error)?;
     Ok(Analysis {
         n: lower.ncols(),
         nnz_a: lower.nnz(),
@@ -233,8 +246,8 @@ pub(super) fn analyze(
         symbolic_s,
         numeric_s,
         solve_s,
-        residual: relative_residual(lower, &x, rhs),
-        backward_error: backward_error(lower, &x, rhs),
+        residual,
+        backward_error,
         ordering: ordering.name(),
         method: match method {
             Method::Supernodal => "supernodal",
@@ -243,6 +256,31 @@ pub(super) fn analyze(
         runs: [ordering_runs, symbolic_runs, numeric_runs, solve_runs],
         supernodes_by_width: by_width,
     })
+}
+
+/// A solution with an infinite or NaN entry, or a residual that is not a
+/// number, is a failure, not a result to report.
+fn refuse_non_finite(x: &[[f64; 3]], residual: f64, backward_error: f64) -> Result<(), String> {
+    let entries = x
+        .iter()
+        .enumerate()
+        .flat_map(|(i, row)| (0..3).map(move |c| (i, c, row[c])));
+    if let Some((i, c, value)) = entries.into_iter().find(|(_, _, v)| !v.is_finite()) {
+        return Err(format!(
+            "the solve gave a solution that is not finite (x[{}, {}] = {value}): the matrix \
+             is too close to singular, or its entries too large or too small, for f64",
+            i + 1,
+            c + 1
+        ));
+    }
+    if !residual.is_finite() || !backward_error.is_finite() {
+        return Err(format!(
+            "the residual of the solve is not a number (relative residual {residual}, \
+             backward error {backward_error}): the right-hand side is zero or the matrix's \
+             entries overflow f64"
+        ));
+    }
+    Ok(())
 }
 
 /// `A X` for the symmetric `A` with lower triangle `lower`:

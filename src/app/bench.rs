@@ -42,10 +42,11 @@
 
 use super::analyze::analyze;
 use super::args::{Args, CommandSpec, Flag};
+use super::limits::check_grid;
 use super::render::plot::{Figure, Panel, Scale, Series};
 use super::timing::{median_seconds, Repeats};
 use super::AppError;
-use masssprings::files::write_file;
+use masssprings::files::{write_file, FilePlan};
 use masssprings::linalg::benchmark_right_hand_side;
 use masssprings::linalg::sparse::{Method, Ordering, Relaxation, Triangle};
 use masssprings::mesh::procedural;
@@ -182,6 +183,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let steps = steps(&args)?;
     // the hidden `--one N`: measure one size here, for the parent process
     if let Some(side) = args.optional_count("one", 2)? {
+        check_grid(side)?;
         let report = measure_one(side, steps)?;
         println!(
             "{}",
@@ -193,8 +195,19 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         "" => DEFAULT_SIDES.to_vec(),
         text => parse_sides(text)?,
     };
-    let path_of = |name: &str| args.text(name).filter(|s| !s.is_empty()).map(PathBuf::from);
+    for &side in &sides {
+        check_grid(side)?;
+    }
+    let path_of = |name: &str| args.text(name).map(PathBuf::from);
     let (csv, plot) = (path_of("csv"), path_of("plot"));
+    let mut plan = FilePlan::default();
+    for (flag, path) in [("--csv", &csv), ("--plot", &plot)] {
+        if let Some(path) = path {
+            plan.output(flag, path);
+        }
+    }
+    plan.output("the table", std::path::Path::new("-"))
+        .check()?;
     eprintln!("bench: memory bandwidth (triad)");
     let triad_gbps = triad_gbps();
     let mut sizes = Vec::with_capacity(sides.len());

@@ -22,11 +22,12 @@ use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{
     self, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, PINS, RELAXATION, RHO, START, WINDOW,
 };
-use super::limits::precompute;
+use super::limits::{check_kept, precompute};
 use super::render::plot::Scale;
 use super::steps_plot::{StepPlot, StepSeries};
-use super::{load_scene, AppError};
-use masssprings::files::write_file;
+use super::{load_scene, plan_scene_inputs, AppError};
+use masssprings::files::{write_file, FilePlan};
+use masssprings::mesh::Scene;
 use masssprings::sim::energy::free_norm;
 use masssprings::sim::methods::chebyshev::estimate_rho;
 use masssprings::sim::monitor::Iterate;
@@ -34,7 +35,7 @@ use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::Start;
 use masssprings::sim::{Simulation, Sparse, StepControl, StepMethod, Stop};
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 /// One row of the CSV.
@@ -133,10 +134,19 @@ two-panel plot.",
 
 pub fn run(args: &[String]) -> Result<(), AppError> {
     let request = parse(args)?;
-    if let Some(steps) = request.over_steps {
-        return run_over_steps(&request, steps);
-    }
     let scene = load_scene(&request.scene)?;
+    let mut plan = FilePlan::default();
+    plan_scene_inputs(&mut plan, &request.scene, &scene);
+    for (flag, path) in [("--csv", &request.csv), ("--plot", &request.plot)] {
+        if let Some(path) = path {
+            plan.output(flag, path);
+        }
+    }
+    plan.output("the table", Path::new("-")).check()?;
+    check_records(&request)?;
+    if let Some(steps) = request.over_steps {
+        return run_over_steps(&request, &scene, steps);
+    }
     let mut simulation = precompute::<Sparse>(&scene, &request.scene, request.canonical)?;
     for step in 1..request.step {
         simulation
@@ -198,7 +208,7 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
         ));
     }
     let path = |name: &str| -> Result<Option<PathBuf>, AppError> {
-        Ok(args.text(name).filter(|s| !s.is_empty()).map(PathBuf::from))
+        Ok(args.text(name).map(PathBuf::from))
     };
     Ok(Request {
         scene,
@@ -213,6 +223,26 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
         },
         over_steps,
     })
+}
+
+/// Refuses, before any work, records that would not fit in memory: every
+/// iterate of every method's curve (one step), and the rows kept per step
+/// and method (`--steps S`).
+fn check_records(request: &Request) -> Result<(), AppError> {
+    let curves = request.methods.len() as u64 + 1; // and plain's yardstick
+    let iterates = (request.control.iterations as u64)
+        .max(YARDSTICKS[1] as u64)
+        .saturating_add(1)
+        .saturating_mul(curves);
+    // a sample, and its point in the plot
+    let each = (std::mem::size_of::<Sample>() + 3 * std::mem::size_of::<f64>()) as u64;
+    check_kept(iterates, "iterates", each, "use fewer --iterations")?;
+    if let Some(steps) = request.over_steps {
+        let rows = (steps as u64).saturating_mul(curves);
+        let each = (std::mem::size_of::<RuleRow>() + 4 * std::mem::size_of::<f64>()) as u64;
+        check_kept(rows, "step rows", each, "use fewer --steps")?;
+    }
+    Ok(())
 }
 
 /// The control of the yardstick runs (plain-50, plain-200): the
@@ -252,7 +282,7 @@ fn trace(
     let (u_prev, u_cur) = (simulation.previous_positions(), simulation.positions());
     copy.set_state(u_prev, u_cur, simulation.steps())
         .map_err(failed)?;
-    let mut samples = Vec::with_capacity(iterations + 1);
+    let mut samples = Vec::with_capacity(iterations.saturating_add(1));
     let mut gradient = vec![[0.0; 3]; copy.positions().len()];
     let mut previous = copy.positions().to_vec();
     let mut initial_gradient = 0.0;
@@ -386,12 +416,11 @@ fn curves_for_plot(curves: &[Curve]) -> Vec<super::convergence_plot::PlotCurve> 
 /// method needs to reach the energy of 50 plain iterations of that step
 /// (the accuracy the assignment settles for); prints, per method, the
 /// median over the steps and its ratio to plain-50's median.
-fn run_over_steps(request: &Request, steps: usize) -> Result<(), AppError> {
+fn run_over_steps(request: &Request, scene: &Scene, steps: usize) -> Result<(), AppError> {
     if request.control.has_stopping_rule() {
-        return run_over_steps_to_tolerance(request, steps);
+        return run_over_steps_to_tolerance(request, scene, steps);
     }
-    let scene = load_scene(&request.scene)?;
-    let mut simulation = precompute::<Sparse>(&scene, &request.scene, request.canonical)?;
+    let mut simulation = precompute::<Sparse>(scene, &request.scene, request.canonical)?;
     let mut control = request.control;
     let mut times: Vec<Vec<f64>> = vec![Vec::new(); request.methods.len()];
     let mut iterations: Vec<Vec<f64>> = vec![Vec::new(); request.methods.len()];
@@ -530,9 +559,12 @@ fn write_reach_csv(out: &mut dyn Write, rows: &[ReachRow]) -> std::io::Result<()
 /// method, the median step time, its ratio to plain-50's, the median
 /// iterations, and on how many steps the method ended at or below
 /// plain-50's energy (the accuracy it is compared at).
-fn run_over_steps_to_tolerance(request: &Request, steps: usize) -> Result<(), AppError> {
-    let scene = load_scene(&request.scene)?;
-    let mut simulation = precompute::<Sparse>(&scene, &request.scene, request.canonical)?;
+fn run_over_steps_to_tolerance(
+    request: &Request,
+    scene: &Scene,
+    steps: usize,
+) -> Result<(), AppError> {
+    let mut simulation = precompute::<Sparse>(scene, &request.scene, request.canonical)?;
     let plain_50 = StepControl {
         method: StepMethod::Plain,
         iterations: YARDSTICKS[0],

@@ -9,7 +9,7 @@ use super::render::encode::write_png;
 use super::render::sparsity::{depths, elimination_tree};
 use super::spy::{file_name, load_lower, required_out};
 use super::AppError;
-use masssprings::files::write_file;
+use masssprings::files::{write_file, FilePlan};
 use masssprings::linalg::sparse::{Ordering, SymbolicCholesky};
 use std::path::PathBuf;
 
@@ -40,7 +40,9 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let out = required_out(&args, "etree", "OUT.png")?;
     let (width, height) = parse_size(args.text("size").unwrap_or("720x360"))?;
     let ordering: Ordering = args.parsed("ordering", Ordering::Amd, "amd or natural")?;
-    let lower = load_lower(&path)?;
+    let mut plan = FilePlan::default();
+    let lower = load_lower(&path, &mut plan)?;
+    plan.output("-o", &out).check()?;
     if lower.ncols() > MAX_COLUMNS {
         return Err(AppError::Failed(format!(
             "{}: {} columns; etree draws at most {MAX_COLUMNS} (try spy)",
@@ -69,7 +71,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     ];
     let image = elimination_tree(parent, &supernode_of, (width, height), &caption);
     write_file(&out, |file| write_png(file, &image))?;
-    println!("{}", caption.join("; "));
+    super::report(&out, &caption.join("; "));
     Ok(())
 }
 

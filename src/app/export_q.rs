@@ -6,8 +6,8 @@
 
 use super::args::{Args, CommandSpec, Flag};
 use super::spy::{required_out, scene_q};
-use super::AppError;
-use masssprings::files::write_file;
+use super::{plan_scene_inputs, report, AppError};
+use masssprings::files::{write_file, FilePlan};
 use masssprings::linalg::matrix_market::{write_coordinate, Symmetry};
 use masssprings::linalg::sparse::Triangle;
 use masssprings::mesh::load_scene;
@@ -32,7 +32,10 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     let scene_path = PathBuf::from(args.single_positional("SCENE.json")?);
     let out = required_out(&args, "export-q", "Q.mtx")?;
     let scene = load_scene(&scene_path)?;
-    let q = scene_q(&scene)?;
+    let mut plan = FilePlan::default();
+    plan_scene_inputs(&mut plan, &scene_path, &scene);
+    plan.output("-o", &out).check()?;
+    let q = scene_q(&scene, &scene_path)?;
     let comment = format!(
         "Q = k A'A + M/dt^2 + w C'C of {} ({} vertices, {} springs, {} pins, k = {}, dt = 1/30, w = {PIN_WEIGHT:e})\n\
          lower triangle; written by masssprings export-q",
@@ -45,11 +48,12 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     write_file(&out, |file| {
         write_coordinate(file, &q, Symmetry::Symmetric, &comment)
     })?;
-    println!(
+    let line = format!(
         "{}: n = {}, nnz(lower triangle of Q) = {}",
         out.display(),
         q.ncols(),
         q.triangle(Triangle::Lower).nnz()
     );
+    report(&out, &line);
     Ok(())
 }

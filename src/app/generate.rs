@@ -52,7 +52,10 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
                 "generate what? `grid N` or `examples`".into(),
             ))
         }
-        [what, extra, ..] if what == "grid" || what == "examples" => {
+        [what, _, extra, ..] if what == "grid" => {
+            return Err(AppError::Usage(format!("unexpected argument '{extra}'")))
+        }
+        [what, extra, ..] if what == "examples" => {
             return Err(AppError::Usage(format!("unexpected argument '{extra}'")))
         }
         [other, ..] => {
@@ -65,6 +68,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         }
     };
     let folder = PathBuf::from(options.text("out").unwrap_or("."));
+    super::check_output_folder(&folder, "generate writes scene files into a folder")?;
     fs::create_dir_all(&folder)
         .map_err(|e| AppError::Failed(format!("{}: {e}", folder.display())))?;
     remove_stale_temporaries(&folder)?;

@@ -21,9 +21,10 @@ use super::convergence_flags::{
 use super::factorization_flags::{self, FACTORIZATION, ORDERING, TEXTBOOK};
 use super::limits::precompute;
 use super::progress::{duration, Progress};
+use super::render::texture::{read_png_file, Texture};
 use super::timing::BoundedSample;
 use super::{load_scene, AppError};
-use masssprings::files::{remove_stale_temporaries, write_file};
+use masssprings::files::{remove_stale_temporaries, same_file, write_file, FilePlan};
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Dense, LinearAlgebra, Sparse};
@@ -140,6 +141,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         progress: !args.switch("json"),
     };
     let scene = load_scene(&scene_path)?;
+    check_files(&scene_path, &scene, run.out.as_deref())?;
     if let Some(folder) = &run.out {
         if !run.force {
             refuse_earlier_frames(folder)?;
@@ -178,6 +180,10 @@ fn simulate<B: LinearAlgebra>(
     if run.out.is_none() {
         keep_only(&mut scene, Keep::Physics);
     }
+    let texture = match &run.out {
+        Some(folder) => read_texture(folder, &scene)?,
+        None => None,
+    };
     let started = Instant::now();
     let mut simulation = precompute::<B>(&scene, scene_path, options)?;
     let precompute_s = started.elapsed().as_secs_f64();
@@ -186,7 +192,7 @@ fn simulate<B: LinearAlgebra>(
     let material = match &run.out {
         Some(folder) => {
             prepare_out_folder(folder)?;
-            let material = write_material(folder, scene)?;
+            let material = write_material(folder, scene, texture)?;
             write_frame(
                 folder,
                 0,
@@ -264,23 +270,75 @@ fn keep_only(scene: &mut Scene, keep: Keep) {
     }
 }
 
-/// The material of the frames, when the scene has a texture and texture
-/// coordinates: writes `folder/NAME.mtl` (one material, `map_Kd` the
-/// texture) and a copy of the texture beside it, and returns the material's
-/// name.
-fn write_material(folder: &Path, scene: &Scene) -> Result<Option<String>, AppError> {
-    let Some(texture) = &scene.texture else {
-        return Ok(None);
-    };
-    if scene.face_texture_coords.is_empty() {
-        return Ok(None);
+/// Refuses, before any work, a run whose files clash (`masssprings::files::FilePlan`):
+/// the frames, the material or the copy of the texture in the `--out`
+/// folder would be one of the scene's files, or one another.
+fn check_files(scene_path: &Path, scene: &Scene, out: Option<&Path>) -> Result<(), AppError> {
+    let mut plan = FilePlan::default();
+    super::plan_scene_inputs(&mut plan, scene_path, scene);
+    if let Some(folder) = out {
+        super::check_output_folder(folder, "simulate writes a folder of frames")?;
+        plan.writes_into(
+            "--out",
+            folder,
+            "the frames frame-NNNNNN.obj",
+            is_frame_name,
+        );
+        if let Some((texture, copy)) = texture_copy(folder, scene) {
+            let material = folder.join(format!("{}.mtl", scene.name));
+            plan.output("the frames' material", &material);
+            if !same_file(texture, &copy) {
+                plan.output("the frames' copy of the texture", &copy);
+            }
+        }
     }
-    let Some(texture_name) = texture.file_name() else {
+    plan.check()?;
+    Ok(())
+}
+
+/// The scene's texture and where the frames' copy of it goes, when the
+/// frames have a material (a texture and texture coordinates).
+fn texture_copy<'a>(folder: &Path, scene: &'a Scene) -> Option<(&'a Path, PathBuf)> {
+    let texture = scene.texture.as_deref()?;
+    if scene.face_texture_coords.is_empty() {
+        return None;
+    }
+    Some((texture, folder.join(texture.file_name()?)))
+}
+
+/// The texture the frames' material needs (its bytes, and where they are
+/// copied), read and checked as `render` checks it (a PNG that decodes)
+/// before any work; `None` when the frames have no material.
+fn read_texture(folder: &Path, scene: &Scene) -> Result<Option<(Vec<u8>, PathBuf)>, AppError> {
+    let Some((texture, copy)) = texture_copy(folder, scene) else {
         return Ok(None);
     };
-    let bytes = std::fs::read(texture)
-        .map_err(|e| AppError::Failed(format!("{}: {e}", texture.display())))?;
-    write_file(&folder.join(texture_name), |out| out.write_all(&bytes))?;
+    let bytes = read_png_file(texture).map_err(AppError::Failed)?;
+    Texture::decode_png(io::Cursor::new(&bytes[..]), masssprings::memory::limit())
+        .map_err(|problem| AppError::Failed(format!("texture {}: {problem}", texture.display())))?;
+    Ok(Some((bytes, copy)))
+}
+
+/// The material of the frames, when they have a `texture` ([`read_texture`]):
+/// writes `folder/NAME.mtl` (one material, `map_Kd` the texture) and the
+/// copy of the texture beside it (not copied when the texture is in the
+/// folder already), and returns the material's name.
+fn write_material(
+    folder: &Path,
+    scene: &Scene,
+    texture: Option<(Vec<u8>, PathBuf)>,
+) -> Result<Option<String>, AppError> {
+    let Some((bytes, copy)) = texture else {
+        return Ok(None);
+    };
+    if !scene
+        .texture
+        .as_deref()
+        .is_some_and(|t| same_file(t, &copy))
+    {
+        write_file(&copy, |out| out.write_all(&bytes))?;
+    }
+    let texture_name = copy.file_name().unwrap_or_default().to_owned();
     let name = scene.name.clone();
     write_file(&folder.join(format!("{name}.mtl")), |out| {
         writeln!(out, "# {name} — masssprings frames")?;

@@ -9,8 +9,8 @@ use super::analyze::read_symmetric_lower;
 use super::args::{Args, CommandSpec, Flag};
 use super::render::encode::write_png;
 use super::render::sparsity::{spy, Mark};
-use super::AppError;
-use masssprings::files::write_file;
+use super::{plan_scene_inputs, report, AppError};
+use masssprings::files::{write_file, FilePlan};
 use masssprings::linalg::sparse::{
     CscMatrix, Ordering, PermutedTriangle, SymbolicCholesky, Triangle,
 };
@@ -66,7 +66,9 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         ordering: args.parsed("ordering", Ordering::Amd, "amd or natural")?,
         factor: args.switch("factor"),
     };
-    let lower = load_lower(&path)?;
+    let mut plan = FilePlan::default();
+    let lower = load_lower(&path, &mut plan)?;
+    plan.output("-o", &out).check()?;
     let symbolic = SymbolicCholesky::analyze(&lower, picture.ordering)
         .map_err(|e| AppError::Failed(format!("{}: {e}", path.display())))?;
     let permuted = PermutedTriangle::new(&lower, symbolic.permutation(), Triangle::Lower)
@@ -85,7 +87,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         spy(c.ncols(), symmetric_entries(c), size, MARGIN, &caption)
     };
     write_file(&out, |file| write_png(file, &image))?;
-    println!("{}", caption.join("; "));
+    report(&out, &caption.join("; "));
     Ok(())
 }
 
@@ -144,44 +146,45 @@ fn factor_entries<'a>(
 }
 
 /// The lower triangle of a Matrix Market file's matrix, or of the `Q` the
-/// simulation builds for a scene (`.json`).
-pub fn load_lower(path: &Path) -> Result<CscMatrix, AppError> {
+/// simulation builds for a scene (`.json`); the files it read are added to
+/// `plan` as inputs.
+pub fn load_lower(path: &Path, plan: &mut FilePlan) -> Result<CscMatrix, AppError> {
     if path.extension().is_some_and(|e| e == "json") {
-        Ok(scene_q(&load_scene(path)?)?.triangle(Triangle::Lower))
+        let scene = load_scene(path)?;
+        plan_scene_inputs(plan, path, &scene);
+        Ok(scene_q(&scene, path)?.triangle(Triangle::Lower))
     } else {
+        plan.input("the matrix", path);
         read_symmetric_lower(path)
     }
 }
 
 /// `Q = k AᵀA + M/Δt² + w CᵀC` of `scene`, as the simulation assembles it
-/// (both triangles), without factoring it.
-pub fn scene_q(scene: &Scene) -> Result<CscMatrix, AppError> {
+/// (both triangles), without factoring it; a `Q` that would overflow is
+/// refused first, naming the quantity.
+pub fn scene_q(scene: &Scene, scene_path: &Path) -> Result<CscMatrix, AppError> {
+    super::limits::check_q_overflow(scene, scene_path, DELTA_T)?;
     let c = selection_matrix::<Sparse>(scene.vertices.len(), &scene.pinned);
-    let q = network_q::<Sparse>(
+    Ok(network_q::<Sparse>(
         &scene.springs,
         &scene.masses,
         &c,
         scene.k,
         DELTA_T,
         PIN_WEIGHT,
-    );
-    match q.values().iter().all(|v| v.is_finite()) {
-        true => Ok(q),
-        false => Err(AppError::Failed(format!(
-            "Q of {} overflows: k = {:e} and the masses over Δt² must stay below about 1e300",
-            scene.name, scene.k
-        ))),
-    }
+    ))
 }
 
 /// The value of `--out`, which `command` requires (`file` names it in the
 /// message).
 pub fn required_out(args: &Args, command: &str, file: &str) -> Result<PathBuf, AppError> {
-    let out = args.text("out").unwrap_or("");
-    if out.is_empty() {
-        return Err(AppError::Usage(format!("{command} needs -o {file}")));
+    match args.text("out") {
+        None => Err(AppError::Usage(format!("{command} needs -o {file}"))),
+        Some("") => Err(AppError::Usage(format!(
+            "-o is empty: {command} needs -o {file}, a file name"
+        ))),
+        Some(out) => Ok(PathBuf::from(out)),
     }
-    Ok(PathBuf::from(out))
 }
 
 /// The file name of `path`, for captions.

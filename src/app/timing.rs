@@ -14,25 +14,29 @@ pub enum Repeats {
     Adaptive,
 }
 
-/// The median time, in seconds, of `repeats` runs of `work`.
+/// The median time, in seconds, of `repeats` runs of `work`, and the number
+/// of runs. The times are kept in a [`BoundedSample`], so memory does not
+/// grow with the number of runs (`--repeats 1000000000`).
 pub fn median_seconds(repeats: Repeats, mut work: impl FnMut()) -> (f64, usize) {
     let started = Instant::now();
-    let mut times = Vec::new();
+    let mut times = BoundedSample::new();
+    let mut runs = 0usize;
     loop {
         let t = Instant::now();
         work();
         times.push(t.elapsed().as_secs_f64());
+        runs += 1;
         let done = match repeats {
-            Repeats::Exactly(count) => times.len() >= count,
+            Repeats::Exactly(count) => runs >= count,
             Repeats::Adaptive => {
-                times.len() >= 101 || (times.len() >= 5 && started.elapsed().as_secs_f64() >= 1.0)
+                runs >= 101 || (runs >= 5 && started.elapsed().as_secs_f64() >= 1.0)
             }
         };
         if done {
             break;
         }
     }
-    (median(&mut times), times.len())
+    (times.median(), runs)
 }
 
 /// The median of `values` (sorted in place).

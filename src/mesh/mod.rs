@@ -72,6 +72,9 @@ pub struct Scene {
     /// The `png` texture, resolved relative to the JSON's folder (not opened
     /// here).
     pub texture: Option<PathBuf>,
+    /// The OBJ the scene was read from, resolved relative to the JSON's
+    /// folder; `None` for a scene made in memory.
+    pub obj: Option<PathBuf>,
 }
 
 /// Reads the scene file at `json_path` and the OBJ it names.
@@ -110,6 +113,7 @@ pub fn load_scene(json_path: &Path) -> Result<Scene, SceneError> {
         pinned,
         k: settings.k,
         texture: settings.png.map(|png| folder.join(png)),
+        obj: Some(obj_path),
     })
 }
 

@@ -149,10 +149,13 @@ impl Visitor<'_> for FileName {
     type Value = String;
 
     fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        write!(f, "a file name (a string) for \"{}\"", self.key)
+        write!(f, "a file name (a non-empty string) for \"{}\"", self.key)
     }
 
     fn visit_str<E: de::Error>(self, value: &str) -> Result<String, E> {
+        if value.is_empty() {
+            return Err(E::invalid_value(Unexpected::Str(value), &self));
+        }
         Ok(value.to_string())
     }
 }

@@ -41,32 +41,98 @@ use super::fan::fan_triangles;
 use std::fmt;
 
 /// A vertex whose mass cannot be used: zero (it is in no triangle of nonzero
-/// area) or not finite (a degenerate triangle around it).
+/// area) or not finite (a degenerate triangle around it), and why.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MassProblem {
     /// The vertex, 0-based (messages print it 1-based, as in the OBJ).
     pub vertex: usize,
     /// Its computed mass.
     pub mass: f64,
+    /// Why, as far as the corners of its faces tell.
+    pub cause: MassCause,
 }
+
+/// Why a vertex's mass is zero or not finite.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MassCause {
+    /// Two corners of a face around it are one point.
+    RepeatedCorner,
+    /// Two corners of a face around it are this far apart (in one
+    /// coordinate): the area's product of four lengths overflows `f64`.
+    TooFar(f64),
+    /// Two distinct corners of a face around it are at most this far apart:
+    /// the squared lengths underflow to 0.
+    TooClose(f64),
+    /// It is in no face of nonzero area (or its faces are flat otherwise).
+    NoArea,
+}
+
+/// The longest side the mass computation takes: its area multiplies four
+/// lengths, which overflows `f64` (1.8e308) past about 1e77.
+pub const LONGEST_SIDE: f64 = 1e76;
+/// The shortest side it takes: four lengths multiplied underflow to 0 below
+/// about 1e-77.
+pub const SHORTEST_SIDE: f64 = 1e-76;
 
 impl fmt::Display for MassProblem {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let vertex = self.vertex + 1;
-        if self.mass.is_finite() {
-            write!(
+        let mass = if self.mass.is_finite() {
+            "zero mass".to_string()
+        } else {
+            format!("a non-finite mass ({})", self.mass)
+        };
+        match self.cause {
+            MassCause::RepeatedCorner => write!(
+                f,
+                "vertex {vertex} has {mass}: a face around it has two corners at one point (a \
+                 repeated corner)"
+            ),
+            MassCause::TooFar(apart) => write!(
+                f,
+                "vertex {vertex} has {mass}: corners of a face around it are {apart:e} apart, \
+                 which overflows f64 in the area (sides up to {LONGEST_SIDE:e} work); scale \
+                 the mesh down"
+            ),
+            MassCause::TooClose(apart) => write!(
+                f,
+                "vertex {vertex} has {mass}: corners of a face around it are only {apart:e} \
+                 apart, which underflows f64 in the area (sides down to {SHORTEST_SIDE:e} \
+                 work); scale the mesh up"
+            ),
+            MassCause::NoArea if self.mass.is_finite() => write!(
                 f,
                 "vertex {vertex} has zero mass: it is in no face of nonzero area (an unused \
                  vertex?); give a uniform mass \"m\" in the scene file or remove the vertex"
-            )
-        } else {
-            write!(
+            ),
+            MassCause::NoArea => write!(
                 f,
-                "vertex {vertex} has a non-finite mass ({}): a face around it is degenerate \
-                 (a repeated corner?)",
-                self.mass
-            )
+                "vertex {vertex} has {mass}: a face around it is degenerate (flat)"
+            ),
         }
+    }
+}
+
+/// Why `vertex` got no usable mass: the farthest-apart and the closest
+/// corners of the triangles around it.
+fn cause_at(vertex: usize, vertices: &[[f64; 3]], triangles: &[[usize; 3]]) -> MassCause {
+    let (mut farthest, mut closest) = (0.0_f64, f64::INFINITY);
+    for triangle in triangles.iter().filter(|t| t.contains(&vertex)) {
+        for i in 0..3 {
+            let (p, q) = (vertices[triangle[i]], vertices[triangle[(i + 1) % 3]]);
+            let apart = (0..3).map(|c| (p[c] - q[c]).abs()).fold(0.0, f64::max);
+            farthest = farthest.max(apart);
+            closest = closest.min(apart);
+        }
+    }
+    if farthest > LONGEST_SIDE {
+        MassCause::TooFar(farthest)
+    } else if closest == 0.0 {
+        MassCause::RepeatedCorner
+    } else if closest < SHORTEST_SIDE {
+        MassCause::TooClose(closest)
+    } else {
+        MassCause::NoArea
     }
 }
 
@@ -97,6 +163,7 @@ pub fn voronoi_masses(
         Some(vertex) => Err(MassProblem {
             vertex,
             mass: masses[vertex],
+            cause: cause_at(vertex, vertices, &triangles),
         }),
         None => Ok(masses),
     }

@@ -31,7 +31,7 @@ mod palette;
 pub(super) mod plot;
 pub(super) mod sparsity;
 mod text;
-mod texture;
+pub mod texture;
 mod triangle;
 mod vector;
 
@@ -52,7 +52,7 @@ use super::{load_scene, AppError};
 use camera::{BoundingBox, Camera};
 use frame::FrameRenderer;
 use look::SUPERSAMPLING;
-use masssprings::files::write_file;
+use masssprings::files::{write_file, FilePlan};
 use masssprings::mesh::procedural::RgbImage;
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
@@ -160,6 +160,9 @@ point mass (always drawn for scenes made only of springs).",
 pub fn run(args: &[String]) -> Result<(), AppError> {
     let request = parse(args)?;
     let scene = load_scene(&request.scene)?;
+    let mut plan = FilePlan::default();
+    super::plan_scene_inputs(&mut plan, &request.scene, &scene);
+    plan.output("-o", &request.out).check()?;
     check_frames(
         request.kept_frames(),
         frame_bytes(scene.vertices.len(), request.width, request.height),

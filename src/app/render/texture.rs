@@ -25,9 +25,23 @@
 
 use super::look::Rgb;
 use masssprings::memory;
-use std::fs::File;
-use std::io::{BufRead, BufReader, Seek};
+use std::io::{BufRead, Cursor, Seek};
 use std::path::Path;
+
+/// The eight bytes every PNG file starts with.
+pub const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
+
+/// The bytes of the PNG file at `path`, read as every input is
+/// (`masssprings::files`: at most the input limit, a pipe waited for a few
+/// seconds at most) and refused at its first bytes when they are not a
+/// PNG's signature (`/dev/zero`, a text file).
+///
+/// # Errors
+/// A message naming the texture's file and the problem.
+pub fn read_png_file(path: &Path) -> Result<Vec<u8>, String> {
+    masssprings::files::read_bytes_of_format(path, PNG_SIGNATURE, "PNG")
+        .map_err(|e| format!("texture {e}"))
+}
 
 /// What one pixel costs while decoding: up to 4 bytes of the decoded frame
 /// and the 12 bytes of its [`Rgb`] texel.
@@ -62,8 +76,8 @@ impl Texture {
     /// A message naming the file for an unreadable or invalid PNG, or one
     /// whose pixels would not fit in memory.
     pub fn read_png(path: &Path) -> Result<Texture, String> {
-        let file = File::open(path).map_err(|e| format!("texture {}: {e}", path.display()))?;
-        Texture::decode_png(BufReader::new(file), memory::limit())
+        let bytes = read_png_file(path)?;
+        Texture::decode_png(Cursor::new(bytes), memory::limit())
             .map_err(|problem| format!("texture {}: {problem}", path.display()))
     }
 

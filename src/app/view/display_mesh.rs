@@ -134,6 +134,7 @@ mod tests {
             pinned: vec![0],
             k: 1.0,
             texture: None,
+            obj: None,
         }
     }
 

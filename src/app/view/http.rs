@@ -36,7 +36,7 @@ pub const MAX_BODY_BYTES: usize = 4 * 1024;
 pub const REQUEST_TIMEOUT: Duration = Duration::from_secs(5);
 /// Time an open connection may wait for its next request.
 pub const IDLE_TIMEOUT: Duration = Duration::from_secs(15);
-/// Time allowed to send one response to a slow reader.
+/// Time allowed to send one whole response, however many writes it takes.
 const WRITE_TIMEOUT: Duration = Duration::from_secs(10);
 
 /// The methods the server knows.
@@ -224,11 +224,35 @@ impl Connection {
             head.push_str(&format!("{name}: {value}\r\n"));
         }
         head.push_str("\r\n");
-        self.stream.write_all(head.as_bytes())?;
+        let deadline = Instant::now() + WRITE_TIMEOUT;
+        self.write_by(head.as_bytes(), deadline)?;
         if !head_only {
-            self.stream.write_all(&response.body)?;
+            self.write_by(&response.body, deadline)?;
         }
         self.stream.flush()
+    }
+
+    /// Writes all of `bytes` by `deadline`, or fails: a client that does
+    /// not read cannot hold its connection (and its thread) longer than
+    /// that, however the response is split into writes.
+    fn write_by(&mut self, mut bytes: &[u8], deadline: Instant) -> io::Result<()> {
+        while !bytes.is_empty() {
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return Err(io::Error::new(
+                    io::ErrorKind::TimedOut,
+                    "the client did not read the response in time",
+                ));
+            }
+            self.stream.set_write_timeout(Some(left))?;
+            match self.stream.write(bytes) {
+                Ok(0) => return Err(io::ErrorKind::WriteZero.into()),
+                Ok(count) => bytes = &bytes[count..],
+                Err(error) if error.kind() == io::ErrorKind::Interrupted => {}
+                Err(error) => return Err(error),
+            }
+        }
+        Ok(())
     }
 
     /// Closes after an error response without resetting the connection:
@@ -408,6 +432,7 @@ fn is_token_byte(byte: u8) -> bool {
 pub fn reason_phrase(status: u16) -> &'static str {
     match status {
         200 => "OK",
+        202 => "Accepted",
         204 => "No Content",
         400 => "Bad Request",
         403 => "Forbidden",

@@ -11,7 +11,8 @@
 //!   the connection waiting longest is closed to make room, see [`pool`]),
 //!   which reads requests with [`http`] and answers them with [`routes`];
 //! * the **main thread** waits for Ctrl-C (SIGINT, or SIGTERM), then stops
-//!   the other two and returns, so the program exits with status 0.
+//!   the other two and returns, so the program exits with status 0 (within
+//!   [`STOP_GRACE`] even in the middle of a long step, which is dropped).
 //!
 //! The page polls `GET /api/frame` once per animation frame of the browser
 //! and posts key presses and drags to `POST /api/command` ([`api`]).
@@ -56,9 +57,10 @@ const DEFAULT_PORT: u16 = 8080;
 const MAX_CONNECTIONS: usize = 64;
 /// Scenes listed in the page's picker at most.
 const MAX_SCENES: usize = 32;
-/// The first bytes of every PNG file.
-const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
-
+/// The most iterations a step of the viewer may take, from the command line
+/// as from the page: a step must end within moments for the viewer to
+/// answer and to stop.
+pub const MAX_ITERATIONS: usize = 1000;
 /// `view`'s operands and flags.
 pub static COMMAND: CommandSpec = CommandSpec {
     name: "view",
@@ -118,6 +120,13 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     convergence_flags::apply(&args, &mut options)?;
     factorization_flags::apply(&args, &mut options)?;
     options.step.measure = true; // the viewer plots every step's gradient
+    if options.step.iterations > MAX_ITERATIONS {
+        return Err(AppError::Usage(format!(
+            "--iterations {}: the viewer takes at most {MAX_ITERATIONS} a step (as its slider \
+             does), so that every step ends within moments",
+            options.step.iterations
+        )));
+    }
     if args.switch("dense") {
         serve::<Dense>(&scene, scenes, address, options)
     } else {
@@ -130,7 +139,11 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
 /// others beside the given one, each once, by name.
 fn scene_list(given: &Path) -> Vec<PathBuf> {
     let bundled = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
-    let beside = given.parent().unwrap_or(Path::new(".")).to_path_buf();
+    // `net.json`'s parent is the empty path, which names no folder to list.
+    let beside = match given.parent() {
+        Some(folder) if !folder.as_os_str().is_empty() => folder.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
     let mut scenes = vec![given.to_path_buf()];
     let mut seen = vec![std::fs::canonicalize(given).unwrap_or_else(|_| given.to_path_buf())];
     for folder in [bundled, beside] {
@@ -157,15 +170,8 @@ fn scene_list(given: &Path) -> Vec<PathBuf> {
 /// (with a warning) when it cannot be read or is not a PNG.
 fn read_texture(scene: &Scene) -> Option<Vec<u8>> {
     let path = scene.texture.as_ref()?;
-    match masssprings::files::read_bytes(path) {
-        Ok(bytes) if bytes.starts_with(PNG_SIGNATURE) => Some(bytes),
-        Ok(_) => {
-            eprintln!(
-                "masssprings: warning: {} is not a PNG file; drawing without texture",
-                path.display()
-            );
-            None
-        }
+    match super::render::texture::read_png_file(path) {
+        Ok(bytes) => Some(bytes),
         Err(error) => {
             eprintln!("masssprings: warning: {error}; drawing without texture");
             None
@@ -234,9 +240,17 @@ where
     if wake_acceptor(local) {
         let _ = acceptor.join();
     }
-    let _ = simulation_handle.join();
+    // The simulation thread sees Quit after the step it is in; a long step
+    // is not waited for: returning ends the process, and the step with it.
+    let grace = std::time::Instant::now() + STOP_GRACE;
+    while !simulation_handle.is_finished() && std::time::Instant::now() < grace {
+        thread::sleep(Duration::from_millis(10));
+    }
     Ok(())
 }
+
+/// How long a stopping viewer waits for the step in progress to end.
+const STOP_GRACE: Duration = Duration::from_millis(500);
 
 /// Why the server cannot listen, in plain words.
 fn bind_error(address: SocketAddr, error: &std::io::Error) -> AppError {
@@ -328,6 +342,9 @@ fn serve_connection(stream: TcpStream, routes: &Routes, member: &Member) {
             Ok(request) => {
                 let response = routes.respond(&request);
                 let head_only = request.method == Method::Head;
+                // Sending waits on the client, as reading does: a client
+                // that does not read may be evicted like an idle one.
+                member.waiting();
                 if connection
                     .write_response(&response, head_only, request.keep_alive)
                     .is_err()

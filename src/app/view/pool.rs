@@ -1,8 +1,9 @@
 //! The viewer's open connections: at most a fixed number at once, and
 //! when a new one arrives at a full pool, the connection that has been
-//! *waiting* longest (idle between requests, or still receiving a slow
-//! request) is closed to make room. A connection that is being answered is
-//! never closed.
+//! *waiting* longest (idle between requests, still receiving a slow
+//! request, or sending a response its client does not read) is closed to
+//! make room. A connection whose response is being prepared is never
+//! closed.
 //!
 //! Why: with one thread per connection and a fixed cap, a client that opens
 //! the cap's worth of silent connections (and reopens them as they time

@@ -7,7 +7,7 @@
 
 use super::api::{Command, Status};
 use super::http::{Method, Request, Response};
-use super::simulation_thread::{Message, Reply, SceneAssets, Shared};
+use super::simulation_thread::{Message, Reply, SceneAssets, Shared, Ticket};
 use std::sync::mpsc::{self, Sender};
 use std::sync::Arc;
 use std::time::Duration;
@@ -143,17 +143,26 @@ impl Routes {
             Err(why) => return json_error(400, &why),
         };
         let (reply_to, reply) = mpsc::channel::<Reply>();
-        if self
-            .commands
-            .send(Message::Command(command, reply_to))
-            .is_err()
-        {
+        let ticket = Arc::new(Ticket::default());
+        let message = Message::Command(command, reply_to, Arc::clone(&ticket));
+        if self.commands.send(message).is_err() {
             return json_error(503, "the simulation has stopped");
         }
         match reply.recv_timeout(COMMAND_TIMEOUT) {
             Ok(Ok(())) => json_status(&self.status()),
             Ok(Err(why)) => json_error(409, &why),
-            Err(_) => json_error(503, "the simulation did not answer in time"),
+            Err(_) if ticket.abandon() => json_error(
+                503,
+                "the simulation is busy with a step; the command was not applied (send it again)",
+            ),
+            // Taken: it is being applied (a long step, a large scene):
+            // "accepted", with the status as it is now; the status will
+            // show its result.
+            Err(_) => {
+                let mut accepted = json_status(&self.status());
+                accepted.status = 202;
+                accepted
+            }
         }
     }
 }

@@ -23,6 +23,7 @@ use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{LinearAlgebra, Simulation, StepMethod, StepReport, Stop};
 use masssprings::sim::{Start, StepControl};
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicU8, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -68,10 +69,40 @@ impl SceneAssets {
 /// The answer to a command: `Err` carries the reason it was refused.
 pub type Reply = Result<(), String>;
 
+/// A command's fate, decided once: either the simulation thread takes it
+/// (and applies and answers it), or the connection waiting for it gives up
+/// first (and answers that it was not applied). So a command answered "not
+/// applied" is never applied later, and one that is applied is answered.
+#[derive(Debug, Default)]
+pub struct Ticket(AtomicU8);
+
+impl Ticket {
+    const WAITING: u8 = 0;
+    const TAKEN: u8 = 1;
+    const ABANDONED: u8 = 2;
+
+    /// The simulation thread's claim: true if the command is to be applied.
+    pub fn take(&self) -> bool {
+        self.settle(Ticket::TAKEN)
+    }
+
+    /// The connection's: true if the command will never be applied.
+    pub fn abandon(&self) -> bool {
+        self.settle(Ticket::ABANDONED)
+    }
+
+    fn settle(&self, to: u8) -> bool {
+        self.0
+            .compare_exchange(Ticket::WAITING, to, Ordering::SeqCst, Ordering::SeqCst)
+            .is_ok()
+    }
+}
+
 /// What the simulation thread receives.
 pub enum Message {
-    /// A command from the page, and where to send the answer.
-    Command(Command, Sender<Reply>),
+    /// A command from the page, where to send the answer, and its ticket
+    /// (applied only if the page is still waiting when its turn comes).
+    Command(Command, Sender<Reply>, Arc<Ticket>),
     /// Stop the thread (the program is shutting down).
     Quit,
 }
@@ -213,7 +244,10 @@ impl<B: LinearAlgebra> SimulationThread<B> {
             };
             match message {
                 Message::Quit => return,
-                Message::Command(command, reply) => {
+                Message::Command(command, reply, ticket) => {
+                    if !ticket.take() {
+                        continue; // the page was answered "not applied" already
+                    }
                     let result = self.apply(command);
                     self.publish_status();
                     // The page may have gone away meanwhile; nothing to do then.
@@ -383,8 +417,11 @@ impl<B: LinearAlgebra> SimulationThread<B> {
                 "mass scale {mass_scale}: expected from 0.001 to 1000"
             ));
         }
-        if !(1..=1000).contains(&iterations) {
-            return Err(format!("{iterations} iterations: expected from 1 to 1000"));
+        if !(1..=super::MAX_ITERATIONS).contains(&iterations) {
+            return Err(format!(
+                "{iterations} iterations: expected from 1 to {}",
+                super::MAX_ITERATIONS
+            ));
         }
         let current = (
             self.simulation.k(),
@@ -419,8 +456,11 @@ impl<B: LinearAlgebra> SimulationThread<B> {
             },
             ..*current
         };
-        let simulation = Simulation::<B>::from_scene(&scene, options)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        // The command line's checks too: the dense path's memory first.
+        let simulation =
+            crate::app::limits::precompute::<B>(&scene, &path, options).map_err(|e| match e {
+                crate::app::AppError::Usage(why) | crate::app::AppError::Failed(why) => why,
+            })?;
         // A new scene is a new precomputation, not a refactorization.
         self.refactor = None;
         let assets = SceneAssets::of(&scene, B::NAME);

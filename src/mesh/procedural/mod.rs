@@ -156,6 +156,7 @@ impl GeneratedScene {
             pinned: self.pinned.clone(),
             k: self.k,
             texture: None,
+            obj: None,
         })
     }
 }
