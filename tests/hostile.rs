@@ -1037,6 +1037,23 @@ fn a_dash_is_standard_output_where_nothing_else_prints_there() {
         stderr(&output).contains("-: n = 81"),
         "the report goes to stderr"
     );
+    // Standard output appended to the scene: `-o -` would write into it.
+    let appended = std::fs::OpenOptions::new()
+        .append(true)
+        .open(folder.join("net.json"))
+        .unwrap();
+    let before = std::fs::read(folder.join("net.json")).unwrap();
+    let into_input = Command::new(env!("CARGO_BIN_EXE_masssprings"))
+        .args(["export-q", "net.json", "-o", "-"])
+        .current_dir(&folder)
+        .stdout(appended)
+        .output()
+        .unwrap();
+    assert_fails(
+        &into_input,
+        &["-o (-, standard output) is the scene net.json"],
+    );
+    assert_eq!(std::fs::read(folder.join("net.json")).unwrap(), before);
     let converge = run_in(&folder, &["converge", "net.json", "--csv", "-"]);
     assert_fails(
         &converge,

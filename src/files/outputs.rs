@@ -72,10 +72,13 @@ struct Identity {
 impl Identity {
     fn of(path: &Path) -> Identity {
         if path == Path::new("-") {
+            // Standard output is whatever it was opened on: `>> net.json`
+            // makes it the scene.
+            let metadata = fs::metadata("/dev/stdout").ok();
             return Identity {
-                inode: None,
+                inode: metadata.as_ref().and_then(device_and_inode),
                 resolved: path.to_path_buf(),
-                character_device: false,
+                character_device: metadata.is_some_and(|m| is_character_device(&m)),
             };
         }
         let metadata = fs::metadata(path).ok();
