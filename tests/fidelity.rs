@@ -1,28 +1,35 @@
 //! The whole simulation against independent reference trajectories
 //! computed with Eigen's `SimplicialLLT` (the assignment's own solver) by
-//! `../shared/tools/eigen-ref`, with the tolerances of
-//! `../shared/reference/README.md`:
+//! an independent C++17 implementation (`tests/fixtures/reference/README.md`),
+//! with the tolerances of the reference's own README:
 //!
+//! * one step from the reference's own states (the check of the method's
+//!   semantics, exact for every scene, chaotic or not): given the
+//!   reference's positions after steps `k − 1` and `k`, one step of ours
+//!   lands within 1e-8 (largest vertex distance) of its step `k + 1`, at
+//!   `k` = 1, 9 and 99, on the default path and the textbook path;
 //! * single spring, chain, net, flag: every vertex within 1e-8 after step 1
 //!   and within 1e-6 after steps 10, 100 and 300;
 //! * skirt: within 1e-8 after step 1; after that the motion is chaotic
 //!   (rounding grows about 25× per step), so the centroid and the RMS
-//!   distance from rest (relative) are compared instead: within 3e-3 and
-//!   5e-3 at step 10, in the middle of the buckling, and within 1e-3 at
-//!   steps 100 and 300 (the bundled skirt, another mesh, at step 10: within
-//!   1e-2 and 5e-2, see `BUNDLED_SKIRT_STEP_10`);
+//!   distance from rest (relative) are compared instead, within 1e-3 at
+//!   steps 100 and 300. Not at step 10, in the middle of the buckling,
+//!   where any correct change in the order of the arithmetic lands
+//!   anywhere in a wide spread (`docs/fidelity.md`, "The skirt at step 10");
 //! * pinned vertices within 1e-6 of rest in every scene;
 //! * dense and sparse agree to 1e-9 on the small scenes.
 //!
-//! Two sets of trajectories:
+//! Two sets of scenes:
 //!
 //! * the bundled scenes of `data/` against `tests/fixtures/reference/`
-//!   (steps 1, 10, 100; the command that made them is in the README
-//!   there): these run on any clone;
+//!   (steps 1, 2, 8, 9, 10, 98, 99, 100; the command that made them is in
+//!   the README there): these run on any clone;
 //! * the assignment's original scenes, `../shared/original-data/`, against
-//!   `../shared/reference/` (steps 1, 10, 100, 300). They live outside the
-//!   repository: without them these tests say so and pass, except under
-//!   `CI=true`, where a missing `../shared` is a failure.
+//!   `../shared/reference/` (steps 1, 10, 100, 300) and
+//!   `tests/fixtures/reference/original/` (steps 2, 8, 9, 98, 99, for the
+//!   one-step checks). The scenes live outside the repository: without
+//!   them these tests say so and pass, except under `CI=true`, where a
+//!   missing `../shared` is a failure.
 //!
 //! `cargo test --release --test fidelity -- --nocapture --test-threads 1`
 //! prints the measured distances (`docs/fidelity.md`).
@@ -57,25 +64,28 @@ fn repository(relative: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(relative)
 }
 
-/// Aggregate tolerances at the original skirt's step 10: (centroid,
-/// relative RMS), re-measured in `../shared/reference/README.md`: the
-/// reference itself, rebuilt with fused multiply-add, is 3.8e-4 and 1.3e-3
-/// away there. Ours is 5.6e-4 and 8.2e-4 away (`docs/fidelity.md`).
-const SKIRT_STEP_10: (f64, f64) = (3e-3, 5e-3);
-
-/// The same for the bundled skirt (`data/skirt.json`, another mesh), where
-/// the README's bound was not measured. There the reference rebuilt with
-/// fused multiply-add (same ordering, same code) is 1.3e-4 and 5.4e-4 away,
-/// but every correct variant of ours, which eliminates in another order,
-/// lands farther: the default path (AMD, supernodal) 3.3e-3 and 1.7e-2,
-/// AMD simplicial 1.2e-3 and 6.3e-3, natural order 7.3e-3 to 8.1e-3 and
-/// 3.9e-2 to 4.3e-2; by step 100 every one is within 2.5e-4 and 3e-5.
-/// So the bound here is the spread of those variants, and step 100 is held
-/// to the README's 1e-3 (`tests/fixtures/reference/README.md`).
-const BUNDLED_SKIRT_STEP_10: (f64, f64) = (1e-2, 5e-2);
-
-/// Aggregate tolerances of the skirt at steps 100 and 300.
+/// Aggregate tolerances of the skirt at steps 100 and 300: (centroid,
+/// relative RMS from rest).
 const SKIRT_LATER: (f64, f64) = (1e-3, 1e-3);
+
+/// One step from the reference's states after `k − 1` and `k` lands within
+/// this of its step `k + 1` (largest vertex distance). An independent step
+/// in another language and solver lands within 5e-13 of it on the skirt;
+/// a wrong mass or a missing spring lands farther than 1e-6.
+const ONE_STEP: f64 = 1e-8;
+
+/// The `k` of the one-step checks: early (the first step from a moving
+/// state), in the skirt's buckling, and late.
+const ONE_STEP_FROM: [usize; 3] = [1, 9, 99];
+
+/// The bundled and original scenes, and whether each is chaotic.
+const SCENES: [(&str, bool); 5] = [
+    ("single-spring-horizontal", false),
+    ("horizontal-chain", false),
+    ("net", false),
+    ("flag", false),
+    ("skirt", true),
+];
 
 fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
@@ -109,14 +119,15 @@ struct Trajectory {
     name: &'static str,
     /// The folder of `NAME.json`.
     scenes: PathBuf,
-    /// The folder of `NAME.stepK.txt`.
+    /// The folder of `NAME.stepK.txt` for the steps of `steps`.
     reference: PathBuf,
-    /// The steps with a reference file, in increasing order.
+    /// The folder of `NAME.stepK.txt` for the other steps the one-step
+    /// checks start from or land on.
+    states: PathBuf,
+    /// The steps the trajectory is compared at, in increasing order.
     steps: &'static [usize],
     /// Compare aggregates after step 1 (the skirt).
     chaotic: bool,
-    /// The aggregate tolerances at step 10 when `chaotic`.
-    step_10: (f64, f64),
 }
 
 impl Trajectory {
@@ -126,9 +137,9 @@ impl Trajectory {
             name,
             scenes: repository("data"),
             reference: repository("tests/fixtures/reference"),
-            steps: &[1, 10, 100],
+            states: repository("tests/fixtures/reference"),
+            steps: if chaotic { &[1, 100] } else { &[1, 10, 100] },
             chaotic,
-            step_10: BUNDLED_SKIRT_STEP_10,
         }
     }
 
@@ -139,9 +150,13 @@ impl Trajectory {
             name,
             scenes: shared.join("original-data"),
             reference: shared.join("reference"),
-            steps: &[1, 10, 100, 300],
+            states: repository("tests/fixtures/reference/original"),
+            steps: if chaotic {
+                &[1, 100, 300]
+            } else {
+                &[1, 10, 100, 300]
+            },
             chaotic,
-            step_10: SKIRT_STEP_10,
         })
     }
 
@@ -149,8 +164,60 @@ impl Trajectory {
         load_scene(&self.scenes.join(format!("{}.json", self.name))).unwrap()
     }
 
+    /// The reference's positions after `step` (1 or more), from whichever
+    /// folder holds them.
     fn reference_at(&self, step: usize) -> Vec<[f64; 3]> {
-        read_points(&self.reference.join(format!("{}.step{step}.txt", self.name)))
+        let file = format!("{}.step{step}.txt", self.name);
+        let in_reference = self.reference.join(&file);
+        if in_reference.is_file() {
+            return read_points(&in_reference);
+        }
+        read_points(&self.states.join(file))
+    }
+
+    /// The reference's state after `step`: the rest shape at step 0.
+    fn state_at(&self, scene: &Scene, step: usize) -> Vec<[f64; 3]> {
+        match step {
+            0 => scene.vertices.clone(),
+            _ => self.reference_at(step),
+        }
+    }
+
+    /// From the reference's states after `k − 1` and `k`, one step with
+    /// `options` lands within [`ONE_STEP`] of its step `k + 1`, for each
+    /// `k` of [`ONE_STEP_FROM`]. Returns the largest distance.
+    fn check_one_step(&self, options: SimulationOptions, path: &str) -> f64 {
+        let scene = self.scene();
+        let mut sim = Simulation::<Sparse>::from_scene(&scene, options).unwrap();
+        let mut largest = 0.0f64;
+        for k in ONE_STEP_FROM {
+            let (before, now) = (self.state_at(&scene, k - 1), self.state_at(&scene, k));
+            let next = self.reference_at(k + 1);
+            sim.set_state(&before, &now, k).unwrap();
+            sim.step().unwrap();
+            let error = max_distance(sim.positions(), &next);
+            let moved = max_distance(&now, &next);
+            println!(
+                "{} ({path}) one step from {k}: {error:.3e} from the reference's step {} \
+                 (tolerance {ONE_STEP:e}; the step moved a vertex {moved:.3e})",
+                self.name,
+                k + 1
+            );
+            assert!(
+                error <= ONE_STEP,
+                "{} ({path}): one step from the reference's step {k} lands {error:e} from its step {}",
+                self.name,
+                k + 1
+            );
+            assert!(
+                moved > 100.0 * ONE_STEP,
+                "{}: the reference's step {} hardly moved ({moved:e}): no check",
+                self.name,
+                k + 1
+            );
+            largest = largest.max(error);
+        }
+        largest
     }
 
     /// Simulates with `options` up to the last reference step, checking the
@@ -204,11 +271,7 @@ impl Trajectory {
             );
             return;
         }
-        let (centroid_tolerance, rms_tolerance) = if step == 10 {
-            self.step_10
-        } else {
-            SKIRT_LATER
-        };
+        let (centroid_tolerance, rms_tolerance) = SKIRT_LATER;
         let centroid_error = distance(centroid(ours), centroid(&reference));
         let (rms, rms_reference) = (
             rms_from_rest(ours, &scene.vertices),
@@ -436,19 +499,46 @@ fn factor_order_iterate_gives_the_bits_of_the_loop_as_written() {
 
 #[test]
 fn every_bundled_scene_has_its_reference_files() {
-    for name in [
-        "single-spring-horizontal",
-        "horizontal-chain",
-        "net",
-        "flag",
-        "skirt",
-    ] {
+    for (name, _) in SCENES {
         let trajectory = Trajectory::bundled(name, false);
         let n = trajectory.scene().vertices.len();
-        for &step in trajectory.steps {
-            assert_eq!(trajectory.reference_at(step).len(), n, "{name} step {step}");
+        let one_step = ONE_STEP_FROM.iter().flat_map(|&k| [k - 1, k, k + 1]);
+        for step in trajectory.steps.iter().copied().chain(one_step) {
+            let scene = trajectory.scene();
+            assert_eq!(
+                trajectory.state_at(&scene, step).len(),
+                n,
+                "{name} step {step}"
+            );
         }
     }
+}
+
+/// Both paths of ours (default and textbook), one step from the
+/// reference's states, on each of `trajectories`.
+fn check_one_step_everywhere(trajectories: impl Iterator<Item = Trajectory>) {
+    for trajectory in trajectories {
+        trajectory.check_one_step(SimulationOptions::default(), "default path");
+        trajectory.check_one_step(textbook(), "textbook path");
+    }
+}
+
+#[test]
+fn one_step_from_the_reference_states_lands_on_its_next_step_bundled() {
+    check_one_step_everywhere(
+        SCENES
+            .iter()
+            .map(|&(name, chaotic)| Trajectory::bundled(name, chaotic)),
+    );
+}
+
+#[test]
+fn one_step_from_the_reference_states_lands_on_its_next_step_original() {
+    let originals: Vec<Trajectory> = SCENES
+        .iter()
+        .filter_map(|&(name, chaotic)| Trajectory::original(name, chaotic))
+        .collect();
+    check_one_step_everywhere(originals.into_iter());
 }
 
 // The assignment's original scenes, with `../shared`.

@@ -14,6 +14,7 @@ mod generate;
 mod limits;
 mod progress;
 mod render;
+mod resume;
 mod simulate;
 mod spy;
 mod steps_plot;

@@ -12,6 +12,9 @@
 //! precomputation when no frames are written, and its vertices, springs
 //! and masses once the simulation holds its own (at a million vertices the
 //! scene held ~170 MB, `docs/performance.md`).
+//!
+//! `--resume DIR` continues the run whose frames are in `DIR` from its last
+//! two (`super::resume`), numbering the new frames on.
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{
@@ -22,6 +25,7 @@ use super::factorization_flags::{self, FACTORIZATION, ORDERING, TEXTBOOK};
 use super::limits::precompute;
 use super::progress::{duration, Progress};
 use super::render::texture::{read_png_file, Texture};
+use super::resume::{self, frame_header, frame_name, Resumed};
 use super::timing::BoundedSample;
 use super::{load_scene, AppError};
 use masssprings::files::{remove_stale_temporaries, same_file, write_file, FilePlan};
@@ -57,6 +61,8 @@ struct Summary {
     /// Which code ran the steps: `fast` or `textbook` (the handout's
     /// functions as written).
     path: &'static str,
+    /// The step the run continued from (`--resume`), if any.
+    resumed_from: Option<usize>,
 }
 
 /// What to do besides stepping.
@@ -87,6 +93,13 @@ time and the total time.",
         Flag::value("steps", "N", "Time steps to run (default 100)."),
         Flag::value("every", "K", "Write every K-th step (default 1)."),
         Flag::value("out", "DIR", "Write OBJ frames into DIR."),
+        Flag::value(
+            "resume",
+            "DIR",
+            "Continue the run whose frames are in DIR from its last frame and the one a step \
+             before it (written without --precision), adding N more frames there; give the \
+             flags of that run.",
+        ),
         Flag::value(
             "precision",
             "D",
@@ -132,17 +145,24 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         None => None,
         Some(_) => Some(args.whole_number("precision", 17, 0..=17)? as usize),
     };
+    let resume_folder = resume_folder(&args)?;
     let run = Run {
         steps: args.count("steps", 100, 0)?,
         every: args.count("every", 1, 1)?,
-        out: args.text("out").map(PathBuf::from),
+        out: resume_folder
+            .clone()
+            .or(args.text("out").map(PathBuf::from)),
         precision,
         force: args.switch("force"),
         progress: !args.switch("json"),
     };
     let scene = load_scene(&scene_path)?;
     check_files(&scene_path, &scene, run.out.as_deref())?;
-    if let Some(folder) = &run.out {
+    let resumed = match &resume_folder {
+        Some(folder) => Some(resume::last_state(folder, &scene)?),
+        None => None,
+    };
+    if let (Some(folder), None) = (&run.out, &resumed) {
         if !run.force {
             refuse_earlier_frames(folder)?;
         }
@@ -154,9 +174,9 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     convergence_flags::apply(&args, &mut options)?;
     factorization_flags::apply(&args, &mut options)?;
     let summary = if args.switch("dense") {
-        simulate::<Dense>(scene, &scene_path, options, &run)?
+        simulate::<Dense>(scene, &scene_path, options, &run, resumed)?
     } else {
-        simulate::<Sparse>(scene, &scene_path, options, &run)?
+        simulate::<Sparse>(scene, &scene_path, options, &run, resumed)?
     };
     if args.switch("json") {
         println!(
@@ -169,12 +189,32 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     Ok(())
 }
 
-/// Precompute, then step, writing frames and reporting progress.
+/// `--resume DIR`, refused beside `--out` (the new frames go into `DIR`)
+/// and `--force` (which would remove the frames it continues from).
+fn resume_folder(args: &Args) -> Result<Option<PathBuf>, AppError> {
+    let Some(folder) = args.text("resume") else {
+        return Ok(None);
+    };
+    let refused = if args.text("out").is_some() {
+        "--out"
+    } else if args.switch("force") {
+        "--force"
+    } else {
+        return Ok(Some(PathBuf::from(folder)));
+    };
+    Err(AppError::Usage(format!(
+        "--resume DIR writes its new frames into DIR beside the ones it continues from: leave out {refused}"
+    )))
+}
+
+/// Precompute, then step (on from `resumed`, if given), writing frames and
+/// reporting progress.
 fn simulate<B: LinearAlgebra>(
     mut scene: Scene,
     scene_path: &Path,
     options: SimulationOptions,
     run: &Run,
+    resumed: Option<Resumed>,
 ) -> Result<Summary, AppError> {
     let (n, springs) = (scene.vertices.len(), scene.springs.len());
     if run.out.is_none() {
@@ -189,7 +229,16 @@ fn simulate<B: LinearAlgebra>(
     let precompute_s = started.elapsed().as_secs_f64();
     keep_only(&mut scene, Keep::Frames); // the simulation holds its own copies
     let scene = &scene;
+    let resumed_from = resumed.as_ref().map(|state| state.step);
+    if let Some(state) = resumed {
+        simulation.set_state(&state.u_prev, &state.u_cur, state.step)?;
+    }
     let material = match &run.out {
+        Some(folder) if resumed_from.is_some() => {
+            // the run's own folder: its frames stay, and they number on
+            remove_stale_temporaries(folder)?;
+            write_material(folder, scene)?
+        }
         Some(folder) => {
             prepare_out_folder(folder)?;
             let material = write_material(folder, scene, texture)?;
@@ -208,7 +257,9 @@ fn simulate<B: LinearAlgebra>(
     let mut step_times = BoundedSample::new();
     let (mut iterations, mut gradients) = (BoundedSample::new(), BoundedSample::new());
     let mut progress = Progress::new(run.steps, run.progress);
-    for step in 1..=run.steps {
+    let first = resumed_from.unwrap_or(0);
+    for done in 1..=run.steps {
+        let step = first + done;
         let t = Instant::now();
         let report = simulation
             .step()
@@ -224,7 +275,7 @@ fn simulate<B: LinearAlgebra>(
                 write_frame(folder, step, scene, positions, run, material.as_deref())?;
             }
         }
-        progress.step_done(step);
+        progress.step_done(done);
     }
     progress.finish();
     Ok(Summary {
@@ -243,6 +294,7 @@ fn simulate<B: LinearAlgebra>(
         iterations_median: iterations.median(),
         relative_gradient_median: Some(gradients.median()).filter(|m| !m.is_nan()),
         path: if options.textbook { "textbook" } else { "fast" },
+        resumed_from,
     })
 }
 
@@ -356,8 +408,17 @@ fn is_frame_name(name: &str) -> bool {
         .is_some_and(|digits| digits.len() >= 6 && digits.bytes().all(|b| b.is_ascii_digit()))
 }
 
+/// The step of the frame at `path` (`frame-000012.obj`: 12).
+pub(super) fn frame_step(path: &Path) -> Option<usize> {
+    let name = path.file_name()?.to_str()?;
+    if !is_frame_name(name) {
+        return None;
+    }
+    name["frame-".len()..name.len() - ".obj".len()].parse().ok()
+}
+
 /// The frames already in `folder` (none when it does not exist), sorted.
-fn earlier_frames(folder: &Path) -> Result<Vec<PathBuf>, AppError> {
+pub(super) fn earlier_frames(folder: &Path) -> Result<Vec<PathBuf>, AppError> {
     let entries = match std::fs::read_dir(folder) {
         Ok(entries) => entries,
         Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
@@ -411,17 +472,20 @@ fn write_frame(
     run: &Run,
     material: Option<&str>,
 ) -> Result<(), AppError> {
-    let path = folder.join(format!("frame-{step:06}.obj"));
+    let path = folder.join(frame_name(step));
+    let header = frame_header(&scene.name, step, run.precision);
     write_file(&path, |out| {
+        writeln!(out, "{header}")?;
         write_obj(out, scene, positions, run.precision, material)
     })?;
     Ok(())
 }
 
-/// An OBJ with `v` lines for `positions` (with `precision` digits after the
-/// point, or the shortest decimal form that reads back to the same `f64`),
-/// the scene's `vt` lines, the material, and the faces (with texture indices
-/// when the scene has them).
+/// An OBJ (after its first line, [`frame_header`]) with `v` lines for
+/// `positions` (with `precision` digits after the point, or the shortest
+/// decimal form that reads back to the same `f64`), the scene's `vt` lines,
+/// the material, and the faces (with texture indices when the scene has
+/// them).
 fn write_obj(
     out: &mut dyn Write,
     scene: &Scene,
@@ -429,7 +493,6 @@ fn write_obj(
     precision: Option<usize>,
     material: Option<&str>,
 ) -> io::Result<()> {
-    writeln!(out, "# {} — masssprings frame", scene.name)?;
     if let Some(material) = material {
         writeln!(out, "mtllib {material}.mtl")?;
     }
@@ -484,6 +547,9 @@ fn print_summary(scene_path: &Path, s: &Summary) {
     println!("backend          {}", s.backend);
     println!("precomputation   {:.6} s", s.precompute_s);
     println!("steps            {}", s.steps);
+    if let Some(step) = s.resumed_from {
+        println!("resumed from     step {step}");
+    }
     println!("step (median)    {:.6} s", s.step_median_s);
     let tolerance = s.tolerance.map_or("none".into(), |t| format!("{t:e}"));
     let energy_tolerance = s

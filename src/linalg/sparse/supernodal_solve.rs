@@ -22,9 +22,10 @@
 //! that wait is what bounds the sweep: on the skirt this made the solve 7%
 //! faster (0.50 to 0.47 ms). (Dividing by the diagonal as a multiplication
 //! by a stored `1 / L_jj` gained 7% more, but it rounds differently from
-//! the division, and on the skirt, whose buckling amplifies rounding about
-//! 25× per step, that moved step 10 outside the reference's tolerance; the
-//! division stays.)
+//! the division; the skirt's buckling amplifies that about 25× per step,
+//! which failed the trajectory check at step 10 that the one-step checks
+//! of `tests/fidelity.rs` have since replaced. The division stays until it
+//! is measured again.)
 //!
 //! As there, the right-hand side is a block of `W` columns stored row by
 //! row (padded to four lanes for x, y, z), and the loops are compiled a
