@@ -22,6 +22,7 @@
 
 mod factor;
 mod place;
+mod sum;
 
 use super::quantities::{quantities, Check, Quantity};
 use super::read_manifest;
@@ -67,7 +68,7 @@ pub fn run(ours: &Path, theirs: &Path) -> Result<(), AppError> {
     }
     let all = quantities(manifest.iterations);
     let [a, q, p] = ["A.mtx", "Q.mtx", "P.mtx"].map(|name| read_ours(ours, name));
-    let mut context = Context::new(&a?, &q?, &p?)
+    let mut context = Context::new(&a?, manifest.k, &q?, &p?)
         .map_err(|e| AppError::Failed(format!("{}: {e}", ours.join("P.mtx").display())))?;
     println!(
         "comparing {} with {} ({}, step {}, {} iteration(s), {} ordering)\n\
@@ -149,7 +150,13 @@ fn compare_one(
         Err(error) => return Ok(Outcome::Differs(None, format!("unreadable: {error}"))),
     };
     Ok(match quantity.spec.check {
-        Check::Entries { tolerance } => entries(quantity, &our, their, tolerance),
+        Check::Entries { tolerance } => entries(quantity, &our, their, tolerance, None),
+        Check::Sum { tolerance } => {
+            let d = format!("d_{}.mtx", quantity.iteration.expect("b is per iteration"));
+            let (d, y) = (read_ours(ours, &d)?, read_ours(ours, "y.mtx")?);
+            let terms = sum::term_sizes(&to_dense(&our), &d, &y, context);
+            entries(quantity, &our, their, tolerance, Some(&terms))
+        }
         Check::Ordering => factor::ordering(their, context),
         Check::Factor { tolerance } => factor::factor(their, context, tolerance),
     })
@@ -161,19 +168,22 @@ fn read_ours(ours: &Path, name: &str) -> Result<MatrixMarket, AppError> {
         .map_err(|e| AppError::Failed(format!("{e} (run masssprings trace again to write it)")))
 }
 
-/// Entry by entry, after bringing the student's file to our shape and kind.
+/// Entry by entry, after bringing the student's file to our shape and
+/// kind, each entry scaled as [`Largest::consider`] says, with its row's
+/// largest `|ours|` or, for a dense quantity, `scale`'s entry.
 fn entries(
     quantity: &Quantity,
     our: &MatrixMarket,
     their: MatrixMarket,
     tolerance: f64,
+    scale: Option<&DenseMatrix>,
 ) -> Outcome {
     let their = match conform(quantity, our, their) {
         Ok(their) => their,
         Err(reason) => return Outcome::Differs(None, reason),
     };
     let largest = match (our, &their) {
-        (MatrixMarket::Dense(a), MatrixMarket::Dense(b)) => dense_difference(a, b),
+        (MatrixMarket::Dense(a), MatrixMarket::Dense(b)) => dense_difference(a, b, scale),
         _ => sparse_difference(&to_sparse(our), &to_sparse(&their)),
     };
     match largest {
@@ -222,13 +232,18 @@ fn shape(a: &MatrixMarket) -> (usize, usize) {
     }
 }
 
-/// The largest scaled difference of two dense matrices of one shape.
-fn dense_difference(ours: &DenseMatrix, yours: &DenseMatrix) -> Option<Difference> {
+/// The largest scaled difference of two dense matrices of one shape,
+/// each entry scaled by its row's largest `|ours|`, or by `scale`'s entry.
+fn dense_difference(
+    ours: &DenseMatrix,
+    yours: &DenseMatrix,
+    scale: Option<&DenseMatrix>,
+) -> Option<Difference> {
     let mut largest = Largest::default();
     for i in 0..ours.nrows() {
-        let scale = ours.row(i).iter().fold(0.0_f64, |s, v| s.max(v.abs()));
+        let row_scale = ours.row(i).iter().fold(0.0_f64, |s, v| s.max(v.abs()));
         for (j, (&a, &b)) in ours.row(i).iter().zip(yours.row(i)).enumerate() {
-            largest.consider(i, j, a, b, scale);
+            largest.consider(i, j, a, b, scale.map_or(row_scale, |s| s[(i, j)]));
         }
     }
     largest.0
@@ -306,12 +321,14 @@ impl Largest {
 /// One line of the table.
 fn print_line(quantity: &Quantity, outcome: &Outcome, context: &Context) {
     let tolerance = match quantity.spec.check {
-        Check::Entries { tolerance } | Check::Factor { tolerance } if tolerance > 0.0 => {
+        Check::Entries { tolerance } | Check::Factor { tolerance } | Check::Sum { tolerance }
+            if tolerance > 0.0 =>
+        {
             format!("{tolerance:e}")
         }
         Check::Entries { .. } => "exact".into(),
         Check::Ordering => "any".into(),
-        Check::Factor { .. } => "exact".into(),
+        Check::Factor { .. } | Check::Sum { .. } => "exact".into(),
     };
     let (result, place, remark) = match outcome {
         Outcome::NotGiven => ("not given", None, ""),
@@ -322,7 +339,7 @@ fn print_line(quantity: &Quantity, outcome: &Outcome, context: &Context) {
     let place = place.filter(|p| p.relative() > 0.0); // no place for no difference
     let difference = match (place, outcome) {
         (Some(place), _) => format!("{:.2e}", place.relative()),
-        (None, Outcome::Agrees(..)) => "0".into(),
+        (None, Outcome::Agrees(..)) if quantity.spec.check != Check::Ordering => "0".into(),
         _ => String::new(),
     };
     let mut at = place

@@ -76,6 +76,8 @@ pub struct Manifest {
     pub vertices: usize,
     pub springs: usize,
     pub pins: usize,
+    /// The stiffness `k`, which `--compare` needs for the size of `b`'s terms.
+    pub k: f64,
     pub files: Vec<String>,
 }
 
@@ -201,6 +203,7 @@ fn manifest(
         vertices: scene.vertices.len(),
         springs: scene.springs.len(),
         pins: scene.pinned.len(),
+        k: scene.k,
         files: values.iter().map(|(q, _)| q.file_name()).collect(),
     }
 }

@@ -40,6 +40,11 @@ pub enum Check {
     /// `L`: `L Lᵀ = P Q Pᵀ` with the student's `P` (or ours, or none),
     /// entry by entry to `tolerance · √(Q'ᵢᵢ Q'ⱼⱼ)`, `Q' = P Q Pᵀ`.
     Factor { tolerance: f64 },
+    /// `b = k Aᵀd + y + w CᵀC V`: entry by entry to `tolerance · s`, with
+    /// `s` the size of its terms, `k (|A|ᵀ|d|)ᵢ + |yᵢ| + |(w CᵀC V)ᵢ|`:
+    /// the spring terms cancel to much smaller entries, and a pinned row
+    /// is dominated by `w`, where a row's own scale would hide a spring.
+    Sum { tolerance: f64 },
 }
 
 /// One kind of quantity of the handout (the iterations' `d`, `b` and `p`
@@ -69,10 +74,6 @@ const ROUNDING: f64 = 1e-12;
 /// After a solve with `Q`: rounding times `Q`'s condition (the pins'
 /// `w = 1e10` against the masses over `Δt²`), whatever the ordering.
 const AFTER_SOLVE: f64 = 1e-8;
-/// `b = k Aᵀd + y + w CᵀC V` adds spring terms of size `k r` that cancel
-/// to entries of the size of `y`: the rounding of `d` comes back
-/// multiplied by `k`.
-const AFTER_CANCELLATION: f64 = 1e-6;
 
 /// Every kind of quantity, in the handout's order.
 pub static SPECS: [Spec; 13] = [
@@ -216,11 +217,12 @@ pub static SPECS: [Spec; 13] = [
         function: "sim::textbook::right_hand_side",
         rows: Axis::Vertex,
         columns: Axis::Coordinate,
-        check: Check::Entries {
-            tolerance: AFTER_CANCELLATION,
+        check: Check::Sum {
+            tolerance: AFTER_SOLVE,
         },
         why: "unique; its spring terms k Aᵀd (of size k r) cancel to entries of the size of y, \
-              so the rounding of d comes back multiplied by k",
+              and a pinned row is of the size of w, so each entry is compared to the size of \
+              its terms, k (|A|ᵀ|d|)ᵢ + |yᵢ| + |(w CᵀC V)ᵢ|",
         per_iteration: true,
     },
     Spec {

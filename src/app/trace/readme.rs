@@ -82,6 +82,7 @@ fn rule(check: Check) -> String {
         Check::Entries { tolerance } => format!("entries, {tolerance:e} relative"),
         Check::Ordering => "any permutation (reported)".into(),
         Check::Factor { tolerance } => format!("L Lᵀ = P Q Pᵀ, {tolerance:e} relative"),
+        Check::Sum { tolerance } => format!("entries, {tolerance:e} of their terms"),
     }
 }
 

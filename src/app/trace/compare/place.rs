@@ -34,6 +34,9 @@ pub struct Context {
     /// Spring `e` as `(i, j)`, read off row `e` of `A` (`None` for a
     /// spring from a vertex to itself, an empty row).
     springs: Vec<Option<[usize; 2]>>,
+    /// Our `A`, and the stiffness `k`.
+    pub a: CscMatrix,
+    pub k: f64,
     pub q: CscMatrix,
     /// Our `perm` (`perm[new] = old`).
     pub our_perm: Vec<usize>,
@@ -43,7 +46,12 @@ pub struct Context {
 
 impl Context {
     /// From our `A`, `Q` and `P`.
-    pub fn new(a: &MatrixMarket, q: &MatrixMarket, p: &MatrixMarket) -> Result<Self, String> {
+    pub fn new(
+        a: &MatrixMarket,
+        k: f64,
+        q: &MatrixMarket,
+        p: &MatrixMarket,
+    ) -> Result<Self, String> {
         let a = to_sparse(a);
         let mut ends = vec![[None, None]; a.nrows()];
         for j in 0..a.ncols() {
@@ -55,6 +63,8 @@ impl Context {
         let springs = ends.into_iter().map(|[i, j]| Some([i?, j?])).collect();
         Ok(Context {
             springs,
+            a,
+            k,
             q: to_sparse(q),
             our_perm: super::factor::permutation_of(&to_sparse(p))?,
             their_perm: None,
