@@ -24,6 +24,8 @@ mod factor;
 mod place;
 mod sum;
 
+pub use factor::inverse;
+
 use super::quantities::{quantities, Check, Quantity};
 use super::read_manifest;
 use crate::app::AppError;

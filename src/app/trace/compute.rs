@@ -114,10 +114,7 @@ fn state_before(
 /// `(new, perm[new])`, so that `(P x)[new] = x[perm[new]]`.
 pub fn permutation_matrix(perm: &[usize]) -> CscMatrix {
     let n = perm.len();
-    let mut row_of_column = vec![0; n];
-    for (new, &old) in perm.iter().enumerate() {
-        row_of_column[old] = new;
-    }
+    let row_of_column = super::compare::inverse(perm); // column old holds its 1 in row new
     CscMatrix::from_parts(n, n, (0..=n).collect(), row_of_column, vec![1.0; n])
         .expect("a permutation has one entry per column")
 }

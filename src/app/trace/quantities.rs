@@ -80,7 +80,7 @@ pub static SPECS: [Spec; 13] = [
     Spec {
         symbol: "A",
         equation: "row e of spring (i, j): +1 in column i, −1 in column j",
-        shape: "m × n (springs × vertices), 2m entries",
+        shape: "m × n: springs × vertices, 2m entries",
         function: "sim::signed_incidence::signed_incidence_matrix_sparse",
         rows: Axis::Spring,
         columns: Axis::Vertex,
@@ -102,7 +102,7 @@ pub static SPECS: [Spec; 13] = [
     Spec {
         symbol: "M",
         equation: "M = diag(m), m the Voronoi masses of the scene",
-        shape: "n × n, diagonal (an n × 1 file of the diagonal is read too)",
+        shape: "n × n, diagonal; an n × 1 file of the diagonal is read too",
         function: "sim::precomputation::mass_matrix",
         rows: Axis::Vertex,
         columns: Axis::Vertex,
@@ -113,7 +113,7 @@ pub static SPECS: [Spec; 13] = [
     Spec {
         symbol: "C",
         equation: "row k: 1 in column bₖ, the k-th pinned vertex",
-        shape: "|b| × n (pins × vertices)",
+        shape: "#b × n: pins × vertices",
         function: "sim::precomputation::selection_matrix",
         rows: Axis::Pin,
         columns: Axis::Vertex,
@@ -162,7 +162,7 @@ pub static SPECS: [Spec; 13] = [
         symbol: "U_prev",
         equation: "the positions one step before U_cur (step 1: V)",
         shape: "n × 3",
-        function: "sim::textbook::fast_mass_springs_step_sparse, K − 2 times from rest",
+        function: "sim::textbook::fast_mass_springs_step_sparse (the state before U_cur)",
         rows: Axis::Vertex,
         columns: Axis::Coordinate,
         check: Check::Entries {

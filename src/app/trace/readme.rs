@@ -78,7 +78,7 @@ fn table(text: &mut String, values: &[(Quantity, Value)]) {
 /// The comparison rule of a check, in a few words.
 fn rule(check: Check) -> String {
     match check {
-        Check::Entries { tolerance } if tolerance == 0.0 => "exactly".into(),
+        Check::Entries { tolerance: 0.0 } => "exactly".into(),
         Check::Entries { tolerance } => format!("entries, {tolerance:e} relative"),
         Check::Ordering => "any permutation (reported)".into(),
         Check::Factor { tolerance } => format!("L Lᵀ = P Q Pᵀ, {tolerance:e} relative"),
@@ -135,7 +135,14 @@ fn how_to_compare(text: &mut String, m: &Manifest) {
          `P = prefactorization.permutationP()`, and `L` as \
          `Eigen::SparseMatrix<double> L = prefactorization.matrixL();`. Your dense code \
          writes the same files (a dense `M` or `Q` is read as it is); trace a small scene \
-         for it, since an n × n array of the flag holds {n2} values.\n\n\
+         for it, since an n × n array of this scene holds {n2} values.\n\n\
+         For a step K > 1, start your step from our `U_prev.mtx` and `U_cur.mtx` \
+         (`Eigen::loadMarketDense` in Eigen 3.4; with 3.3, read the values after the size line \
+         column by column) rather than from \
+         your own K − 1 steps: two correct solutions drift apart by their rounding from step \
+         to step, slowly on the flag and within a few steps on the skirt, whose buckling \
+         turns rounding into centimetres; from the same state, `y`, `d`, `b` and `p` agree \
+         to the tolerances above.\n\n\
          From Python: `scipy.io.mmread(\"A.mtx\")` gives a sparse matrix for a coordinate \
          file and an array for an array file, with the shapes of the table; \
          `scipy.io.mmwrite` writes files `--compare` reads. In MATLAB, `mmread.m` from the \

@@ -17,7 +17,7 @@
 use super::place::{Context, Place};
 use super::{to_sparse, union_entries, Largest, Outcome};
 use masssprings::linalg::matrix_market::MatrixMarket;
-use masssprings::linalg::sparse::{CscMatrix, TripletMatrix};
+use masssprings::linalg::sparse::{CscMatrix, Permutation, TripletMatrix};
 
 /// `perm` of a permutation matrix `P` (a 1 at `(new, perm[new])`), or why
 /// `p` is not one.
@@ -53,16 +53,24 @@ pub fn permutation_of(p: &CscMatrix) -> Result<Vec<usize>, String> {
     Ok(perm)
 }
 
+/// The student's matrix, sparse, if it is `n × n`; else why it differs.
+fn square(their: &MatrixMarket, n: usize) -> Result<CscMatrix, Outcome> {
+    let a = to_sparse(their);
+    match (a.nrows(), a.ncols()) == (n, n) {
+        true => Ok(a),
+        false => Err(Outcome::Differs(
+            None,
+            format!("shape {} × {}, ours {n} × {n}", a.nrows(), a.ncols()),
+        )),
+    }
+}
+
 /// The student's `P` against ours.
 pub fn ordering(their: MatrixMarket, context: &mut Context) -> Outcome {
-    let n = context.our_perm.len();
-    let p = to_sparse(&their);
-    if (p.nrows(), p.ncols()) != (n, n) {
-        return Outcome::Differs(
-            None,
-            format!("shape {} × {}, ours {n} × {n}", p.nrows(), p.ncols()),
-        );
-    }
+    let p = match square(&their, context.our_perm.len()) {
+        Ok(p) => p,
+        Err(differs) => return differs,
+    };
     match permutation_of(&p) {
         Err(reason) => Outcome::Differs(None, format!("not a permutation matrix: {reason}")),
         Ok(perm) => {
@@ -80,14 +88,10 @@ pub fn ordering(their: MatrixMarket, context: &mut Context) -> Outcome {
 
 /// The student's `L`: lower triangular, and `L Lᵀ = P Q Pᵀ`.
 pub fn factor(their: MatrixMarket, context: &Context, tolerance: f64) -> Outcome {
-    let n = context.our_perm.len();
-    let l = to_sparse(&their);
-    if (l.nrows(), l.ncols()) != (n, n) {
-        return Outcome::Differs(
-            None,
-            format!("shape {} × {}, ours {n} × {n}", l.nrows(), l.ncols()),
-        );
-    }
+    let l = match square(&their, context.our_perm.len()) {
+        Ok(l) => l,
+        Err(differs) => return differs,
+    };
     if let Some((i, j, v)) = above_diagonal(&l) {
         return Outcome::Differs(
             None,
@@ -124,10 +128,7 @@ fn above_diagonal(l: &CscMatrix) -> Option<(usize, usize, f64)> {
 fn orderings(context: &Context) -> Vec<(String, Vec<usize>)> {
     match &context.their_perm {
         Some(perm) => {
-            let mut inverse = vec![0; perm.len()];
-            for (new, &old) in perm.iter().enumerate() {
-                inverse[old] = new;
-            }
+            let inverse = inverse(perm);
             vec![
                 ("with your P".into(), perm.clone()),
                 ("with the transpose of your P".into(), inverse),
@@ -148,10 +149,7 @@ fn orderings(context: &Context) -> Vec<(String, Vec<usize>)> {
 
 /// The largest entry of `L Lᵀ − P Q Pᵀ`, scaled by `√(Q'ₖₖ Q'ₗₗ)`.
 fn product_difference(llt: &CscMatrix, q: &CscMatrix, perm: &[usize]) -> Option<super::Difference> {
-    let mut inverse = vec![0; perm.len()];
-    for (new, &old) in perm.iter().enumerate() {
-        inverse[old] = new;
-    }
+    let inverse = inverse(perm);
     let mut triplets = TripletMatrix::with_capacity(q.nrows(), q.ncols(), q.nnz());
     for j in 0..q.ncols() {
         let (rows, values) = q.column(j);
@@ -168,4 +166,10 @@ fn product_difference(llt: &CscMatrix, q: &CscMatrix, perm: &[usize]) -> Option<
         largest.consider(k, l, ours, yours, (diagonal[k] * diagonal[l]).abs().sqrt());
     });
     largest.0
+}
+
+/// `inverse[old] = new` of a permutation `perm[new] = old`.
+pub fn inverse(perm: &[usize]) -> Vec<usize> {
+    let permutation = Permutation::from_perm(perm.to_vec()).expect("checked to be a permutation");
+    permutation.inverse().to_vec()
 }
