@@ -127,18 +127,18 @@ fn how_to_compare(text: &mut String, m: &Manifest) {
          is 1 when any quantity differs.\n\n\
          From C++ with Eigen (`#include <unsupported/Eigen/SparseExtra>`): \
          `Eigen::saveMarket(A, \"A.mtx\")` for a sparse matrix; \
-         `Eigen::saveMarketDense(y, \"y.mtx\")` for a dense one (Eigen 3.4; with Eigen 3.3, \
-         `saveMarketVector` for `r`, and for an n × 3 matrix write the header \
-         `%%MatrixMarket matrix array real general`, then `rows cols`, then the values column \
-         by column with `std::setprecision(17)`). For `P` from \
+         `Eigen::saveMarketVector(r, \"r.mtx\")` for a vector. Eigen 3.4 has no writer for \
+         a dense matrix (later versions have `saveMarketDense`): for an n × 3 matrix write \
+         the line `%%MatrixMarket matrix array real general`, then `rows cols`, then the \
+         values column by column with `std::setprecision(17)`; read ours the same way. \
+         For `P` from \
          `Eigen::SimplicialLLT`, write the triplets `(P.indices()(i), i, 1)` of \
          `P = prefactorization.permutationP()`, and `L` as \
          `Eigen::SparseMatrix<double> L = prefactorization.matrixL();`. Your dense code \
          writes the same files (a dense `M` or `Q` is read as it is); trace a small scene \
          for it, since an n × n array of this scene holds {n2} values.\n\n\
          For a step K > 1, start your step from our `U_prev.mtx` and `U_cur.mtx` \
-         (`Eigen::loadMarketDense` in Eigen 3.4; with 3.3, read the values after the size line \
-         column by column) rather than from \
+         rather than from \
          your own K − 1 steps: two correct solutions drift apart by their rounding from step \
          to step, slowly on the flag and within a few steps on the skirt, whose buckling \
          turns rounding into centimetres; from the same state, `y`, `d`, `b` and `p` agree \
