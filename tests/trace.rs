@@ -465,6 +465,13 @@ fn bad_input_is_refused_with_a_clear_error() {
         line(&report, "r").contains("r.mtx:4: `abc` is not a number"),
         "{report}"
     );
+    // our own folder edited by hand so that its files no longer fit: an error, not a panic
+    let edited = ours.parent().unwrap().join("edited");
+    copy_folder(&ours, &edited);
+    write_sparse(&edited.join("Q.mtx"), &CscMatrix::identity(2));
+    let (success, _, error) = compare(&edited, &theirs);
+    assert!(!success);
+    assert!(error.contains("do not fit one another"), "{error}");
     // nothing to compare is an error too
     let empty = ours.parent().unwrap().join("empty");
     std::fs::create_dir_all(&empty).unwrap();

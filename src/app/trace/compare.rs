@@ -71,7 +71,7 @@ pub fn run(ours: &Path, theirs: &Path) -> Result<(), AppError> {
     let all = quantities(manifest.iterations);
     let [a, q, p] = ["A.mtx", "Q.mtx", "P.mtx"].map(|name| read_ours(ours, name));
     let mut context = Context::new(&a?, manifest.k, &q?, &p?)
-        .map_err(|e| AppError::Failed(format!("{}: {e}", ours.join("P.mtx").display())))?;
+        .map_err(|e| AppError::Failed(format!("{}: {e}", ours.display())))?;
     println!(
         "comparing {} with {} ({}, step {}, {} iteration(s), {} ordering)\n\
          rows and columns count from 1 as in the files; vertices, springs and pins from 0 as in V, E and b\n",
@@ -156,7 +156,8 @@ fn compare_one(
         Check::Sum { tolerance } => {
             let d = format!("d_{}.mtx", quantity.iteration.expect("b is per iteration"));
             let (d, y) = (read_ours(ours, &d)?, read_ours(ours, "y.mtx")?);
-            let terms = sum::term_sizes(&to_dense(&our), &d, &y, context);
+            let terms = sum::term_sizes(&to_dense(&our), &d, &y, context)
+                .map_err(|e| AppError::Failed(format!("{}: {e}", ours.display())))?;
             entries(quantity, &our, their, tolerance, Some(&terms))
         }
         Check::Ordering => factor::ordering(their, context),

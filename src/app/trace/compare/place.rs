@@ -61,12 +61,23 @@ impl Context {
             }
         }
         let springs = ends.into_iter().map(|[i, j]| Some([i?, j?])).collect();
+        let (q, our_perm) = (to_sparse(q), super::factor::permutation_of(&to_sparse(p))?);
+        let n = our_perm.len();
+        if (q.nrows(), q.ncols(), a.ncols()) != (n, n, n) {
+            return Err(format!(
+                "A ({} × {}), Q ({} × {}) and P ({n} × {n}) do not fit one another",
+                a.nrows(),
+                a.ncols(),
+                q.nrows(),
+                q.ncols()
+            ));
+        }
         Ok(Context {
             springs,
             a,
             k,
-            q: to_sparse(q),
-            our_perm: super::factor::permutation_of(&to_sparse(p))?,
+            q,
+            our_perm,
             their_perm: None,
         })
     }

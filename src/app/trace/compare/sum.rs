@@ -18,18 +18,34 @@ use masssprings::linalg::dense::DenseMatrix;
 use masssprings::linalg::matrix_market::MatrixMarket;
 
 /// `s` for our `b`, from our `d` and `y` and the context's `A` and `k`.
+///
+/// # Errors
+/// When our files do not fit one another (`d` not `m × 3`, `y` not the
+/// shape of `b`): a trace folder edited by hand.
 pub fn term_sizes(
     b: &DenseMatrix,
     d: &MatrixMarket,
     y: &MatrixMarket,
     context: &Context,
-) -> DenseMatrix {
+) -> Result<DenseMatrix, String> {
     let (d, y) = (to_dense(d), to_dense(y));
     let (a, k) = (&context.a, context.k);
-    let mut sizes = DenseMatrix::zeros(b.nrows(), b.ncols());
-    for i in 0..a.ncols().min(b.nrows()) {
+    let shapes = [
+        (b.nrows(), b.ncols()),
+        (y.nrows(), y.ncols()),
+        (d.nrows(), d.ncols()),
+    ];
+    if shapes != [(a.ncols(), 3), (a.ncols(), 3), (a.nrows(), 3)] {
+        return Err(format!(
+            "b, y and d ({shapes:?}) do not fit A ({} × {})",
+            a.nrows(),
+            a.ncols()
+        ));
+    }
+    let mut sizes = DenseMatrix::zeros(b.nrows(), 3);
+    for i in 0..a.ncols() {
         let (springs, signs) = a.column(i); // column i of A: the springs at vertex i
-        for c in 0..b.ncols().min(d.ncols()) {
+        for c in 0..3 {
             let (mut springs_sum, mut size) = (0.0, 0.0);
             for (&e, &sign) in springs.iter().zip(signs) {
                 springs_sum += sign * d[(e, c)];
@@ -39,5 +55,5 @@ pub fn term_sizes(
             sizes[(i, c)] = k * size + y[(i, c)].abs() + pins.abs();
         }
     }
-    sizes
+    Ok(sizes)
 }
