@@ -103,20 +103,14 @@ fn uses(file: &Path) -> Vec<(Vec<String>, String)> {
 
 /// `mod name {` (not `mod name;`): the name.
 fn inline_module(line: &str) -> Option<String> {
-    let rest = line
-        .trim_start_matches("pub(crate) ")
-        .trim_start_matches("pub ");
+    let rest = line.trim_start_matches("pub(crate) ").trim_start_matches("pub ");
     let name = rest.strip_prefix("mod ")?.strip_suffix('{')?.trim();
     Some(name.to_string())
 }
 
 /// The file of `src/sim` that a use path (written in `module`) takes from,
 /// if any: the longest prefix of the resolved path that is a file.
-fn target(
-    module: &[String],
-    path: &str,
-    files: &BTreeMap<Vec<String>, PathBuf>,
-) -> Option<PathBuf> {
+fn target(module: &[String], path: &str, files: &BTreeMap<Vec<String>, PathBuf>) -> Option<PathBuf> {
     let mut resolved: Vec<String> = Vec::new();
     for (i, segment) in path.split("::").enumerate() {
         match (i, segment) {
@@ -247,9 +241,9 @@ fn functions(text: &str) -> Vec<(String, usize)> {
 fn function_name(code: &str) -> Option<String> {
     let words: Vec<&str> = code.split_whitespace().collect();
     let at = words.iter().position(|&w| w == "fn")?;
-    let before_ok = words[..at]
-        .iter()
-        .all(|w| w.starts_with("pub") || ["const", "unsafe", "extern", "async"].contains(w));
+    let before_ok = words[..at].iter().all(|w| {
+        w.starts_with("pub") || ["const", "unsafe", "extern", "async"].contains(w)
+    });
     let name = words.get(at + 1)?.split(['<', '(']).next()?;
     before_ok.then(|| name.to_string())
 }

@@ -50,11 +50,7 @@ fn max_distance(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
 
 /// The fast path's simulation of `scene` with the default options but
 /// `ordering` and `factorization`.
-fn fast<B: LinearAlgebra>(
-    scene: &Scene,
-    ordering: Ordering,
-    factorization: Method,
-) -> Simulation<B> {
+fn fast<B: LinearAlgebra>(scene: &Scene, ordering: Ordering, factorization: Method) -> Simulation<B> {
     let options = SimulationOptions {
         ordering,
         factorization,
@@ -64,11 +60,7 @@ fn fast<B: LinearAlgebra>(
 }
 
 /// One step of the handout's sparse functions from `(u_prev, u_cur)`.
-fn handout_step_sparse(
-    scene: &Scene,
-    ordering: Ordering,
-    state: [&[[f64; 3]]; 2],
-) -> Vec<[f64; 3]> {
+fn handout_step_sparse(scene: &Scene, ordering: Ordering, state: [&[[f64; 3]]; 2]) -> Vec<[f64; 3]> {
     let pre = precomputation_ordered(
         &scene.vertices,
         &scene.springs,
@@ -171,11 +163,7 @@ fn in_natural_order_with_the_simplicial_factor_both_paths_give_the_same_bits() {
         fast.step().unwrap();
         let textbook = handout_step_sparse(&scene, Ordering::Natural, [&u_prev, &u_cur]);
         for (i, (a, b)) in textbook.iter().zip(fast.positions()).enumerate() {
-            assert_eq!(
-                a.map(f64::to_bits),
-                b.map(f64::to_bits),
-                "{name}, vertex {i}"
-            );
+            assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "{name}, vertex {i}");
         }
     }
 }
@@ -188,16 +176,10 @@ fn a_textbook_simulation_runs_the_handout_functions_and_reports_nothing_measured
         ..SimulationOptions::default()
     };
     let mut simulation = Simulation::<Sparse>::from_scene(&scene, options).unwrap();
-    assert!(
-        simulation.system().is_none(),
-        "no fast-path system is built"
-    );
+    assert!(simulation.system().is_none(), "no fast-path system is built");
     let report = simulation.step().unwrap();
     assert_eq!((report.method, report.iterations), (StepMethod::Plain, 50));
-    assert_eq!(
-        (report.energy_decrease, report.relative_gradient),
-        (None, None)
-    );
+    assert_eq!((report.energy_decrease, report.relative_gradient), (None, None));
     let v = &scene.vertices;
     let by_hand = handout_step_sparse(&scene, Ordering::Amd, [v, v]);
     assert_eq!(simulation.positions(), &by_hand[..]);
