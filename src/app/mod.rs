@@ -20,6 +20,7 @@ mod spy;
 mod steps_plot;
 mod suggest;
 mod timing;
+mod trace;
 mod view;
 
 use args::CommandSpec;
@@ -134,6 +135,7 @@ const COMMANDS: &[&CommandSpec] = &[
     &export_q::COMMAND,
     &spy::COMMAND,
     &etree::COMMAND,
+    &trace::COMMAND,
     &generate::COMMAND,
 ];
 

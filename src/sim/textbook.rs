@@ -197,26 +197,43 @@ pub fn fast_mass_springs_step_sparse(
     let n = U_cur.len();
     let y = inertial_term(pre, f_ext, U_prev, U_cur); // M (2 U_cur − U_prev)/Δt² + f_ext
     let pins = pin_term(pre); // w CᵀC V
-    let L = pre
-        .prefactorization
-        .simplicial_factor()
-        .expect("a simplicial factor");
-    let perm = pre.prefactorization.symbolic().permutation().perm(); // row r of P b is b[perm[r]]
     let (mut d, mut b) = (vec![[0.0; 3]; pre.springs.len()], vec![[0.0; 3]; n]);
     let (mut p, mut x) = (U_cur.to_vec(), vec![[0.0; 3]; n]);
     for _ in 0..pre.iterations {
         project_springs(&pre.springs, &pre.r, &p, &mut d); // local step
         right_hand_side(pre, &d, &y, &pins, &mut b); // b = k Aᵀd + y + w CᵀC V
-        for (row, &i) in x.iter_mut().zip(perm) {
-            *row = b[i]; // x = P b
-        }
-        forward_substitution_sparse(L, &mut x); // x = L⁻¹ x
-        back_substitution_sparse(L, &mut x); // x = L⁻ᵀ x
-        for (row, &i) in x.iter().zip(perm) {
-            p[i] = *row; // p = Pᵀ x
-        }
+        solve_sparse(pre, &b, &mut x, &mut p); // p = back_substitution(Lᵀ, forward_substitution(L, b))
     }
     U_next.copy_from_slice(&p);
+}
+
+/// The global step of [`fast_mass_springs_step_sparse`]: `p = Q⁻¹ b`,
+/// computed as `p = Pᵀ L⁻ᵀ L⁻¹ P b` with the simplicial factor (`x`
+/// holds `P b` on the way, then the substitutions' results).
+///
+/// # Panics
+/// When a slice does not have one row per vertex, or `pre` was not
+/// factored by the simplicial method.
+pub fn solve_sparse(
+    pre: &Precomputation<Sparse>,
+    b: &[[f64; 3]],
+    x: &mut [[f64; 3]],
+    p: &mut [[f64; 3]],
+) {
+    let L = pre
+        .prefactorization
+        .simplicial_factor()
+        .expect("a simplicial factor");
+    let perm = pre.prefactorization.symbolic().permutation().perm(); // row r of P b is b[perm[r]]
+    assert!(b.len() == perm.len() && x.len() == perm.len() && p.len() == perm.len());
+    for (row, &i) in x.iter_mut().zip(perm) {
+        *row = b[i]; // x = P b
+    }
+    forward_substitution_sparse(L, x); // x = L⁻¹ x
+    back_substitution_sparse(L, x); // x = L⁻ᵀ x
+    for (row, &i) in x.iter().zip(perm) {
+        p[i] = *row; // p = Pᵀ x
+    }
 }
 
 /// The handout's `fast_mass_springs_step_dense`: the same iteration, the

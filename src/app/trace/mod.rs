@@ -1,0 +1,240 @@
+//! `masssprings trace SCENE.json [--step K] [--iterations N] -o DIR`:
+//! every quantity of the handout on a scene, one Matrix Market file each,
+//! so that a student can compare their own `A`, `r`, `M`, `C`, `Q`, `L`,
+//! `y`, `d`, `b`, `p` with ours; and `masssprings trace --compare DIR
+//! OTHER`, which does that comparison and names the first quantity that
+//! differs.
+//!
+//! | file | what |
+//! |---|---|
+//! | [`quantities`] | the table: each file's symbol, equation, shape, function and check |
+//! | [`compute`] | the quantities, by the handout's functions in the handout's order |
+//! | [`readme`] | `DIR/README.md`, from the table |
+//! | [`compare`] | `--compare`: quantity by quantity, the largest difference and where |
+//!
+//! Sparse matrices are written as `coordinate real general` files, dense
+//! ones as `array real general` (column-major), 17 significant digits, both
+//! 1-based in the handout's row and column order (`P` and `L`: the factor's
+//! order), so Eigen's `loadMarket`, MATLAB's `mmread` and
+//! `scipy.io.mmread` read them as they are. `DIR/trace.json` records the
+//! scene, step, iterations, ordering and files for `--compare`.
+
+mod compare;
+mod compute;
+mod quantities;
+mod readme;
+
+use super::args::{Args, CommandSpec, Flag};
+use super::spy::required_out;
+use super::{load_scene, AppError};
+use compute::{labelled, trace, TraceOptions, Value};
+use masssprings::files::{remove_stale_temporaries, write_file};
+use masssprings::linalg::matrix_market::{write_array, write_coordinate, Symmetry};
+use masssprings::linalg::sparse::Ordering;
+use masssprings::mesh::Scene;
+use masssprings::sim::ITERATIONS;
+use quantities::Quantity;
+use std::path::{Path, PathBuf};
+
+/// `trace`'s operands and flags.
+pub static COMMAND: CommandSpec = CommandSpec {
+    name: "trace",
+    operands: "SCENE.json -o DIR | --compare DIR OTHER",
+    summary: "Write every quantity of the handout, to check a solution against.",
+    details: "\
+Runs the handout's precomputation and step (sim::textbook) on the scene and
+writes A, r, M, C, Q, P, L, and for step K: U_prev, U_cur, y, and each of the
+first N iterations' d, b and p, one Matrix Market file each (17 significant
+digits), with DIR/README.md saying what each holds and how to compare.
+
+With --compare DIR OTHER, compares the files of OTHER (same names and formats,
+any subset: yours) with those of DIR (written by trace), in the handout's
+order, and exits with 1 when one differs: the first DIFFERS line is the first
+quantity to fix.",
+    flags: &[
+        Flag::value("out", "DIR", "The folder to write (required)."),
+        Flag::value("step", "K", "The step to trace, from 1 (default 1)."),
+        Flag::value(
+            "iterations",
+            "N",
+            "Iterations of step K to write, 1 to 50 (default 2).",
+        ),
+        Flag::value("ordering", "amd|natural", "P's ordering (default amd)."),
+        Flag::switch("compare", "Compare OTHER's files with DIR's."),
+    ],
+    shorts: &[('o', "out")],
+    run,
+};
+
+/// What `trace.json` records about a trace, for `--compare`.
+#[derive(Debug, serde::Serialize, serde::Deserialize)]
+pub struct Manifest {
+    pub scene: String,
+    pub step: usize,
+    pub iterations: usize,
+    pub ordering: String,
+    pub vertices: usize,
+    pub springs: usize,
+    pub pins: usize,
+    /// The stiffness `k`, which `--compare` needs for the size of `b`'s terms.
+    pub k: f64,
+    pub files: Vec<String>,
+}
+
+/// The file `--compare` reads first.
+const MANIFEST: &str = "trace.json";
+
+pub fn run(args: &[String]) -> Result<(), AppError> {
+    let args = Args::parse(args, &COMMAND)?;
+    if args.switch("compare") {
+        return match args.positionals() {
+            [ours, theirs] => compare::run(Path::new(ours), Path::new(theirs)),
+            _ => Err(AppError::Usage(
+                "--compare needs two folders: --compare DIR OTHER".into(),
+            )),
+        };
+    }
+    let scene_path = PathBuf::from(args.single_positional("SCENE.json")?);
+    let out = required_out(&args, "trace", "DIR")?;
+    let options = TraceOptions {
+        step: args.count("step", 1, 1)?,
+        iterations: args.whole_number("iterations", 2, 1..=ITERATIONS as u64)? as usize,
+        ordering: args.parsed("ordering", Ordering::Amd, "amd or natural")?,
+    };
+    let scene = load_scene(&scene_path)?;
+    prepare_folder(&out, &scene_path, &scene)?;
+    let start = std::time::Instant::now();
+    let values = labelled(trace(&scene, options)?, options.iterations);
+    let manifest = manifest(&scene_path, &scene, options, &values);
+    write_all(&out, &scene_path, &values, &manifest)?;
+    println!(
+        "{}: {} files of {} (n = {}, m = {}), step {}, {} iteration(s), {} ordering, in {:.2} s",
+        out.display(),
+        values.len(),
+        scene_path.display(),
+        scene.vertices.len(),
+        scene.springs.len(),
+        options.step,
+        options.iterations,
+        options.ordering.name(),
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+/// Creates `out` (refusing a file), removes the temporaries of killed
+/// runs, refuses to overwrite the scene's own files, and removes the files
+/// of an earlier trace there (its `trace.json` lists them) so none of them
+/// is mistaken for this one's.
+fn prepare_folder(out: &Path, scene_path: &Path, scene: &Scene) -> Result<(), AppError> {
+    if out.exists() && !out.is_dir() {
+        return Err(AppError::Failed(format!(
+            "-o {}: this is a file; trace writes a folder of files (give a new or empty folder)",
+            out.display()
+        )));
+    }
+    std::fs::create_dir_all(out)
+        .map_err(|e| AppError::Failed(format!("-o {}: cannot create it: {e}", out.display())))?;
+    remove_stale_temporaries(out)?;
+    let inputs: Vec<PathBuf> = std::iter::once(scene_path)
+        .chain(scene.texture.as_deref())
+        .filter_map(|path| std::fs::canonicalize(path).ok())
+        .collect();
+    let ours = quantities::quantities(ITERATIONS).into_iter();
+    let names = ours
+        .map(|q| q.file_name())
+        .chain(["README.md".into(), MANIFEST.into()]);
+    for name in names {
+        let target = std::fs::canonicalize(out.join(&name));
+        if target.is_ok_and(|target| inputs.contains(&target)) {
+            return Err(AppError::Failed(format!(
+                "-o {}: trace would overwrite {name}, an input of the scene; choose another folder",
+                out.display()
+            )));
+        }
+    }
+    remove_earlier_trace(out)
+}
+
+/// Removes the files an earlier trace in `out` listed in its manifest.
+fn remove_earlier_trace(out: &Path) -> Result<(), AppError> {
+    let Ok(manifest) = read_manifest(out) else {
+        return Ok(()); // no earlier trace (or not one of ours): leave everything
+    };
+    for name in manifest.files {
+        if is_trace_file(&name) {
+            let _ = std::fs::remove_file(out.join(name)); // already gone is fine
+        }
+    }
+    Ok(())
+}
+
+/// A name `trace` writes: `A.mtx`, `d_12.mtx` (never a path).
+fn is_trace_file(name: &str) -> bool {
+    quantities::quantities(ITERATIONS)
+        .iter()
+        .any(|q| q.file_name() == name)
+}
+
+/// The manifest of the trace in `folder`.
+pub fn read_manifest(folder: &Path) -> Result<Manifest, AppError> {
+    let path = folder.join(MANIFEST);
+    let text = masssprings::files::read_text(&path).map_err(|e| {
+        AppError::Failed(format!(
+            "{e} ({} is not a folder written by masssprings trace)",
+            folder.display()
+        ))
+    })?;
+    serde_json::from_str(&text)
+        .map_err(|e| AppError::Failed(format!("{}:{}: {e}", path.display(), e.line())))
+}
+
+fn manifest(
+    scene_path: &Path,
+    scene: &Scene,
+    options: TraceOptions,
+    values: &[(Quantity, Value)],
+) -> Manifest {
+    Manifest {
+        scene: scene_path.display().to_string(),
+        step: options.step,
+        iterations: options.iterations,
+        ordering: options.ordering.name().to_string(),
+        vertices: scene.vertices.len(),
+        springs: scene.springs.len(),
+        pins: scene.pinned.len(),
+        k: scene.k,
+        files: values.iter().map(|(q, _)| q.file_name()).collect(),
+    }
+}
+
+/// Every quantity's file, then the README and the manifest (last: a
+/// folder with a manifest holds a complete trace).
+fn write_all(
+    out: &Path,
+    scene_path: &Path,
+    values: &[(Quantity, Value)],
+    manifest: &Manifest,
+) -> Result<(), AppError> {
+    for (quantity, value) in values {
+        let comment = format!(
+            "{}: {} ({}) of {}, step {}\nwritten by masssprings trace; see README.md",
+            quantity.name(),
+            quantity.spec.equation,
+            quantity.spec.shape,
+            scene_path.display(),
+            manifest.step,
+        );
+        write_file(&out.join(quantity.file_name()), |file| match value {
+            Value::Sparse(matrix) => write_coordinate(file, matrix, Symmetry::General, &comment),
+            Value::Dense(matrix) => write_array(file, matrix, &comment),
+        })?;
+    }
+    let text = readme::readme(manifest, values);
+    write_file(&out.join("README.md"), |file| {
+        file.write_all(text.as_bytes())
+    })?;
+    let json = serde_json::to_string_pretty(manifest).expect("plain values serialise");
+    write_file(&out.join(MANIFEST), |file| writeln!(file, "{json}"))?;
+    Ok(())
+}

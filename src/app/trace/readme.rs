@@ -1,0 +1,152 @@
+//! `DIR/README.md`: what each file of a trace holds and how a student
+//! compares their own, written from the table of
+//! [`quantities`](super::quantities) and the values of this trace (their
+//! shapes and sizes).
+
+use super::compute::Value;
+use super::quantities::{Check, Quantity, SPECS};
+use super::Manifest;
+use std::fmt::Write;
+
+/// The README of a trace.
+pub fn readme(manifest: &Manifest, values: &[(Quantity, Value)]) -> String {
+    let mut text = String::new();
+    header(&mut text, manifest);
+    table(&mut text, values);
+    tolerances(&mut text);
+    how_to_compare(&mut text, manifest);
+    text
+}
+
+fn header(text: &mut String, m: &Manifest) {
+    let _ = write!(
+        text,
+        "# Every quantity of the handout: {scene}, step {step}\n\n\
+         Written by `masssprings trace {scene} --step {step} --iterations {iterations} \
+         --ordering {ordering} -o DIR`: the handout's precomputation and step \
+         (`sim::textbook`), run exactly in the handout's order. The state of step {step} \
+         comes from {before} handout step(s) from rest (`U_prev = U_cur = V`) under gravity \
+         `f_ext = (0, −9.8, 0)` at every vertex; then `p = U_cur` and each iteration computes \
+         `d` (local step), `b`, and `p = Q⁻¹ b`. The files `d_k`, `b_k`, `p_k` are those of \
+         iteration `k` of step {step}; `p_{iterations}` is what the handout's step returns \
+         with {iterations} iteration(s) instead of 50.\n\n\
+         n = {n} vertices, m = {springs} springs, |b| = {pins} pinned vertices, \
+         Δt = 1/30, w = 1e10.\n\n\
+         Every file is Matrix Market, 1-based, 17 significant digits: sparse matrices as \
+         `coordinate real general` (every entry, both triangles of `Q`), dense ones as \
+         `array real general` (column by column). Rows and columns are in the handout's \
+         order: vertices as the rows of `V` (the OBJ's `v` lines), springs as the rows of `E` \
+         (libigl's `edges` order), pins as the scene's list `b`; `P` and `L` are in the \
+         factor's order (`L Lᵀ = P Q Pᵀ`).\n\n",
+        scene = m.scene,
+        step = m.step,
+        iterations = m.iterations,
+        ordering = m.ordering,
+        before = m.step - 1,
+        n = m.vertices,
+        springs = m.springs,
+        pins = m.pins,
+    );
+}
+
+/// One row per file, in the handout's order.
+fn table(text: &mut String, values: &[(Quantity, Value)]) {
+    text.push_str(
+        "| file | symbol | equation | shape | computed by | compare |\n|---|---|---|---|---|---|\n",
+    );
+    for (quantity, value) in values {
+        let spec = quantity.spec;
+        let size = match value {
+            Value::Sparse(a) => format!("{} × {}, {} entries", a.nrows(), a.ncols(), a.nnz()),
+            Value::Dense(a) => format!("{} × {}", a.nrows(), a.ncols()),
+        };
+        let _ = writeln!(
+            text,
+            "| `{}` | `{}` | {} | {} ({}) | `{}` | {} |",
+            quantity.file_name(),
+            quantity.name(),
+            spec.equation,
+            size,
+            spec.shape,
+            spec.function,
+            rule(spec.check),
+        );
+    }
+    text.push('\n');
+}
+
+/// The comparison rule of a check, in a few words.
+fn rule(check: Check) -> String {
+    match check {
+        Check::Entries { tolerance: 0.0 } => "exactly".into(),
+        Check::Entries { tolerance } => format!("entries, {tolerance:e} relative"),
+        Check::Ordering => "any permutation (reported)".into(),
+        Check::Factor { tolerance } => format!("L Lᵀ = P Q Pᵀ, {tolerance:e} relative"),
+        Check::Sum { tolerance } => format!("entries, {tolerance:e} of their terms"),
+    }
+}
+
+/// Why each tolerance, and which quantities are unique.
+fn tolerances(text: &mut String) {
+    text.push_str(
+        "## Tolerances, and which quantities are unique\n\n\
+         An entry agrees when `|ours − yours| ≤ tolerance · s`, with `s` the largest of \
+         `|ours|`, `|yours|` and the largest `|ours|` in its row (so a zero next to large \
+         entries is held to its row's scale, and a row of pins to its `w = 1e10`).\n\n",
+    );
+    for spec in &SPECS {
+        let _ = writeln!(
+            text,
+            "* `{}` ({}): {}.",
+            spec.symbol,
+            rule(spec.check),
+            spec.why
+        );
+    }
+    text.push_str(
+        "\nEverything but `P` and `L` is unique: it follows from the scene, the step and the \
+         iteration alone, so a correct solution matches it whatever its ordering or solver. \
+         `L` is unique once `P` is chosen, but a different ordering (Eigen's AMD is not \
+         ours) gives different entries, so `L` is checked through `L Lᵀ = P Q Pᵀ` with your \
+         `P`; `p` does not depend on the ordering (only its last bits do).\n\n",
+    );
+}
+
+fn how_to_compare(text: &mut String, m: &Manifest) {
+    let _ = write!(
+        text,
+        "## Comparing your own solution\n\n\
+         Write your quantities of the same scene, step and iteration into a folder, with \
+         these names and shapes (any subset), then:\n\n\
+         ```sh\n\
+         masssprings trace --compare DIR YOURS\n\
+         ```\n\n\
+         It goes through the quantities in the order above and prints, for each, whether it \
+         agrees, its largest difference and where (row, column, and the vertex or spring); \
+         the first `DIFFERS` line is the first piece of code to look at, and the exit code \
+         is 1 when any quantity differs.\n\n\
+         From C++ with Eigen (`#include <unsupported/Eigen/SparseExtra>`): \
+         `Eigen::saveMarket(A, \"A.mtx\")` for a sparse matrix; \
+         `Eigen::saveMarketVector(r, \"r.mtx\")` for a vector. Eigen 3.4 has no writer for \
+         a dense matrix (later versions have `saveMarketDense`): for an n × 3 matrix write \
+         the line `%%MatrixMarket matrix array real general`, then `rows cols`, then the \
+         values column by column with `std::setprecision(17)`; read ours the same way. \
+         For `P` from \
+         `Eigen::SimplicialLLT`, write the triplets `(P.indices()(i), i, 1)` of \
+         `P = prefactorization.permutationP()`, and `L` as \
+         `Eigen::SparseMatrix<double> L = prefactorization.matrixL();`. Your dense code \
+         writes the same files (a dense `M` or `Q` is read as it is); trace a small scene \
+         for it, since an n × n array of this scene holds {n2} values.\n\n\
+         For a step K > 1, start your step from our `U_prev.mtx` and `U_cur.mtx` \
+         rather than from \
+         your own K − 1 steps: two correct solutions drift apart by their rounding from step \
+         to step, slowly on the flag and within a few steps on the skirt, whose buckling \
+         turns rounding into centimetres; from the same state, `y`, `d`, `b` and `p` agree \
+         to the tolerances above.\n\n\
+         From Python: `scipy.io.mmread(\"A.mtx\")` gives a sparse matrix for a coordinate \
+         file and an array for an array file, with the shapes of the table; \
+         `scipy.io.mmwrite` writes files `--compare` reads. In MATLAB, `mmread.m` from the \
+         Matrix Market site reads both.\n",
+        n2 = m.vertices * m.vertices,
+    );
+}
