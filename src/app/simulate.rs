@@ -237,7 +237,7 @@ fn simulate<B: LinearAlgebra>(
         Some(folder) if resumed_from.is_some() => {
             // the run's own folder: its frames stay, and they number on
             remove_stale_temporaries(folder)?;
-            write_material(folder, scene)?
+            write_material(folder, scene, texture)?
         }
         Some(folder) => {
             prepare_out_folder(folder)?;
