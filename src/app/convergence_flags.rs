@@ -24,7 +24,8 @@ pub const ACCURACY: Flag = Flag::value(
     "A",
     "Solve every step to a named accuracy, as fast as we know how: assignment (at least as \
      low in energy as the assignment's 50 plain iterations; L-BFGS, --energy-tolerance 0.15 \
-     --at-least-plain 50). Instead of --method and the stopping rules.",
+     --at-least-plain 50, at most 20 iterations unless --iterations says otherwise). Instead \
+     of --method and the stopping rules.",
 );
 /// The flags `--accuracy` chooses for the user.
 const CHOSEN_BY_ACCURACY: [&str; 4] = ["method", "tolerance", "energy-tolerance", "at-least-plain"];
