@@ -16,7 +16,11 @@
 //! step as `simulate` would. Its CSV then has one row per step and method
 //! (when the method reached plain-50's energy, or where its rule stopped
 //! it beside plain-50's energy), so that the steps behind a median can be
-//! read one by one.
+//! read one by one. With `--accuracy` instead of a rule, it compares the
+//! accuracy's settings with the assignment's over whole animations
+//! ([`accuracy`]).
+
+mod accuracy;
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{
@@ -32,7 +36,7 @@ use masssprings::sim::energy::free_norm;
 use masssprings::sim::methods::chebyshev::estimate_rho;
 use masssprings::sim::monitor::Iterate;
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::Start;
+use masssprings::sim::{Accuracy, Start, DELTA_T};
 use masssprings::sim::{Simulation, Sparse, StepControl, StepMethod, Stop};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -67,6 +71,9 @@ struct Request {
     over_steps: Option<usize>,
     /// The canonical simulation: plain, 50 iterations, the pins given.
     canonical: SimulationOptions,
+    /// `--accuracy A` (with `--steps`): the accuracy's settings against the
+    /// assignment's, over whole animations.
+    accuracy: Option<Accuracy>,
 }
 
 /// Plain iterations whose energies are the yardsticks.
@@ -121,6 +128,19 @@ two-panel plot.",
         ),
         ENERGY_TOLERANCE,
         AT_LEAST_PLAIN,
+        Flag::value(
+            "accuracy",
+            "A",
+            "With --steps: run the accuracy's settings (assignment: those of simulate \
+             --accuracy assignment) and the assignment's plain-50 side by side, each step from \
+             the same state; print the total time of each, the steps that ended above \
+             plain-50's energy, and how far the two trajectories part when each runs on its own.",
+        ),
+        Flag::value(
+            "delta-t",
+            "DT",
+            "The time step in seconds, 1e-4 to 1 (default 1/30, the assignment's).",
+        ),
         ITERATIONS,
         RHO,
         RELAXATION,
@@ -187,7 +207,7 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
     let args = Args::parse(args, &COMMAND)?;
     let scene = PathBuf::from(args.single_positional("SCENE.json")?);
     let step = args.count("step", 1, 1)?;
-    let methods = match args.text("methods").unwrap_or("").to_string() {
+    let mut methods = match args.text("methods").unwrap_or("").to_string() {
         list if list.is_empty() => StepMethod::ALL.to_vec(),
         list => list
             .split(',')
@@ -200,12 +220,27 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
     convergence_flags::apply(&args, &mut sim_options)?;
     // `--steps S` selects the mode over steps (`--steps 0` is an error)
     let over_steps = args.optional_count("steps", 1)?;
+    let accuracy = args
+        .text("accuracy")
+        .and_then(|_| Accuracy::of(&sim_options.step));
     if sim_options.step.has_stopping_rule() && over_steps.is_none() {
         return Err(AppError::Usage(
-            "--tolerance, --energy-tolerance and --at-least-plain need --steps S (one step's \
-             curves always run every iteration)"
+            "--accuracy, --tolerance, --energy-tolerance and --at-least-plain need --steps S \
+             (one step's curves always run every iteration)"
                 .into(),
         ));
+    }
+    if accuracy.is_some() {
+        if let Some(other) = ["step", "methods"]
+            .into_iter()
+            .find(|f| args.text(f).is_some())
+        {
+            return Err(AppError::Usage(format!(
+                "--accuracy and --{other} cannot be given together (--accuracy compares its own \
+                 method with plain over --steps S)"
+            )));
+        }
+        methods = vec![sim_options.step.method];
     }
     let path = |name: &str| -> Result<Option<PathBuf>, AppError> {
         Ok(args.text(name).map(PathBuf::from))
@@ -219,9 +254,11 @@ fn parse(args: &[String]) -> Result<Request, AppError> {
         plot: path("plot")?,
         canonical: SimulationOptions {
             pins: sim_options.pins,
+            delta_t: args.number("delta-t", DELTA_T, 1e-4..=1.0)?,
             ..SimulationOptions::default()
         },
         over_steps,
+        accuracy,
     })
 }
 
@@ -417,6 +454,9 @@ fn curves_for_plot(curves: &[Curve]) -> Vec<super::convergence_plot::PlotCurve> 
 /// (the accuracy the assignment settles for); prints, per method, the
 /// median over the steps and its ratio to plain-50's median.
 fn run_over_steps(request: &Request, scene: &Scene, steps: usize) -> Result<(), AppError> {
+    if let Some(accuracy) = request.accuracy {
+        return accuracy::run(request, scene, steps, accuracy);
+    }
     if request.control.has_stopping_rule() {
         return run_over_steps_to_tolerance(request, scene, steps);
     }
@@ -451,10 +491,7 @@ fn run_over_steps(request: &Request, scene: &Scene, steps: usize) -> Result<(), 
                 plain_50_ms: ms_of_plain,
             });
         }
-        simulation
-            .step()
-            .map_err(|e| AppError::Failed(format!("step {step}: {e}")))?;
-        eprint!("\rconverge: step {step}/{steps}");
+        advance(&mut simulation, step, steps)?;
     }
     eprintln!();
     let plain_median = super::timing::median(&mut plain_50_ms);
@@ -564,56 +601,22 @@ fn run_over_steps_to_tolerance(
     scene: &Scene,
     steps: usize,
 ) -> Result<(), AppError> {
-    let mut simulation = precompute::<Sparse>(scene, &request.scene, request.canonical)?;
-    let plain_50 = StepControl {
-        method: StepMethod::Plain,
-        iterations: YARDSTICKS[0],
-        ..yardstick(&request.control).without_stopping_rules()
-    };
-    let mut control = request.control;
-    // One runner per method, kept across steps so that each method's work
-    // arrays are made once (as in a simulation), and set to the canonical
-    // state before each timed step.
-    let mut plain_runner = simulation.clone();
-    let mut runners = vec![simulation.clone(); request.methods.len()];
-    let mut plain_ms = Vec::new();
+    let (scene_name, step_rows) = rule_rows(request, scene, steps)?;
+    let mut plain_ms: Vec<f64> = step_rows
+        .iter()
+        .step_by(request.methods.len())
+        .map(|r| r.plain_50_ms)
+        .collect();
     let mut rows: Vec<(Vec<f64>, Vec<f64>, usize)> =
         vec![(Vec::new(), Vec::new(), 0); request.methods.len()];
-    let mut step_rows = Vec::new();
-    for step in 1..=steps {
-        if control.rho.is_none() {
-            let plain = trace(&simulation, &control, StepMethod::Plain, YARDSTICKS[0])?;
-            control.rho = Some(rho_from(&plain));
+    for (i, r) in step_rows.iter().enumerate() {
+        let row = &mut rows[i % request.methods.len()];
+        row.0.push(r.ms);
+        row.1.push(r.iterations as f64);
+        if r.energy <= r.plain_50_energy + 1e-12 * r.plain_50_energy.abs() {
+            row.2 += 1;
         }
-        let (plain_report, ms_of_plain) = timed_step(&mut plain_runner, &simulation, &plain_50)?;
-        plain_ms.push(ms_of_plain);
-        let target = -measured_decrease(&plain_report);
-        for ((&method, runner), row) in request.methods.iter().zip(&mut runners).zip(&mut rows) {
-            let control = StepControl { method, ..control };
-            let (report, ms) = timed_step(runner, &simulation, &control)?;
-            row.0.push(ms);
-            row.1.push(report.iterations as f64);
-            let energy = -measured_decrease(&report);
-            if energy <= target + 1e-12 * target.abs() {
-                row.2 += 1;
-            }
-            step_rows.push(RuleRow {
-                step,
-                method,
-                iterations: report.iterations,
-                stop: report.stop,
-                energy,
-                plain_50_energy: target,
-                ms,
-                plain_50_ms: ms_of_plain,
-            });
-        }
-        simulation
-            .step()
-            .map_err(|e| AppError::Failed(format!("step {step}: {e}")))?;
-        eprint!("\rconverge: step {step}/{steps}");
     }
-    eprintln!();
     let plain_median = super::timing::median(&mut plain_ms);
     let rules = [
         ("--tolerance", request.control.tolerance),
@@ -648,9 +651,67 @@ fn run_over_steps_to_tolerance(
         write_file(path, |out| write_rule_csv(out, &step_rows))?;
     }
     if let Some(path) = &request.plot {
-        let title = format!("{}, {rules}: each step against plain-50's", scene.name);
+        let title = format!("{scene_name}, {rules}: each step against plain-50's");
         draw_rule(path, title, &request.methods, &step_rows)?;
     }
+    Ok(())
+}
+
+/// The rows of `--steps S` with a rule: for each of the canonical steps
+/// 1…S, plain-50 and then each method solve the step from the same
+/// state, each timed whole (interleaved, in one process), stopping by the
+/// request's rules; the scene's name beside them.
+fn rule_rows(
+    request: &Request,
+    scene: &Scene,
+    steps: usize,
+) -> Result<(String, Vec<RuleRow>), AppError> {
+    let mut simulation = precompute::<Sparse>(scene, &request.scene, request.canonical)?;
+    let plain_50 = StepControl {
+        method: StepMethod::Plain,
+        iterations: YARDSTICKS[0],
+        ..yardstick(&request.control).without_stopping_rules()
+    };
+    let mut control = request.control;
+    // One runner per method, kept across steps so that each method's work
+    // arrays are made once (as in a simulation), and set to the canonical
+    // state before each timed step.
+    let mut plain_runner = simulation.clone();
+    let mut runners = vec![simulation.clone(); request.methods.len()];
+    let mut step_rows = Vec::new();
+    for step in 1..=steps {
+        if control.rho.is_none() {
+            let plain = trace(&simulation, &control, StepMethod::Plain, YARDSTICKS[0])?;
+            control.rho = Some(rho_from(&plain));
+        }
+        let (plain_report, ms_of_plain) = timed_step(&mut plain_runner, &simulation, &plain_50)?;
+        let target = -measured_decrease(&plain_report);
+        for (&method, runner) in request.methods.iter().zip(&mut runners) {
+            let control = StepControl { method, ..control };
+            let (report, ms) = timed_step(runner, &simulation, &control)?;
+            step_rows.push(RuleRow {
+                step,
+                method,
+                iterations: report.iterations,
+                stop: report.stop,
+                energy: -measured_decrease(&report),
+                plain_50_energy: target,
+                ms,
+                plain_50_ms: ms_of_plain,
+            });
+        }
+        advance(&mut simulation, step, steps)?;
+    }
+    eprintln!();
+    Ok((scene.name.clone(), step_rows))
+}
+
+/// The canonical simulation's step `step` of `steps`, with progress.
+fn advance(simulation: &mut Simulation<Sparse>, step: usize, steps: usize) -> Result<(), AppError> {
+    simulation
+        .step()
+        .map_err(|e| AppError::Failed(format!("step {step}: {e}")))?;
+    eprint!("\rconverge: step {step}/{steps}");
     Ok(())
 }
 

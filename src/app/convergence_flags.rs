@@ -1,23 +1,35 @@
 //! The flags that choose how each step is solved, shared by `simulate`,
 //! `render`, `view` and `converge`: `--method`, `--tolerance`,
 //! `--energy-tolerance`, `--at-least-plain`, `--iterations`, `--rho`,
-//! `--relaxation`, `--window`, `--start`, `--pins`. A command lists the ones it accepts in
+//! `--relaxation`, `--window`, `--start`, `--pins`, and `--accuracy`,
+//! which names the method and rules instead of spelling them out. A command lists the ones it accepts in
 //! its flag table ([`super::args::CommandSpec`]); [`apply`] reads those
 //! that were declared.
 
 use super::args::{Args, Flag};
 use super::AppError;
 use masssprings::sim::control::{
-    is_open_fraction, is_plain_multiple, Start, AT_LEAST_PLAIN_LIMITS, MAX_WINDOW,
+    is_open_fraction, is_plain_multiple, Accuracy, Start, AT_LEAST_PLAIN_LIMITS, MAX_WINDOW,
 };
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::StepMethod;
+use masssprings::sim::{StepControl, StepMethod};
 
 pub const METHOD: Flag = Flag::value(
     "method",
     "M",
     "How each step is solved: plain, chebyshev, anderson, lbfgs or newton (default plain).",
 );
+pub const ACCURACY: Flag = Flag::value(
+    "accuracy",
+    "A",
+    "Solve every step to a named accuracy, as fast as we know how: assignment (at least as \
+     low in energy as the assignment's 50 plain iterations; L-BFGS, --energy-tolerance 0.15 \
+     --at-least-plain 50, at most 20 iterations unless --iterations says otherwise). Instead \
+     of --method and the stopping rules.",
+);
+/// The flags `--accuracy` chooses for the user.
+const CHOSEN_BY_ACCURACY: [&str; 4] = ["method", "tolerance", "energy-tolerance", "at-least-plain"];
+
 pub const TOLERANCE: Flag = Flag::value(
     "tolerance",
     "T",
@@ -80,6 +92,12 @@ pub const PINS: Flag = Flag::value(
 /// # Errors
 /// A usage error for an unknown method or a value out of range.
 pub fn apply(args: &Args, options: &mut SimulationOptions) -> Result<(), AppError> {
+    if let Some(accuracy) = accuracy(args)? {
+        options.step = StepControl {
+            measure: options.step.measure,
+            ..StepControl::for_accuracy(accuracy)
+        };
+    }
     if args.declares("method") {
         let names = StepMethod::ALL.map(StepMethod::name);
         let name = args.choice("method", options.step.method.name(), &names)?;
@@ -142,6 +160,26 @@ pub fn apply(args: &Args, options: &mut SimulationOptions) -> Result<(), AppErro
                 as usize;
     }
     Ok(())
+}
+
+/// `--accuracy`, if declared and given; refused beside a flag it sets.
+fn accuracy(args: &Args) -> Result<Option<Accuracy>, AppError> {
+    if !args.declares("accuracy") {
+        return Ok(None);
+    }
+    let Some(text) = args.text("accuracy") else {
+        return Ok(None);
+    };
+    if let Some(other) = CHOSEN_BY_ACCURACY
+        .into_iter()
+        .find(|&name| args.declares(name) && args.text(name).is_some())
+    {
+        return Err(AppError::Usage(format!(
+            "--accuracy and --{other} cannot be given together (--accuracy chooses the method \
+             and the stopping rules)"
+        )));
+    }
+    text.trim().parse().map(Some).map_err(AppError::Usage)
 }
 
 /// `--name` as a number strictly between 0 and 1, if given.

@@ -18,8 +18,8 @@
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{
-    self, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START,
-    TOLERANCE, WINDOW,
+    self, ACCURACY, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO,
+    START, TOLERANCE, WINDOW,
 };
 use super::factorization_flags::{self, FACTORIZATION, ORDERING, TEXTBOOK};
 use super::limits::precompute;
@@ -31,7 +31,7 @@ use super::{load_scene, AppError};
 use masssprings::files::{remove_stale_temporaries, same_file, write_file, FilePlan};
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::{Dense, LinearAlgebra, Sparse};
+use masssprings::sim::{Accuracy, Dense, LinearAlgebra, Sparse};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -54,7 +54,12 @@ struct Summary {
     at_least_plain: Option<f64>,
     /// Where each step's iterations started (`current` or `inertial`).
     start: &'static str,
+    /// The accuracy whose method and rules these are (`--accuracy`), if any.
+    accuracy: Option<&'static str>,
     iterations_median: f64,
+    iterations_max: usize,
+    /// How many steps each rule stopped (`Iterations`, `EnergyTolerance`, …).
+    stops: std::collections::BTreeMap<String, usize>,
     /// `None` when the steps did not measure it (the plain fixed-count
     /// step does not).
     relative_gradient_median: Option<f64>,
@@ -120,6 +125,7 @@ time and the total time.",
             "json",
             "Print one JSON object instead of the table (no progress).",
         ),
+        ACCURACY,
         METHOD,
         TOLERANCE,
         ENERGY_TOLERANCE,
@@ -256,6 +262,7 @@ fn simulate<B: LinearAlgebra>(
     };
     let mut step_times = BoundedSample::new();
     let (mut iterations, mut gradients) = (BoundedSample::new(), BoundedSample::new());
+    let (mut iterations_max, mut stops) = (0, std::collections::BTreeMap::new());
     let mut progress = Progress::new(run.steps, run.progress);
     let first = resumed_from.unwrap_or(0);
     for done in 1..=run.steps {
@@ -266,6 +273,8 @@ fn simulate<B: LinearAlgebra>(
             .map_err(|e| AppError::Failed(format!("step {step}: {e}")))?;
         step_times.push(t.elapsed().as_secs_f64());
         iterations.push(report.iterations as f64);
+        iterations_max = iterations_max.max(report.iterations);
+        *stops.entry(format!("{:?}", report.stop)).or_insert(0) += 1;
         if let Some(gradient) = report.relative_gradient {
             gradients.push(gradient);
         }
@@ -291,7 +300,10 @@ fn simulate<B: LinearAlgebra>(
         energy_tolerance: options.step.energy_tolerance,
         at_least_plain: options.step.at_least_plain,
         start: options.step.start.name(),
+        accuracy: Accuracy::of(&options.step).map(Accuracy::name),
         iterations_median: iterations.median(),
+        iterations_max,
+        stops,
         relative_gradient_median: Some(gradients.median()).filter(|m| !m.is_nan()),
         path: if options.textbook { "textbook" } else { "fast" },
         resumed_from,
@@ -562,7 +574,20 @@ fn print_summary(scene_path: &Path, s: &Summary) {
         "method           {} (tolerance {tolerance}{energy_tolerance}{at_least_plain}, start {})",
         s.method, s.start
     );
-    println!("iterations       {} per step (median)", s.iterations_median);
+    if let Some(accuracy) = s.accuracy {
+        println!("accuracy         {accuracy}");
+    }
+    let stops: Vec<String> = s
+        .stops
+        .iter()
+        .map(|(stop, n)| format!("{stop} {n}"))
+        .collect();
+    println!(
+        "iterations       {} per step (median), at most {}; stopped by {}",
+        s.iterations_median,
+        s.iterations_max,
+        stops.join(", ")
+    );
     match s.relative_gradient_median {
         Some(median) => println!("rel. gradient    {median:.3e} at the end of a step (median)"),
         None => println!("rel. gradient    not measured (no stopping rule asked for it)"),

@@ -42,7 +42,7 @@ pub mod step;
 pub mod textbook;
 
 pub use backend::{Dense, LinearAlgebra, Sparse};
-pub use control::{Pins, Start, StepControl, StepMethod, Stop, ITERATIONS};
+pub use control::{Accuracy, Pins, Start, StepControl, StepMethod, Stop, ITERATIONS};
 pub use error::SimulationError;
 pub use precomputation::{MassSpringSystem, DELTA_T, PIN_WEIGHT};
 pub use simulation::{Simulation, SimulationOptions};

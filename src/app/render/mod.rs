@@ -41,8 +41,8 @@ mod tests_common;
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{
-    self, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START,
-    TOLERANCE, WINDOW,
+    self, ACCURACY, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO,
+    START, TOLERANCE, WINDOW,
 };
 use super::factorization_flags::{self, FACTORIZATION, ORDERING, TEXTBOOK};
 use super::limits::{check_frames, precompute};
@@ -139,6 +139,7 @@ point mass (always drawn for scenes made only of springs).",
              and every step drawn (default all).",
         ),
         Flag::switch("json", "Print one JSON object instead of the two lines."),
+        ACCURACY,
         METHOD,
         TOLERANCE,
         ENERGY_TOLERANCE,

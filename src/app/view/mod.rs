@@ -27,8 +27,8 @@ mod watchers;
 
 use super::args::{Args, CommandSpec, Flag};
 use super::convergence_flags::{
-    self, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO, START,
-    TOLERANCE, WINDOW,
+    self, ACCURACY, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO,
+    START, TOLERANCE, WINDOW,
 };
 use super::factorization_flags::{self, FACTORIZATION, ORDERING, TEXTBOOK};
 use super::limits::precompute;
@@ -86,6 +86,7 @@ shift-drag to pull a vertex. Ctrl-C stops it.",
             "Address to serve on (default 127.0.0.1; 0.0.0.0 serves every network).",
         ),
         Flag::switch("dense", "Dense matrices and Cholesky."),
+        ACCURACY,
         METHOD,
         TOLERANCE,
         ENERGY_TOLERANCE,

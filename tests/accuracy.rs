@@ -1,0 +1,180 @@
+//! `--accuracy assignment`: every step at least as low in energy as the
+//! assignment's 50 plain iterations from the same state (checked in the
+//! library on the first steps of the net and the flag); without the flag the
+//! frames are the plain ones, bit for bit; the flags it chooses are refused
+//! beside it; `converge --accuracy` prints its comparison.
+#[path = "common/cli.rs"]
+mod cli;
+
+use cli::{data, masssprings, stderr, stdout, temp_folder};
+use masssprings::mesh::load_scene;
+use masssprings::sim::{Accuracy, Simulation, SimulationOptions, Sparse, StepControl, StepMethod};
+
+/// Runs `steps` steps of `scene` by `--accuracy assignment`; before each,
+/// solves the same step from the same state by plain-50 on a copy, and
+/// asserts the accuracy's step ended at or below its energy.
+fn at_or_below_plain_50(scene: &str, steps: usize) {
+    let scene = load_scene(std::path::Path::new(&cli::data(scene))).unwrap();
+    let options = SimulationOptions {
+        step: StepControl::for_accuracy(Accuracy::Assignment),
+        ..SimulationOptions::default()
+    };
+    let mut fast = Simulation::<Sparse>::from_scene(&scene, options).unwrap();
+    let plain_50 = StepControl {
+        measure: true,
+        ..StepControl::default()
+    };
+    for step in 1..=steps {
+        let mut plain = fast.clone();
+        let plain_report = plain.step_with(&plain_50, None).unwrap();
+        let report = fast.step().unwrap();
+        assert_eq!(report.method, StepMethod::Lbfgs);
+        let (decrease, plain_decrease) = (
+            report.energy_decrease.expect("L-BFGS measures its energy"),
+            plain_report.energy_decrease.expect("asked to measure"),
+        );
+        assert!(
+            decrease >= plain_decrease - 1e-9 * plain_decrease.abs(),
+            "step {step}: decrease {decrease:e} below plain-50's {plain_decrease:e} \
+             ({} iterations, {:?})",
+            report.iterations,
+            report.stop
+        );
+    }
+}
+
+#[test]
+fn the_first_ten_steps_of_the_net_end_at_or_below_plain_50s_energy() {
+    at_or_below_plain_50("net.json", 10);
+}
+
+#[test]
+fn the_first_ten_steps_of_the_flag_end_at_or_below_plain_50s_energy() {
+    at_or_below_plain_50("flag.json", 10);
+}
+
+#[test]
+fn the_accuracy_names_its_own_control_and_nothing_else_does() {
+    let control = StepControl::for_accuracy(Accuracy::Assignment);
+    assert_eq!(Accuracy::of(&control), Some(Accuracy::Assignment));
+    assert_eq!(Accuracy::of(&StepControl::default()), None);
+    assert_eq!("assignment".parse::<Accuracy>(), Ok(Accuracy::Assignment));
+    assert!("exact".parse::<Accuracy>().is_err());
+}
+
+/// The frames `simulate` writes for `flags` over 5 steps of the flag.
+fn frames(name: &str, flags: &[&str]) -> Vec<Vec<u8>> {
+    let folder = temp_folder(name);
+    let out = folder.join("frames");
+    let scene = data("flag.json");
+    let mut args = vec!["simulate", &scene, "--steps", "5", "--out"];
+    args.push(out.to_str().unwrap());
+    args.extend_from_slice(flags);
+    let output = masssprings(&args);
+    assert!(output.status.success(), "{}", stderr(&output));
+    (0..=5)
+        .map(|i| std::fs::read(out.join(format!("frame-{i:06}.obj"))).unwrap())
+        .collect()
+}
+
+#[test]
+fn without_the_flag_the_frames_are_plain_50s_and_with_it_they_differ() {
+    let default = frames("accuracy-default", &[]);
+    let plain = frames(
+        "accuracy-plain",
+        &["--method", "plain", "--iterations", "50"],
+    );
+    assert_eq!(default, plain, "the default is plain-50, bit for bit");
+    let fast = frames("accuracy-fast", &["--accuracy", "assignment"]);
+    assert_eq!(fast[0], default[0], "the rest shape");
+    assert_ne!(fast[5], default[5], "another method, another trajectory");
+}
+
+#[test]
+fn simulate_json_says_what_the_steps_ran() {
+    let scene = data("net.json");
+    let args = [
+        "simulate",
+        &scene,
+        "--steps",
+        "3",
+        "--json",
+        "--accuracy",
+        "assignment",
+    ];
+    let output = masssprings(&args);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let summary: serde_json::Value = serde_json::from_str(&stdout(&output)).unwrap();
+    assert_eq!(summary["accuracy"], "assignment");
+    assert_eq!(summary["method"], "lbfgs");
+    assert_eq!(summary["at_least_plain"], 50.0);
+    let stops = summary["stops"].as_object().unwrap();
+    assert_eq!(stops.values().map(|n| n.as_u64().unwrap()).sum::<u64>(), 3);
+    assert!(summary["iterations_max"].as_u64().unwrap() >= 1);
+}
+
+#[test]
+fn the_flags_accuracy_chooses_are_refused_beside_it() {
+    let scene = data("net.json");
+    let out = temp_folder("accuracy-refused").join("never.png");
+    let out = out.to_str().unwrap();
+    for (command, more) in [
+        ("simulate", &[][..]),
+        ("render", &["-o", out][..]),
+        ("view", &[]),
+    ] {
+        for (flag, value) in [
+            ("--method", "plain"),
+            ("--tolerance", "0.5"),
+            ("--energy-tolerance", "0.1"),
+            ("--at-least-plain", "10"),
+        ] {
+            let mut args = vec![command, &scene, "--accuracy", "assignment", flag, value];
+            args.extend_from_slice(more);
+            let output = masssprings(&args);
+            assert_eq!(output.status.code(), Some(2), "{command} {flag}");
+            let message = stderr(&output);
+            assert!(
+                message.contains("--accuracy") && message.contains(flag),
+                "{command} {flag}: {message}"
+            );
+        }
+    }
+    assert!(!std::path::Path::new(out).exists(), "nothing rendered");
+    let output = masssprings(&["simulate", &scene, "--accuracy", "fastest"]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(stderr(&output).contains("unknown accuracy 'fastest'"));
+}
+
+#[test]
+fn converge_compares_the_accuracy_with_plain_50_over_steps() {
+    let folder = temp_folder("accuracy-converge");
+    let png = folder.join("steps.png");
+    let scene = data("net.json");
+    let args = [
+        "converge",
+        &scene,
+        "--steps",
+        "5",
+        "--accuracy",
+        "assignment",
+        "--plot",
+        png.to_str().unwrap(),
+    ];
+    let output = masssprings(&args);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let text = stdout(&output);
+    for line in [
+        "--accuracy assignment (lbfgs) against plain-50",
+        "from the same states:  plain-50 ",
+        "steps above plain-50's energy (by more than 1e-9 of its decrease): 0 of 5",
+        "each on its own:",
+        "along its own trajectory, against plain-50 from each of its states: 0 of 5 steps above",
+        "trajectories apart (largest over the steps): max vertex ",
+    ] {
+        assert!(text.contains(line), "missing '{line}' in\n{text}");
+    }
+    assert_eq!(&std::fs::read(&png).unwrap()[..4], b"\x89PNG");
+    let refused = masssprings(&["converge", &scene, "--accuracy", "assignment"]);
+    assert_eq!(refused.status.code(), Some(2), "{}", stderr(&refused));
+}
