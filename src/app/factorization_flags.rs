@@ -16,7 +16,7 @@ use masssprings::sim::simulation::SimulationOptions;
 pub const ORDERING: Flag = Flag::value(
     "ordering",
     "amd|natural",
-    "The sparse Q's fill-reducing ordering (default amd; natural: the textbook path).",
+    "The sparse Q's fill-reducing ordering (default amd; natural: none, the rows in the scene's order).",
 );
 pub const FACTORIZATION: Flag = Flag::value(
     "factorization",
