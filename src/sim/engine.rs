@@ -230,7 +230,9 @@ impl<B: LinearAlgebra> Engine<B> {
 }
 
 impl Handout {
-    /// The handout's precomputation of `network`, dense when `B` is.
+    /// The handout's precomputation of `network`, dense when `B` is. The
+    /// handout's functions take concrete matrices, not a backend, so the
+    /// backend is told apart by its name (`LinearAlgebra::NAME`).
     fn new<B: LinearAlgebra>(
         network: &Network<'_>,
         ordering: Ordering,
