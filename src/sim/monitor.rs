@@ -266,3 +266,76 @@ fn relative_gradient(norm: f64, initial: f64) -> f64 {
         norm
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{relative_gradient, Monitor};
+    use crate::sim::control::StepControl;
+
+    /// A monitor of `control`'s rules with room for a gradient of one row.
+    fn monitor_of(control: StepControl, room: &mut [[f64; 3]]) -> Monitor<'_, 'static> {
+        Monitor::new(&control, Some(1.0), room, None)
+    }
+
+    #[test]
+    fn the_energy_rule_stops_once_the_last_decrease_is_a_small_share_of_all_so_far() {
+        let control = StepControl {
+            energy_tolerance: Some(0.15),
+            ..StepControl::default()
+        };
+        let mut room = [[0.0; 3]];
+        let mut monitor = monitor_of(control, &mut room);
+        // energies E − E(p⁰) of iterates 0, 1, 2, 3: decreases 10, 5, 2
+        assert!(!monitor.energy_rule_met(0.15, 0, 0.0)); // nothing to compare yet
+        assert!(!monitor.energy_rule_met(0.15, 1, -10.0)); // 10 > 0.15 × 10
+        assert!(!monitor.energy_rule_met(0.15, 2, -15.0)); // 5 > 0.15 × 15
+        assert!(monitor.energy_rule_met(0.15, 3, -17.0)); // 2 ≤ 0.15 × 17 = 2.55
+    }
+
+    #[test]
+    fn the_energy_rule_is_met_at_the_first_small_enough_decrease_and_never_on_a_rise() {
+        let control = StepControl::default();
+        let mut room = [[0.0; 3]];
+        let mut monitor = monitor_of(control, &mut room);
+        monitor.energy_rule_met(0.15, 0, 0.0);
+        assert!(!monitor.energy_rule_met(0.15, 1, -10.0));
+        assert!(monitor.energy_rule_met(0.15, 2, -11.0)); // 1 ≤ 0.15 × 11
+        assert!(!monitor.energy_rule_met(0.15, 3, -10.5)); // a rise is no progress
+    }
+
+    #[test]
+    fn the_floor_holds_the_rules_back_until_n_first_plain_decreases_are_taken_off() {
+        let control = StepControl {
+            at_least_plain: Some(3.0),
+            ..StepControl::default()
+        };
+        let mut room = [[0.0; 3]];
+        let mut monitor = monitor_of(control, &mut room);
+        assert!(monitor.wants_plain_first());
+        assert!(!monitor.past_floor(1, Some(-100.0)), "no floor known yet");
+        monitor.plain_first(-2.0); // the first plain iteration takes off 2
+        assert!(!monitor.wants_plain_first());
+        monitor.plain_first(-50.0); // later calls change nothing
+        assert!(!monitor.past_floor(1, Some(-5.9)));
+        assert!(monitor.past_floor(1, Some(-6.0))); // 3 × 2
+        assert!(
+            !monitor.past_floor(0, Some(-6.0)),
+            "never the first iterate"
+        );
+        assert!(!monitor.past_floor(2, None), "an energy not measured");
+    }
+
+    #[test]
+    fn without_a_floor_every_iterate_may_stop_the_step() {
+        let mut room = [[0.0; 3]];
+        let monitor = monitor_of(StepControl::default(), &mut room);
+        assert!(!monitor.wants_plain_first());
+        assert!(monitor.past_floor(1, None));
+    }
+
+    #[test]
+    fn the_relative_gradient_falls_back_to_the_norm_at_a_minimiser() {
+        assert_eq!(relative_gradient(1.0, 4.0), 0.25);
+        assert_eq!(relative_gradient(1e-20, 0.0), 1e-20);
+    }
+}
