@@ -43,6 +43,26 @@ pub struct SimulationOptions {
     pub textbook: bool,
 }
 
+impl SimulationOptions {
+    /// With `textbook`, are the other options what the handout's step
+    /// does (plain iterations from `U_cur`, no stopping rule, penalty
+    /// pins)? Always `Ok` without it.
+    ///
+    /// # Errors
+    /// [`SimulationError::InvalidInput`] saying what the textbook path runs.
+    pub fn check_textbook(&self) -> Result<(), SimulationError> {
+        let step = &self.step;
+        let plain = step.method == StepMethod::Plain && !step.has_stopping_rule();
+        let handouts = plain && step.start == Start::Current && self.pins == Pins::Penalty;
+        if self.textbook && !handouts {
+            return Err(SimulationError::InvalidInput(
+                "the textbook path runs the handout's step as written: plain iterations from U_cur, no stopping rule, penalty pins".into(),
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Default for SimulationOptions {
     fn default() -> Self {
         SimulationOptions {
@@ -487,7 +507,7 @@ fn new_engine<B: LinearAlgebra>(
     options: &SimulationOptions,
 ) -> Result<Engine<B>, SimulationError> {
     if options.textbook {
-        check_textbook(options)?;
+        options.check_textbook()?;
         return Engine::textbook(network, options.ordering, options.step.iterations);
     }
     let how = SparseFactorization {
@@ -501,19 +521,6 @@ fn new_engine<B: LinearAlgebra>(
         }
     }
     Ok(engine)
-}
-
-/// The textbook path runs the handout's step only: plain iterations, no
-/// stopping rule, penalty pins.
-fn check_textbook(options: &SimulationOptions) -> Result<(), SimulationError> {
-    let step = &options.step;
-    let plain = step.method == StepMethod::Plain && !step.has_stopping_rule();
-    if !plain || step.start != Start::Current || options.pins != Pins::Penalty {
-        return Err(SimulationError::InvalidInput(
-            "the textbook path runs the handout's step as written: plain iterations from U_cur, no stopping rule, penalty pins".into(),
-        ));
-    }
-    Ok(())
 }
 
 /// Does a step by `method` multiply by `Q` (not only solve with its

@@ -360,22 +360,16 @@ impl<B: LinearAlgebra> SimulationThread<B> {
         };
         rules.check_rules()?;
         let start: Option<Start> = start.map(str::parse).transpose()?;
-        let plain = StepControl {
-            method,
-            start: start.unwrap_or_default(),
-            ..rules
+        let current = self.simulation.options();
+        let wanted = SimulationOptions {
+            step: StepControl {
+                method,
+                start: start.unwrap_or(current.step.start),
+                ..rules
+            },
+            ..*current
         };
-        if self.simulation.options().textbook
-            && (plain.method != StepMethod::Plain
-                || plain.has_stopping_rule()
-                || plain.start != Start::Current)
-        {
-            return Err(
-                "the viewer runs the handout's step as written (--textbook): plain \
-                        iterations from where the cloth is, no stopping rule"
-                    .into(),
-            );
-        }
+        wanted.check_textbook().map_err(|e| e.to_string())?;
         self.simulation.set_method(method, tolerance);
         self.simulation.set_energy_tolerance(energy_tolerance);
         self.simulation.set_at_least_plain(at_least_plain);
