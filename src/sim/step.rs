@@ -164,7 +164,7 @@ pub fn solve_step<B: LinearAlgebra>(
         f_ext,
         u_cur,
     };
-    let (mut context, is_pinned) = step_context(system, parts, b);
+    let mut context = step_context(system, parts, b);
     let first = first_iterate(&mut context, control.start, measure, u_next, gradient);
     let mut monitor = Monitor::new(control, first.initial_gradient, gradient, observer);
     let start = if first.measured {
@@ -179,7 +179,6 @@ pub fn solve_step<B: LinearAlgebra>(
     }
     let ends = Ends {
         context: &context,
-        is_pinned,
         p: u_next,
     };
     ends.report(control.method, outcome, measure, &mut monitor)
@@ -215,7 +214,6 @@ fn begin<B: LinearAlgebra>(
 /// Where a step ended, to measure for its report.
 struct Ends<'c, 'a, B: LinearAlgebra> {
     context: &'c StepContext<'a, B>,
-    is_pinned: &'c [bool],
     p: &'c [[f64; 3]],
 }
 
@@ -241,7 +239,7 @@ impl<B: LinearAlgebra> Ends<'_, '_, B> {
                 let change = outcome
                     .energy
                     .unwrap_or_else(|| energy.change(self.p).total());
-                let gradient = monitor.final_relative_gradient(energy, self.is_pinned, self.p);
+                let gradient = monitor.final_relative_gradient(energy, self.context.pinned, self.p);
                 (Some(-change), gradient)
             }
         };
@@ -281,13 +279,13 @@ struct Borrowed<'a> {
 }
 
 /// The step's energy and global step, over `system` and the workspace's
-/// arrays (`b`: room for `Aᵀd`); and which vertices are pinned.
+/// arrays (`b`: room for `Aᵀd`).
 #[allow(non_snake_case)] // the handout's Q
 fn step_context<'a, B: LinearAlgebra>(
     system: &'a mut MassSpringSystem<B>,
     parts: Borrowed<'a>,
     b: &'a mut [[f64; 3]],
-) -> (StepContext<'a, B>, &'a [bool]) {
+) -> StepContext<'a, B> {
     let MassSpringSystem {
         r,
         m,
@@ -331,14 +329,13 @@ fn step_context<'a, B: LinearAlgebra>(
         pin_targets,
         b,
     };
-    let context = StepContext {
+    StepContext {
         energy,
         pinned: is_pinned,
         global,
         start_measured: false,
         start_energy: 0.0,
-    };
-    (context, is_pinned)
+    }
 }
 
 /// What [`first_iterate`] knows when the iterations begin.
