@@ -19,11 +19,11 @@
 //! **Source.** Amestoy, Davis & Duff 1996, §3 ("degree lists"); SuiteSparse
 //! AMD `amd_2.c` (`Head`, `Next`, `Last`); Davis 2006, §7.1.
 
-use super::quotient_graph::NONE;
+use super::NONE;
 
 /// The neighbours of a supervariable in the one list it is in: a degree
 /// list, or (while it is in `Lp`) a hash bucket of
-/// [`supervariables`](super::supervariables). Side by side so that one cache
+/// [`hash_buckets`](super::hash_buckets). Side by side so that one cache
 /// line holds both (SuiteSparse's `Next` and `Last`).
 #[derive(Clone, Copy)]
 pub(super) struct Link {

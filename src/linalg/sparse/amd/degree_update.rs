@@ -38,7 +38,8 @@
 //! Davis 2006, §7.1.
 
 use super::new_element::Pivot;
-use super::quotient_graph::{QuotientGraph, NONE};
+use super::quotient_graph::QuotientGraph;
+use super::NONE;
 
 impl QuotientGraph {
     /// Scan 1: `flag[e] − flag_mark = |Le \ Lp|` for every live element `e`

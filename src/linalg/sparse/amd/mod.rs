@@ -50,6 +50,7 @@
 
 mod degree_lists;
 mod degree_update;
+mod hash_buckets;
 mod new_element;
 mod pattern;
 mod postorder;
@@ -60,6 +61,9 @@ use super::csc::CscMatrix;
 use super::permutation::Permutation;
 use crate::linalg::error::LinalgError;
 use quotient_graph::QuotientGraph;
+
+/// "No such index": no list, no parent, end of a linked list.
+const NONE: i32 = -1;
 
 /// Options of [`amd`]; `Default` gives SuiteSparse AMD's defaults.
 #[derive(Debug, Clone, Copy, PartialEq)]

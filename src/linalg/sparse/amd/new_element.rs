@@ -28,7 +28,8 @@
 //! and "construct Lp", "element absorption"); SuiteSparse AMD `amd_2.c`
 //! ("get pivot of minimum degree", "construct new element"); Davis 2006, §7.1.
 
-use super::quotient_graph::{compress, QuotientGraph, NONE};
+use super::quotient_graph::{compress, QuotientGraph};
+use super::NONE;
 
 /// The element being formed in the current pivot step.
 pub(super) struct Pivot {

@@ -26,7 +26,8 @@
 //! variables", "compute output permutation"), `amd_postorder.c`,
 //! `amd_post_tree.c`; Davis 2006, §4.3 (`cs_post`, `cs_tdfs`) and §7.1.
 
-use super::quotient_graph::{AssemblyTree, NONE};
+use super::quotient_graph::AssemblyTree;
+use super::NONE;
 
 /// The permutation `perm[new] = old` of the assembly tree.
 pub(super) fn permutation_from_assembly_tree(tree: AssemblyTree) -> Vec<usize> {

@@ -30,12 +30,9 @@
 //! compression step); Davis 2006, §7.1.
 
 use super::degree_lists::{DegreeLists, Link};
+use super::hash_buckets::HashBuckets;
 use super::pattern::SymmetricPattern;
-use super::supervariables::HashBuckets;
-use super::AmdInfo;
-
-/// "No such index": no list, no parent, end of a linked list.
-pub(super) const NONE: i32 = -1;
+use super::{AmdInfo, NONE};
 
 /// Counters reported in [`AmdInfo`].
 #[derive(Default)]
