@@ -14,44 +14,10 @@
 //! leaves in `L Lᵀ` (Higham 2002, Thm. 10.3), so the tolerance is a few
 //! hundred units in the last place whatever the pins' `w`.
 
-use super::place::{Context, Place};
+use super::place::{permutation_of, Context, Place};
 use super::{to_sparse, union_entries, Largest, Outcome};
 use masssprings::linalg::matrix_market::MatrixMarket;
 use masssprings::linalg::sparse::{CscMatrix, Permutation, TripletMatrix};
-
-/// `perm` of a permutation matrix `P` (a 1 at `(new, perm[new])`), or why
-/// `p` is not one.
-pub fn permutation_of(p: &CscMatrix) -> Result<Vec<usize>, String> {
-    let n = p.ncols();
-    if p.nrows() != n {
-        return Err(format!("shape {} × {n}, not square", p.nrows()));
-    }
-    let mut perm = vec![usize::MAX; n];
-    for j in 0..n {
-        let (rows, values) = p.column(j);
-        let ones: Vec<usize> = rows
-            .iter()
-            .zip(values)
-            .filter(|(_, &v)| v != 0.0)
-            .map(|(&r, _)| r)
-            .collect();
-        match ones[..] {
-            [r] if values.iter().all(|&v| v == 0.0 || v == 1.0) && perm[r] == usize::MAX => {
-                perm[r] = j
-            }
-            [r] if perm[r] != usize::MAX => return Err(format!("row {} has two ones", r + 1)),
-            [_] => return Err(format!("column {} holds a value other than 1", j + 1)),
-            _ => {
-                return Err(format!(
-                    "column {} has {} nonzeros, not one",
-                    j + 1,
-                    ones.len()
-                ))
-            }
-        }
-    }
-    Ok(perm)
-}
 
 /// The student's matrix, sparse, if it is `n × n`; else why it differs.
 fn square(their: &MatrixMarket, n: usize) -> Result<CscMatrix, Outcome> {

@@ -61,7 +61,7 @@ impl Context {
             }
         }
         let springs = ends.into_iter().map(|[i, j]| Some([i?, j?])).collect();
-        let (q, our_perm) = (to_sparse(q), super::factor::permutation_of(&to_sparse(p))?);
+        let (q, our_perm) = (to_sparse(q), permutation_of(&to_sparse(p))?);
         let n = our_perm.len();
         if (q.nrows(), q.ncols(), a.ncols()) != (n, n, n) {
             return Err(format!(
@@ -130,6 +130,40 @@ impl Context {
             Axis::Single => return None,
         })
     }
+}
+
+/// `perm` of a permutation matrix `P` (a 1 at `(new, perm[new])`), or why
+/// `p` is not one.
+pub fn permutation_of(p: &CscMatrix) -> Result<Vec<usize>, String> {
+    let n = p.ncols();
+    if p.nrows() != n {
+        return Err(format!("shape {} × {n}, not square", p.nrows()));
+    }
+    let mut perm = vec![usize::MAX; n];
+    for j in 0..n {
+        let (rows, values) = p.column(j);
+        let ones: Vec<usize> = rows
+            .iter()
+            .zip(values)
+            .filter(|(_, &v)| v != 0.0)
+            .map(|(&r, _)| r)
+            .collect();
+        match ones[..] {
+            [r] if values.iter().all(|&v| v == 0.0 || v == 1.0) && perm[r] == usize::MAX => {
+                perm[r] = j
+            }
+            [r] if perm[r] != usize::MAX => return Err(format!("row {} has two ones", r + 1)),
+            [_] => return Err(format!("column {} holds a value other than 1", j + 1)),
+            _ => {
+                return Err(format!(
+                    "column {} has {} nonzeros, not one",
+                    j + 1,
+                    ones.len()
+                ))
+            }
+        }
+    }
+    Ok(perm)
 }
 
 /// A value as a person reads it: plain when moderate, else scientific.
