@@ -22,12 +22,12 @@
 //! The options are not in the frames: give `--resume` the flags of the run
 //! it continues.
 
-use super::simulate::{earlier_frames, frame_step};
 use super::AppError;
 use masssprings::files::read_text;
 use masssprings::mesh::obj::parse_obj;
 use masssprings::mesh::Scene;
-use std::path::Path;
+use std::io;
+use std::path::{Path, PathBuf};
 
 /// The state a run stopped in.
 pub struct Resumed {
@@ -130,4 +130,36 @@ fn read_exact_frame(folder: &Path, step: usize, scene: &Scene) -> Result<Vec<[f6
         )));
     }
     Ok(mesh.vertices)
+}
+
+/// Is `name` a frame of the frame writer, `frame-NNNNNN.obj` (6 digits or more)?
+pub(super) fn is_frame_name(name: &str) -> bool {
+    name.strip_prefix("frame-")
+        .and_then(|rest| rest.strip_suffix(".obj"))
+        .is_some_and(|digits| digits.len() >= 6 && digits.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// The step of the frame at `path` (`frame-000012.obj`: 12).
+fn frame_step(path: &Path) -> Option<usize> {
+    let name = path.file_name()?.to_str()?;
+    if !is_frame_name(name) {
+        return None;
+    }
+    name["frame-".len()..name.len() - ".obj".len()].parse().ok()
+}
+
+/// The frames already in `folder` (none when it does not exist), sorted.
+pub(super) fn earlier_frames(folder: &Path) -> Result<Vec<PathBuf>, AppError> {
+    let entries = match std::fs::read_dir(folder) {
+        Ok(entries) => entries,
+        Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(error) => return Err(AppError::Failed(format!("{}: {error}", folder.display()))),
+    };
+    let mut frames: Vec<PathBuf> = entries
+        .flatten()
+        .filter(|entry| entry.file_name().to_str().is_some_and(is_frame_name))
+        .map(|entry| entry.path())
+        .collect();
+    frames.sort();
+    Ok(frames)
 }

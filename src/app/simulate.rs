@@ -25,7 +25,7 @@ use super::factorization_flags::{self, FACTORIZATION, ORDERING, TEXTBOOK};
 use super::limits::precompute;
 use super::progress::{duration, Progress};
 use super::render::texture::{read_png_file, Texture};
-use super::resume::{self, frame_header, frame_name, Resumed};
+use super::resume::{self, earlier_frames, frame_header, frame_name, is_frame_name, Resumed};
 use super::timing::BoundedSample;
 use super::{load_scene, AppError};
 use masssprings::files::{remove_stale_temporaries, same_file, write_file, FilePlan};
@@ -411,38 +411,6 @@ fn write_material(
         writeln!(out, "map_Kd {}", texture_name.to_string_lossy())
     })?;
     Ok(Some(name))
-}
-
-/// Is `name` a frame of [`write_frame`], `frame-NNNNNN.obj` (6 digits or more)?
-fn is_frame_name(name: &str) -> bool {
-    name.strip_prefix("frame-")
-        .and_then(|rest| rest.strip_suffix(".obj"))
-        .is_some_and(|digits| digits.len() >= 6 && digits.bytes().all(|b| b.is_ascii_digit()))
-}
-
-/// The step of the frame at `path` (`frame-000012.obj`: 12).
-pub(super) fn frame_step(path: &Path) -> Option<usize> {
-    let name = path.file_name()?.to_str()?;
-    if !is_frame_name(name) {
-        return None;
-    }
-    name["frame-".len()..name.len() - ".obj".len()].parse().ok()
-}
-
-/// The frames already in `folder` (none when it does not exist), sorted.
-pub(super) fn earlier_frames(folder: &Path) -> Result<Vec<PathBuf>, AppError> {
-    let entries = match std::fs::read_dir(folder) {
-        Ok(entries) => entries,
-        Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(error) => return Err(AppError::Failed(format!("{}: {error}", folder.display()))),
-    };
-    let mut frames: Vec<PathBuf> = entries
-        .flatten()
-        .filter(|entry| entry.file_name().to_str().is_some_and(is_frame_name))
-        .map(|entry| entry.path())
-        .collect();
-    frames.sort();
-    Ok(frames)
 }
 
 /// Refuses an `--out` folder holding frames of another run (before any
