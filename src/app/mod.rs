@@ -21,7 +21,7 @@ mod trace;
 mod view;
 
 use clap::error::ErrorKind;
-use clap::{CommandFactory, Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use masssprings::files::FilePlan;
 use masssprings::mesh::Scene;
 use std::io::Read;
@@ -190,20 +190,25 @@ impl Command {
 /// error on the line (`simulate x --bogus -h` shows `simulate`'s help).
 fn parse(args: &[String]) -> Result<Cli, clap::Error> {
     let line = std::iter::once("masssprings").chain(args.iter().map(String::as_str));
-    Cli::try_parse_from(line).map_err(|error| {
-        let asks_for_help = args
-            .iter()
-            .take_while(|arg| *arg != "--")
-            .any(|arg| arg == "-h" || arg == "--help");
-        match args.first() {
-            Some(command) if asks_for_help && error.kind() != ErrorKind::DisplayHelp => {
-                Cli::try_parse_from(["masssprings", command, "--help"])
-                    .err()
-                    .unwrap_or(error)
+    // `--energy-tolerance -0.1` is a bad value, not an unknown flag `-0`
+    let command = Cli::command().mut_subcommands(|c| c.allow_negative_numbers(true));
+    let matches = command.try_get_matches_from(line);
+    matches
+        .and_then(|m| Cli::from_arg_matches(&m))
+        .map_err(|error| {
+            let asks_for_help = args
+                .iter()
+                .take_while(|arg| *arg != "--")
+                .any(|arg| arg == "-h" || arg == "--help");
+            match args.first() {
+                Some(command) if asks_for_help && error.kind() != ErrorKind::DisplayHelp => {
+                    Cli::try_parse_from(["masssprings", command, "--help"])
+                        .err()
+                        .unwrap_or(error)
+                }
+                _ => error,
             }
-            _ => error,
-        }
-    })
+        })
 }
 
 /// Runs the command line `args` (without the program name); returns the
