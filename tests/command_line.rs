@@ -5,23 +5,8 @@
 #[path = "common/cli.rs"]
 mod cli;
 
-use cli::{data, masssprings, stderr, stdout, temp_folder};
+use cli::{data, masssprings, stderr, stdout, temp_folder, COMMANDS};
 use std::net::TcpListener;
-
-const COMMANDS: [&str; 12] = [
-    "simulate",
-    "render",
-    "view",
-    "converge",
-    "analyze",
-    "bench",
-    "export-q",
-    "spy",
-    "etree",
-    "trace",
-    "generate",
-    "completions",
-];
 
 /// The run failed with a usage error (exit code 2) whose message contains
 /// each of `expected` (the meaning: the flag, the value, the range; not

@@ -4,14 +4,13 @@
 //! its own colour, its columns joined by a band. Prints `n`, the height of
 //! the tree and the number of supernodes.
 
-use super::flags::{file_name_given, size, OrderingFlag, Size};
+use super::flags::{size, Size};
 use super::render::encode::write_png;
 use super::render::sparsity::{depths, elimination_tree};
-use super::spy::{file_name, load_lower};
+use super::spy::{file_name, load_lower, PatternArgs};
 use super::AppError;
 use masssprings::files::{write_file, FilePlan};
 use masssprings::linalg::sparse::SymbolicCholesky;
-use std::path::PathBuf;
 
 /// Larger trees are a smudge at any size; `spy` suits them better.
 const MAX_COLUMNS: usize = 4096;
@@ -23,20 +22,20 @@ Draws the elimination tree of Q in the order the factorization uses, each
 supernode in its own colour (at most 4096 columns). Prints the tree's
 height and the number of supernodes.")]
 pub struct EtreeArgs {
-    #[arg(value_name = "MATRIX.mtx|SCENE.json")]
-    matrix: PathBuf,
-    /// The picture to write.
-    #[arg(short, long, value_name = "OUT.png", required = true, value_parser = file_name_given)]
-    out: PathBuf,
     #[command(flatten)]
-    ordering: OrderingFlag,
+    pattern: PatternArgs,
     /// Picture size in pixels.
     #[arg(long, value_name = "WxH", default_value = "720x360", value_parser = size(64, 4096))]
     size: Size,
 }
 
 pub fn run(args: EtreeArgs) -> Result<(), AppError> {
-    let (path, out, ordering) = (args.matrix, args.out, args.ordering.ordering);
+    let PatternArgs {
+        matrix: path,
+        out,
+        ordering,
+    } = args.pattern;
+    let ordering = ordering.ordering;
     let Size { width, height } = args.size;
     let mut plan = FilePlan::default();
     let lower = load_lower(&path, &mut plan)?;

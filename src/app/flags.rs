@@ -2,6 +2,7 @@
 //! `Args` struct) and flattened into the commands it applies to, so that a
 //! flag has one name, one meaning and one default everywhere:
 //!
+//! * [`SimulationFlags`]: [`Solve`] and [`Backend`] together;
 //! * [`Solve`]: how each step is solved, [`StepMethodFlags`] (the
 //!   iteration method, or the handout's code as written) and [`StepRules`]
 //!   (stopping rules, budget, start, pins, and `--accuracy`, which names a
@@ -22,8 +23,26 @@ use masssprings::sim::{StepControl, StepMethod};
 use std::path::PathBuf;
 use std::str::FromStr;
 
-/// How each step is solved: `simulate`, `render` and `view` (`converge`
-/// compares every method, see its `--methods`).
+/// How a simulation runs: how each step is solved and on which backend
+/// (`simulate`, `render` and `view`).
+#[derive(Args, Debug, Clone)]
+pub struct SimulationFlags {
+    #[command(flatten)]
+    pub solve: Solve,
+    #[command(flatten)]
+    pub backend: Backend,
+}
+
+impl SimulationFlags {
+    /// Sets `options` from the flags that were given.
+    pub fn apply(&self, options: &mut SimulationOptions) {
+        self.solve.apply(options);
+        self.backend.factor.apply(options);
+    }
+}
+
+/// How each step is solved (`converge` compares every method, see its
+/// `--methods`, and takes [`StepRules`] alone).
 #[derive(Args, Debug, Clone)]
 pub struct Solve {
     #[command(flatten)]

@@ -16,7 +16,7 @@
 //! `--resume DIR` continues the run whose frames are in `DIR` from its last
 //! two (`super::resume`), numbering the new frames on.
 
-use super::flags::{whole, Backend, Solve};
+use super::flags::{whole, SimulationFlags};
 use super::limits::precompute;
 use super::progress::{duration, Progress};
 use super::render::texture::{read_png_file, Texture};
@@ -104,9 +104,7 @@ pub struct SimulateArgs {
     #[arg(long)]
     json: bool,
     #[command(flatten)]
-    solve: Solve,
-    #[command(flatten)]
-    backend: Backend,
+    simulation: SimulationFlags,
 }
 
 /// Where frames go: `simulate`'s output.
@@ -151,9 +149,8 @@ pub fn run(args: SimulateArgs) -> Result<(), AppError> {
         wind: args.wind,
         ..SimulationOptions::default()
     };
-    args.solve.apply(&mut options);
-    args.backend.factor.apply(&mut options);
-    let summary = if args.backend.dense {
+    args.simulation.apply(&mut options);
+    let summary = if args.simulation.backend.dense {
         simulate::<Dense>(scene, &scene_path, options, &run, resumed)?
     } else {
         simulate::<Sparse>(scene, &scene_path, options, &run, resumed)?

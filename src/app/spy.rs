@@ -29,6 +29,19 @@ struct Picture {
     factor: bool,
 }
 
+/// A picture of `Q`'s structure (`spy`, `etree`): the matrix, the picture,
+/// and the order the factorization uses.
+#[derive(clap::Args, Debug)]
+pub struct PatternArgs {
+    #[arg(value_name = "MATRIX.mtx|SCENE.json")]
+    pub matrix: PathBuf,
+    /// The picture to write.
+    #[arg(short, long, value_name = "OUT.png", required = true, value_parser = file_name_given)]
+    pub out: PathBuf,
+    #[command(flatten)]
+    pub ordering: OrderingFlag,
+}
+
 /// Draw the sparsity pattern of Q or of its Cholesky factor L.
 #[derive(clap::Args, Debug)]
 #[command(after_help = "\
@@ -37,13 +50,8 @@ triangle mirrored) in the order the factorization uses (AMD unless
 --ordering natural), or with --factor that of its Cholesky factor L,
 fill-in in orange. Prints n, nnz and the fill nnz(L)/nnz(tril Q).")]
 pub struct SpyArgs {
-    #[arg(value_name = "MATRIX.mtx|SCENE.json")]
-    matrix: PathBuf,
-    /// The picture to write.
-    #[arg(short, long, value_name = "OUT.png", required = true, value_parser = file_name_given)]
-    out: PathBuf,
     #[command(flatten)]
-    ordering: OrderingFlag,
+    pattern: PatternArgs,
     /// Draw L instead of Q.
     #[arg(long)]
     factor: bool,
@@ -53,7 +61,11 @@ pub struct SpyArgs {
 }
 
 pub fn run(args: SpyArgs) -> Result<(), AppError> {
-    let (path, out) = (args.matrix, args.out);
+    let PatternArgs {
+        matrix: path,
+        out,
+        ordering,
+    } = args.pattern;
     let Size {
         width: size,
         height,
@@ -65,7 +77,7 @@ pub fn run(args: SpyArgs) -> Result<(), AppError> {
     }
     let picture = Picture {
         label: file_name(&path),
-        ordering: args.ordering.ordering,
+        ordering: ordering.ordering,
         factor: args.factor,
     };
     let mut plan = FilePlan::default();

@@ -39,7 +39,7 @@ mod vector;
 #[path = "../../../tests/common/mod.rs"]
 mod tests_common;
 
-use super::flags::{file_name_given, size, whole, Backend, Size, Solve};
+use super::flags::{file_name_given, size, whole, SimulationFlags, Size};
 use super::limits::{check_frames, precompute};
 use super::progress::Progress;
 use super::timing::median;
@@ -136,9 +136,7 @@ pub struct RenderArgs {
     #[arg(long)]
     json: bool,
     #[command(flatten)]
-    solve: Solve,
-    #[command(flatten)]
-    backend: Backend,
+    simulation: SimulationFlags,
 }
 
 pub fn run(args: RenderArgs) -> Result<(), AppError> {
@@ -236,8 +234,7 @@ fn parse(args: RenderArgs) -> Result<Request, AppError> {
         wind: args.wind,
         ..SimulationOptions::default()
     };
-    args.solve.apply(&mut options);
-    args.backend.factor.apply(&mut options);
+    args.simulation.apply(&mut options);
     Ok(Request {
         scene: args.scene,
         out: args.out,
@@ -246,7 +243,7 @@ fn parse(args: RenderArgs) -> Result<Request, AppError> {
         every: args.every,
         width: args.size.width,
         height: args.size.height,
-        dense: args.backend.dense,
+        dense: args.simulation.backend.dense,
         options,
         springs: args.springs,
         fit: args.fit,

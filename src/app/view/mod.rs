@@ -25,7 +25,7 @@ mod routes;
 mod simulation_thread;
 mod watchers;
 
-use super::flags::{whole, Backend, Solve};
+use super::flags::{whole, SimulationFlags};
 use super::limits::precompute;
 use super::{load_scene, AppError};
 use api::{Frame, Status};
@@ -79,9 +79,7 @@ pub struct ViewArgs {
     #[arg(long, value_name = "ADDR", default_value = "127.0.0.1", value_parser = address)]
     address: IpAddr,
     #[command(flatten)]
-    solve: Solve,
-    #[command(flatten)]
-    backend: Backend,
+    simulation: SimulationFlags,
 }
 
 /// `--port`: 0 to 65535.
@@ -108,8 +106,7 @@ pub fn run(args: ViewArgs) -> Result<(), AppError> {
     }
     let scenes = scene_list(&args.scene);
     let mut options = SimulationOptions::default();
-    args.solve.apply(&mut options);
-    args.backend.factor.apply(&mut options);
+    args.simulation.apply(&mut options);
     options.step.measure = true; // the viewer plots every step's gradient
     if options.step.iterations > MAX_ITERATIONS {
         return Err(AppError::Usage(format!(
@@ -118,7 +115,7 @@ pub fn run(args: ViewArgs) -> Result<(), AppError> {
             options.step.iterations
         )));
     }
-    if args.backend.dense {
+    if args.simulation.backend.dense {
         serve::<Dense>(&scene, scenes, address, options)
     } else {
         serve::<Sparse>(&scene, scenes, address, options)
