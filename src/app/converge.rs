@@ -57,7 +57,7 @@ struct Curve {
     stop: Stop,
 }
 
-struct Request {
+pub(super) struct Request {
     scene: PathBuf,
     step: usize,
     methods: Vec<StepMethod>,
@@ -66,8 +66,9 @@ struct Request {
     plot: Option<PathBuf>,
     /// `--steps S`: instead of one step, steps 1…S, medians only.
     over_steps: Option<usize>,
-    /// The canonical simulation: plain, 50 iterations, the pins given.
-    canonical: SimulationOptions,
+    /// The canonical simulation: plain, 50 iterations, the pins and the
+    /// factorization given.
+    pub(super) canonical: SimulationOptions,
     /// `--accuracy A` (with `--steps`): the accuracy's settings against the
     /// assignment's, over whole animations.
     accuracy: Option<Accuracy>,
@@ -175,7 +176,7 @@ pub fn run(args: ConvergeArgs) -> Result<(), AppError> {
     Ok(())
 }
 
-fn parse(args: ConvergeArgs) -> Request {
+pub(super) fn parse(args: ConvergeArgs) -> Request {
     let mut sim_options = SimulationOptions::default();
     sim_options.step.iterations = 200;
     sim_options.step.measure = true; // every report compares energies

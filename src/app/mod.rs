@@ -235,3 +235,50 @@ pub fn run(args: &[String]) -> i32 {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The command `line` parses into.
+    fn command(line: &[&str]) -> Command {
+        let args: Vec<String> = line.iter().map(|s| s.to_string()).collect();
+        parse(&args).expect("a valid line").command
+    }
+
+    #[test]
+    fn the_declaration_is_consistent() {
+        Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn render_and_converge_pass_the_factorization_to_their_simulation() {
+        let flags = ["--ordering", "natural", "--factorization", "simplicial"];
+        let Command::Converge(args) = command(&[&["converge", "x.json"][..], &flags].concat())
+        else {
+            panic!("converge");
+        };
+        let options = converge::parse(args).canonical;
+        assert_eq!(
+            options.ordering,
+            masssprings::linalg::sparse::Ordering::Natural
+        );
+        assert_eq!(
+            options.factorization,
+            masssprings::linalg::sparse::Method::Simplicial
+        );
+        let line = [&["render", "x.json", "-o", "x.gif"][..], &flags].concat();
+        let Command::Render(args) = command(&line) else {
+            panic!("render");
+        };
+        let options = render::options(&args);
+        assert_eq!(
+            options.ordering,
+            masssprings::linalg::sparse::Ordering::Natural
+        );
+        assert_eq!(
+            options.factorization,
+            masssprings::linalg::sparse::Method::Simplicial
+        );
+    }
+}

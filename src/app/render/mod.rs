@@ -227,14 +227,20 @@ pub fn run(args: RenderArgs) -> Result<(), AppError> {
     Ok(())
 }
 
-/// Checks the command line: usage errors before any work is done.
-fn parse(args: RenderArgs) -> Result<Request, AppError> {
-    let format = output_format(&args.out)?;
+/// How `args` asks the simulation to run.
+pub(super) fn options(args: &RenderArgs) -> SimulationOptions {
     let mut options = SimulationOptions {
         wind: args.wind,
         ..SimulationOptions::default()
     };
     args.simulation.apply(&mut options);
+    options
+}
+
+/// Checks the command line: usage errors before any work is done.
+fn parse(args: RenderArgs) -> Result<Request, AppError> {
+    let format = output_format(&args.out)?;
+    let options = options(&args);
     Ok(Request {
         scene: args.scene,
         out: args.out,
