@@ -253,32 +253,19 @@ mod tests {
 
     #[test]
     fn render_and_converge_pass_the_factorization_to_their_simulation() {
+        use masssprings::linalg::sparse::{Method, Ordering};
         let flags = ["--ordering", "natural", "--factorization", "simplicial"];
-        let Command::Converge(args) = command(&[&["converge", "x.json"][..], &flags].concat())
-        else {
-            panic!("converge");
+        let options = match command(&[&["converge", "x.json"][..], &flags].concat()) {
+            Command::Converge(args) => converge::parse(args).canonical,
+            _ => unreachable!("converge"),
         };
-        let options = converge::parse(args).canonical;
-        assert_eq!(
-            options.ordering,
-            masssprings::linalg::sparse::Ordering::Natural
-        );
-        assert_eq!(
-            options.factorization,
-            masssprings::linalg::sparse::Method::Simplicial
-        );
-        let line = [&["render", "x.json", "-o", "x.gif"][..], &flags].concat();
-        let Command::Render(args) = command(&line) else {
-            panic!("render");
+        let factor =
+            |o: masssprings::sim::simulation::SimulationOptions| (o.ordering, o.factorization);
+        assert_eq!(factor(options), (Ordering::Natural, Method::Simplicial));
+        let options = match command(&[&["render", "x.json", "-o", "x.gif"][..], &flags].concat()) {
+            Command::Render(args) => render::options(&args),
+            _ => unreachable!("render"),
         };
-        let options = render::options(&args);
-        assert_eq!(
-            options.ordering,
-            masssprings::linalg::sparse::Ordering::Natural
-        );
-        assert_eq!(
-            options.factorization,
-            masssprings::linalg::sparse::Method::Simplicial
-        );
+        assert_eq!(factor(options), (Ordering::Natural, Method::Simplicial));
     }
 }
