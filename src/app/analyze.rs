@@ -90,6 +90,7 @@ and for the supernodal factorization the supernodes by width with their
 share of L. The right-hand side is MATRIX.b.mtx (an n×3 array) when it
 exists.")]
 pub struct AnalyzeArgs {
+    /// A symmetric positive definite Matrix Market matrix.
     #[arg(value_name = "MATRIX.mtx")]
     matrix: PathBuf,
     #[command(flatten)]

@@ -99,6 +99,7 @@ median step time against plain-50's and how many steps ended at or below
 plain-50's energy. --accuracy (with --steps) runs the accuracy's settings
 and the assignment's plain-50 side by side, each step from the same state.")]
 pub struct ConvergeArgs {
+    /// The scene: JSON that names an OBJ (data/README.md).
     #[arg(value_name = "SCENE.json")]
     scene: PathBuf,
     /// The step to solve, counted from 1 (default 1).

@@ -20,6 +20,7 @@ use std::path::PathBuf;
 Writes the scene's Q = k AᵀA + M/Δt² + w CᵀC, as the simulation builds it,
 as a Matrix Market file (lower triangle) that analyze reads.")]
 pub struct ExportQArgs {
+    /// The scene: JSON that names an OBJ (data/README.md).
     #[arg(value_name = "SCENE.json")]
     scene: PathBuf,
     /// The file to write.

@@ -87,6 +87,7 @@ the texture when the scene has one, so Blender shows it). Shows progress on
 standard error; ends with n, springs, precomputation time, the median step
 time and the total time.")]
 pub struct SimulateArgs {
+    /// The scene: JSON that names an OBJ (data/README.md).
     #[arg(value_name = "SCENE.json")]
     scene: PathBuf,
     /// Time steps to run.

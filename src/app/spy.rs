@@ -33,6 +33,7 @@ struct Picture {
 /// and the order the factorization uses.
 #[derive(clap::Args, Debug)]
 pub struct PatternArgs {
+    /// A symmetric Matrix Market matrix, or a scene whose Q to draw.
     #[arg(value_name = "MATRIX.mtx|SCENE.json")]
     pub matrix: PathBuf,
     /// The picture to write.

@@ -109,6 +109,7 @@ look into a looping GIF that plays in real time, or draws the last step into
 a PNG. Cloths show their surface and pins; --springs adds every spring and
 point mass (always drawn for scenes made only of springs).")]
 pub struct RenderArgs {
+    /// The scene: JSON that names an OBJ (data/README.md).
     #[arg(value_name = "SCENE.json")]
     scene: PathBuf,
     /// The picture: .gif (an animation) or .png (the last step).

@@ -47,6 +47,7 @@ any subset: yours) with those of DIR (written by trace), in the handout's
 order, and exits with 1 when one differs: the first DIFFERS line is the first
 quantity to fix.")]
 pub struct TraceArgs {
+    /// The scene: JSON that names an OBJ (data/README.md).
     #[arg(value_name = "SCENE.json", required_unless_present = "compare")]
     scene: Option<PathBuf>,
     /// The folder to write.

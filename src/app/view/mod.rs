@@ -70,6 +70,7 @@ shift-drag to pull a vertex. Ctrl-C stops it.
 The viewer has no authentication: it binds to the loopback address unless
 --address says otherwise, and anyone who can reach that port can drive it.")]
 pub struct ViewArgs {
+    /// The scene: JSON that names an OBJ (data/README.md).
     #[arg(value_name = "SCENE.json")]
     scene: PathBuf,
     /// Port to serve on (0 picks a free one).
