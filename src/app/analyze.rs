@@ -1,7 +1,7 @@
 //! `masssprings analyze MATRIX.mtx`: the sparse Cholesky pipeline on one
 //! matrix, timed step by step.
 
-use super::flags::{whole, FactorFlags};
+use super::flags::{whole, FactorFlags, JsonFlag};
 use super::timing::{median_seconds, Repeats};
 use super::AppError;
 use masssprings::linalg::benchmark_right_hand_side;
@@ -101,9 +101,8 @@ pub struct AnalyzeArgs {
     /// Runs behind each median (default: at least 5, about a second).
     #[arg(long, value_name = "N", value_parser = whole(1, usize::MAX))]
     repeats: Option<usize>,
-    /// Print one JSON object instead of the table.
-    #[arg(long)]
-    json: bool,
+    #[command(flatten)]
+    json: JsonFlag,
     /// Renamed: the factorization is --factorization.
     #[arg(long, hide = true, value_parser = renamed("--method is the iteration method elsewhere; analyze's is --factorization supernodal|simplicial"))]
     method: Option<String>,
@@ -130,7 +129,7 @@ pub fn run(args: AnalyzeArgs) -> Result<(), AppError> {
     let (ordering, method) = (args.factor.ordering.ordering, args.factor.factorization);
     let analysis = analyze(&lower, &rhs, ordering, method, relaxation, repeats)
         .map_err(|e| AppError::Failed(format!("{}: {e}", path.display())))?;
-    if args.json {
+    if args.json.json {
         println!(
             "{}",
             serde_json::to_string(&analysis).expect("plain numbers serialise")

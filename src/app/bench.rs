@@ -41,7 +41,7 @@
 //! series labelled with its fitted exponent. Progress goes to stderr.
 
 use super::analyze::analyze;
-use super::flags::whole;
+use super::flags::{whole, JsonFlag};
 use super::limits::check_grid;
 use super::render::plot::{Figure, Panel, Scale, Series};
 use super::timing::{median_seconds, Repeats};
@@ -159,9 +159,8 @@ pub struct BenchArgs {
     /// Draw time and memory against n (log-log).
     #[arg(short = 'o', long, value_name = "FILE.png")]
     plot: Option<PathBuf>,
-    /// Print one JSON object instead of the table.
-    #[arg(long)]
-    json: bool,
+    #[command(flatten)]
+    json: JsonFlag,
     /// Internal: measure grid-N in this process (what each child runs).
     #[arg(long, hide = true, value_name = "N", value_parser = whole(2, usize::MAX))]
     one: Option<usize>,
@@ -210,7 +209,7 @@ pub fn run(args: BenchArgs) -> Result<(), AppError> {
     if let Some(path) = &plot {
         draw_plot(path, &report)?;
     }
-    if args.json {
+    if args.json.json {
         println!(
             "{}",
             serde_json::to_string(&report).expect("plain numbers serialise")

@@ -33,6 +33,14 @@ pub struct SimulationFlags {
     pub backend: Backend,
 }
 
+/// `--json`, the same in every command that reports numbers.
+#[derive(Args, Debug, Clone, Copy)]
+pub struct JsonFlag {
+    /// Print one JSON object instead of the report (simulate and render: without progress).
+    #[arg(long)]
+    pub json: bool,
+}
+
 impl SimulationFlags {
     /// Sets `options` from the flags that were given.
     pub fn apply(&self, options: &mut SimulationOptions) {

@@ -16,7 +16,7 @@
 //! `--resume DIR` continues the run whose frames are in `DIR` from its last
 //! two (`super::resume`), numbering the new frames on.
 
-use super::flags::{whole, SimulationFlags};
+use super::flags::{whole, JsonFlag, SimulationFlags};
 use super::limits::precompute;
 use super::progress::{duration, Progress};
 use super::render::texture::{read_png_file, Texture};
@@ -101,9 +101,8 @@ pub struct SimulateArgs {
     /// Add the assignment viewer's wind to gravity.
     #[arg(long)]
     wind: bool,
-    /// Print one JSON object instead of the table (no progress).
-    #[arg(long)]
-    json: bool,
+    #[command(flatten)]
+    json: JsonFlag,
     #[command(flatten)]
     simulation: SimulationFlags,
 }
@@ -133,7 +132,7 @@ pub fn run(args: SimulateArgs) -> Result<(), AppError> {
         out: args.resume.clone().or(args.frames.out),
         precision: args.frames.precision,
         force: args.frames.force,
-        progress: !args.json,
+        progress: !args.json.json,
     };
     let scene = load_scene(&scene_path)?;
     check_files(&scene_path, &scene, run.out.as_deref())?;
@@ -156,7 +155,7 @@ pub fn run(args: SimulateArgs) -> Result<(), AppError> {
     } else {
         simulate::<Sparse>(scene, &scene_path, options, &run, resumed)?
     };
-    if args.json {
+    if args.json.json {
         println!(
             "{}",
             serde_json::to_string(&summary).expect("plain numbers serialise")

@@ -39,7 +39,7 @@ mod vector;
 #[path = "../../../tests/common/mod.rs"]
 mod tests_common;
 
-use super::flags::{file_name_given, size, whole, SimulationFlags, Size};
+use super::flags::{file_name_given, size, whole, JsonFlag, SimulationFlags, Size};
 use super::limits::{check_frames, precompute};
 use super::progress::Progress;
 use super::timing::median;
@@ -133,9 +133,8 @@ pub struct RenderArgs {
     /// What the camera frames: the rest shape, the last step drawn, or the rest shape and every step drawn.
     #[arg(long, value_name = "F", default_value = "all", value_parser = ["rest", "last", "all"])]
     fit: String,
-    /// Print one JSON object instead of the two lines.
-    #[arg(long)]
-    json: bool,
+    #[command(flatten)]
+    json: JsonFlag,
     #[command(flatten)]
     simulation: SimulationFlags,
 }
@@ -254,7 +253,7 @@ fn parse(args: RenderArgs) -> Result<Request, AppError> {
         options,
         springs: args.springs,
         fit: args.fit,
-        json: args.json,
+        json: args.json.json,
     })
 }
 
