@@ -8,11 +8,18 @@
 //! * no development history in `README.md` and `docs/*.md`: no session
 //!   numbers, issue numbers, commit hashes, clock times or load averages
 //!   (the git log keeps those; a figure carries its command and machine);
-//! * the README and the two chapters on results keep their lengths.
+//! * the README and the two chapters on results keep their lengths;
+//! * every flag a page shows on a command line (`masssprings CMD … --flag`
+//!   or `cargo run --release -- CMD … --flag`) is in that command's
+//!   `--help`, so the command tour cannot drift from the program.
 //!
 //! Every check is a function of the text, so the last test feeds each one
 //! the mistake it looks for and sees it reported.
 
+#[path = "common/cli.rs"]
+mod cli;
+
+use cli::{masssprings, COMMANDS};
 use std::fs;
 use std::path::{Path, PathBuf};
 
@@ -285,8 +292,70 @@ fn the_readme_and_the_chapters_on_results_keep_their_lengths() {
     }
 }
 
+/// `(line, command, flag)` for every flag shown after a command of
+/// [`COMMANDS`] on one line: from `masssprings CMD` or `-- CMD` to the end
+/// of the code span (a backtick) or of the line.
+fn flags_shown(text: &str) -> Vec<(usize, &'static str, String)> {
+    let mut found = Vec::new();
+    for (number, line) in text.lines().enumerate() {
+        for (start, _) in line
+            .match_indices("masssprings ")
+            .chain(line.match_indices("-- "))
+        {
+            let rest = &line[start..];
+            let rest = rest.split_once(' ').map_or("", |(_, after)| after);
+            let Some(&command) = COMMANDS
+                .iter()
+                .find(|&&c| rest.split_whitespace().next() == Some(c))
+            else {
+                continue;
+            };
+            let span = rest.split('`').next().unwrap_or("");
+            for word in span.split_whitespace().skip(1) {
+                let word = word.split('=').next().unwrap_or(word);
+                let word = word.trim_end_matches([',', '.', ')', ';', ':', '"']);
+                let is_flag = word.starts_with("--") && word.len() > 2 || word == "-o";
+                if is_flag {
+                    found.push((number + 1, command, word.to_string()));
+                }
+            }
+        }
+    }
+    found
+}
+
+#[test]
+fn every_flag_the_pages_show_is_in_its_commands_help() {
+    let mut pages = pages();
+    pages.push(root().join("data/README.md"));
+    let mut helps = std::collections::HashMap::new();
+    let (mut unknown, mut checked) = (Vec::new(), 0);
+    for page in &pages {
+        for (line, command, flag) in flags_shown(&read(page)) {
+            checked += 1;
+            let help = helps.entry(command).or_insert_with(|| {
+                let output = masssprings(&[command, "--help"]);
+                assert!(output.status.success(), "{command} --help");
+                String::from_utf8(output.stdout).expect("UTF-8 help")
+            });
+            let listed = help.contains(&format!("{flag} ")) || help.contains(&format!("{flag},"));
+            if !listed {
+                unknown.push(format!("{}:{line}: {command} {flag}", shown(page)));
+            }
+        }
+    }
+    assert!(unknown.is_empty(), "flags not in the help: {unknown:#?}");
+    assert!(checked >= 50, "only {checked} flags found on the pages");
+}
+
 #[test]
 fn each_check_reports_the_mistake_it_looks_for() {
+    let shown = flags_shown("run `masssprings analyze M.mtx --method simplicial`, then --later");
+    assert_eq!(shown, vec![(1, "analyze", "--method".to_string())]);
+    let shown = flags_shown("cargo run --release -- render x.json -o x.gif --every 2");
+    let flags: Vec<&str> = shown.iter().map(|(_, _, flag)| flag.as_str()).collect();
+    assert_eq!(flags, ["-o", "--every"]);
+
     let repository = root();
     let page = repository.join("docs/example.md");
     let good = "[equations](equations.md), ![flag](images/flag.gif), [x](#anchor), \

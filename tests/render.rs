@@ -197,12 +197,12 @@ fn an_untextured_cloth_is_cloth_blue_and_springs_show_only_on_request() {
 #[test]
 fn a_wrong_extension_or_size_is_a_usage_error_and_writes_nothing() {
     let folder = temp_folder("usage");
-    for (out, extra) in [
-        ("net.bmp", vec![]),
-        ("net.gif", vec!["--size", "0x10"]),
-        ("net.gif", vec!["--size", "480"]),
-        ("net.gif", vec!["--every", "0"]),
-        ("net.png", vec!["--frames", "3"]),
+    for (out, extra, named) in [
+        ("net.bmp", vec![], ".gif"),
+        ("net.gif", vec!["--size", "0x10"], "--size"),
+        ("net.gif", vec!["--size", "480y360"], "--size"),
+        ("net.gif", vec!["--every", "0"], "--every"),
+        ("net.png", vec!["--frames", "3"], "--frames"),
     ] {
         let out = folder.join(out);
         let mut args = vec!["render", "--steps", "2", "-o", out.to_str().unwrap()];
@@ -216,7 +216,7 @@ fn a_wrong_extension_or_size_is_a_usage_error_and_writes_nothing() {
             "{args:?}: {}",
             stderr(&output)
         );
-        assert!(stderr(&output).contains("masssprings:"));
+        assert!(stderr(&output).contains(named), "{}", stderr(&output));
     }
     let missing_out = masssprings(&["render", &data("net.json")]);
     assert_eq!(missing_out.status.code(), Some(2));

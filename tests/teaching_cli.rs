@@ -169,7 +169,7 @@ fn export_q_writes_the_simulations_q_and_analyze_reads_it() {
                 path.to_str().unwrap(),
                 "--ordering",
                 ordering,
-                "--method",
+                "--factorization",
                 method,
                 "--repeats",
                 "1",
@@ -192,7 +192,11 @@ fn export_q_writes_the_simulations_q_and_analyze_reads_it() {
 fn export_q_without_an_output_is_a_usage_error() {
     let output = masssprings(&["export-q", &data("net.json")]);
     assert_eq!(output.status.code(), Some(2));
-    assert!(stderr(&output).contains("-o Q.mtx"), "{}", stderr(&output));
+    let error = stderr(&output);
+    assert!(
+        error.contains("--out <Q.mtx>") && error.contains("required"),
+        "{error}"
+    );
 }
 
 /// Width and height of a PNG file.
@@ -263,6 +267,19 @@ fn spy_draws_q_and_l_and_prints_the_fill_of_each_ordering() {
     ]));
     assert_eq!(png_size(&q_png).0, 118);
     assert_eq!(number_after(&printed, "n ="), 81.0);
+    // --size is WxH as everywhere; spy's picture is square
+    let spelled = succeeded(&masssprings(&[
+        "spy",
+        &data("net.json"),
+        "--size",
+        "100x100",
+        "-o",
+        q_png.to_str().unwrap(),
+    ]));
+    assert_eq!((spelled, png_size(&q_png).0), (printed, 118));
+    let oblong = masssprings(&["spy", &data("net.json"), "--size", "100x50", "-o", "x.png"]);
+    assert_eq!(oblong.status.code(), Some(2));
+    assert!(stderr(&oblong).contains("square"), "{}", stderr(&oblong));
     std::fs::remove_dir_all(&folder).unwrap();
 }
 

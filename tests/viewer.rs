@@ -1107,3 +1107,42 @@ fn the_floor_of_at_least_plain_applies_to_later_steps_and_shows_in_the_status() 
         "tolerance": null}));
     assert_eq!(plain.json()["at_least_plain"], Value::Null);
 }
+
+#[test]
+fn serving_beyond_loopback_warns_that_anyone_can_drive_it() {
+    for (address, warns) in [("0.0.0.0", true), ("127.0.0.1", false)] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_masssprings"))
+            .args([
+                "view",
+                &data("net.json"),
+                "--port",
+                "0",
+                "--address",
+                address,
+            ])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("the binary runs");
+        // the URL on standard output: it is serving
+        let mut url = String::new();
+        BufReader::new(child.stdout.take().expect("piped"))
+            .read_line(&mut url)
+            .unwrap();
+        assert!(url.starts_with("http://"), "{address}: {url:?}");
+        child.kill().unwrap();
+        child.wait().unwrap();
+        let mut errors = String::new();
+        child
+            .stderr
+            .take()
+            .expect("piped")
+            .read_to_string(&mut errors)
+            .unwrap();
+        assert_eq!(
+            errors.contains("no authentication") && errors.contains("anyone who can reach"),
+            warns,
+            "{address}: {errors}"
+        );
+    }
+}

@@ -1,7 +1,7 @@
 //! `masssprings analyze MATRIX.mtx`: the sparse Cholesky pipeline on one
 //! matrix, timed step by step.
 
-use super::args::{Args, CommandSpec, Flag};
+use super::flags::{whole, FactorFlags, JsonFlag};
 use super::timing::{median_seconds, Repeats};
 use super::AppError;
 use masssprings::linalg::benchmark_right_hand_side;
@@ -78,68 +78,58 @@ fn supernodes_by_width(symbolic: &SymbolicCholesky) -> Vec<WidthClass> {
     classes
 }
 
-/// `analyze`'s operands and flags.
-pub static COMMAND: CommandSpec = CommandSpec {
-    name: "analyze",
-    operands: "MATRIX.mtx",
-    summary: "Sparse Cholesky of a Matrix Market matrix, timed step by step.",
-    details: "\
+/// Sparse Cholesky of a Matrix Market matrix, timed step by step.
+#[derive(clap::Args, Debug)]
+#[command(after_help = "\
 Sparse Cholesky of a symmetric positive definite Matrix Market matrix: n,
 nnz, nnz(L), flops, median times of ordering, symbolic analysis, numeric
 factorization and a 3-column solve, its relative residual and its backward
 error (the relative residual can be large for an accurate solve of a matrix
 with huge entries, such as the pins' w = 1e10; the backward error cannot),
-and for the supernodal method the supernodes by width with their share of L.
-The right-hand side is MATRIX.b.mtx (an n×3 array) when it exists.",
-    flags: &[
-        Flag::value(
-            "ordering",
-            "amd|natural",
-            "Fill-reducing ordering (default amd).",
-        ),
-        Flag::value(
-            "method",
-            "supernodal|simplicial",
-            "Factorization (default supernodal).",
-        ),
-        Flag::value(
-            "relax",
-            "cholmod|none",
-            "cholmod merges supernodes by CHOLMOD's rule (relaxed supernodes, storing some \
-             zeros) before the supernodal factorization; none (default) keeps the \
-             fundamental supernodes.",
-        ),
-        Flag::value(
-            "repeats",
-            "N",
-            "Runs behind each median (default: at least 5, about a second).",
-        ),
-        Flag::switch("json", "Print one JSON object instead of the table."),
-    ],
-    shorts: &[],
-    run,
-};
+and for the supernodal factorization the supernodes by width with their
+share of L. The right-hand side is MATRIX.b.mtx (an n×3 array) when it
+exists.")]
+pub struct AnalyzeArgs {
+    /// A symmetric positive definite Matrix Market matrix.
+    #[arg(value_name = "MATRIX.mtx")]
+    matrix: PathBuf,
+    #[command(flatten)]
+    factor: FactorFlags,
+    /// How supernodes are merged before the supernodal factorization: fundamental (none merged) or relaxed (merged by CHOLMOD's rule, storing some zeros).
+    #[arg(long, value_name = "S", default_value = "fundamental", value_parser = ["fundamental", "relaxed"])]
+    supernodes: String,
+    /// Runs behind each median (default: at least 5, about a second).
+    #[arg(long, value_name = "N", value_parser = whole(1, usize::MAX))]
+    repeats: Option<usize>,
+    #[command(flatten)]
+    json: JsonFlag,
+    /// Renamed: the factorization is --factorization.
+    #[arg(long, hide = true, value_parser = renamed("--method is the iteration method elsewhere; analyze's is --factorization supernodal|simplicial"))]
+    method: Option<String>,
+    /// Renamed: supernode merging is --supernodes.
+    #[arg(long, hide = true, value_parser = renamed("supernode merging is --supernodes fundamental|relaxed (cholmod: relaxed, none: fundamental)"))]
+    relax: Option<String>,
+}
 
-pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(args, &COMMAND)?;
-    let path = PathBuf::from(args.single_positional("MATRIX.mtx")?);
-    let ordering = match args.choice("ordering", "amd", &["amd", "natural"])? {
-        "natural" => Ordering::Natural,
-        _ => Ordering::Amd,
-    };
-    let method = parse_method(&args)?;
-    let relaxation = match args.choice("relax", "none", &["cholmod", "none"])? {
-        "cholmod" => Relaxation::CHOLMOD,
+/// The parser of a flag that was renamed: it refuses every value, saying
+/// the new name.
+fn renamed(message: &'static str) -> impl Fn(&str) -> Result<String, String> + Clone {
+    move |_| Err(message.to_string())
+}
+
+pub fn run(args: AnalyzeArgs) -> Result<(), AppError> {
+    let path = args.matrix;
+    let relaxation = match args.supernodes.as_str() {
+        "relaxed" => Relaxation::CHOLMOD,
         _ => Relaxation::NONE,
     };
-    let repeats = args
-        .optional_count("repeats", 1)?
-        .map_or(Repeats::Adaptive, Repeats::Exactly);
+    let repeats = args.repeats.map_or(Repeats::Adaptive, Repeats::Exactly);
     let lower = read_symmetric_lower(&path)?;
     let rhs = read_or_make_rhs(&path, lower.ncols())?;
+    let (ordering, method) = (args.factor.ordering.ordering, args.factor.factorization);
     let analysis = analyze(&lower, &rhs, ordering, method, relaxation, repeats)
         .map_err(|e| AppError::Failed(format!("{}: {e}", path.display())))?;
-    if args.switch("json") {
+    if args.json.json {
         println!(
             "{}",
             serde_json::to_string(&analysis).expect("plain numbers serialise")
@@ -148,13 +138,6 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         print_table(&path, &analysis);
     }
     Ok(())
-}
-
-fn parse_method(args: &Args) -> Result<Method, AppError> {
-    match args.choice("method", "supernodal", &["supernodal", "simplicial"])? {
-        "simplicial" => Ok(Method::Simplicial),
-        _ => Ok(Method::Supernodal),
-    }
 }
 
 /// The lower triangle of the symmetric sparse matrix in `path` (a `general`

@@ -41,7 +41,7 @@
 //! series labelled with its fitted exponent. Progress goes to stderr.
 
 use super::analyze::analyze;
-use super::args::{Args, CommandSpec, Flag};
+use super::flags::{whole, JsonFlag};
 use super::limits::check_grid;
 use super::render::plot::{Figure, Panel, Scale, Series};
 use super::timing::{median_seconds, Repeats};
@@ -58,10 +58,6 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::Instant;
-
-/// The grid sides measured when `--sizes` is not given: about a minute on
-/// a 2-core machine. 1000 (one million vertices), 2000 and 3162 on request.
-const DEFAULT_SIDES: [usize; 3] = [32, 100, 316];
 
 /// Full steps timed per size when `--steps` is not given.
 const DEFAULT_STEPS: usize = 3;
@@ -141,48 +137,39 @@ struct BenchReport {
     slopes: Slopes,
 }
 
-/// `bench`'s flags.
-pub static COMMAND: CommandSpec = CommandSpec {
-    name: "bench",
-    operands: "",
-    summary: "Scaling benchmark on the grid-N cloths: time and memory against n.",
-    details: "\
+/// Scaling benchmark on the grid-N cloths: time and memory against n.
+#[derive(clap::Args, Debug)]
+#[command(after_help = "\
 Scaling benchmark on the grid-N cloths (built in memory), each size in a
 fresh process: n, nnz(Q), nnz(L), flops, median times of ordering,
 symbolic analysis, numeric factorization, a 3-column solve and a full
 step, peak memory (VmHWM), the solve's bandwidth beside a measured triad
 bandwidth, and the log-log slope of each cost. Default sizes 32,100,316
-(about a minute); 1000, 2000, 3162 on request.",
-    flags: &[
-        Flag::value("sizes", "N,N,…", "Grid sides (default 32,100,316)."),
-        Flag::value("steps", "S", "Steps timed per size (default 3)."),
-        Flag::value("csv", "FILE", "Write the table as CSV."),
-        Flag::value(
-            "plot",
-            "FILE.png",
-            "Draw time and memory against n (log-log).",
-        ),
-        Flag::switch("json", "Print one JSON object instead of the table."),
-        Flag::value(
-            "one",
-            "N",
-            "Internal: measure grid-N in this process (what each child runs).",
-        ),
-    ],
-    shorts: &[],
-    run,
-};
+(about a minute); 1000, 2000, 3162 on request.")]
+pub struct BenchArgs {
+    /// Grid sides, each at least 2 (the default takes about a minute on a 2-core machine; 1000, one million vertices, 2000 and 3162 on request).
+    #[arg(long, value_name = "N,N,…", value_delimiter = ',', default_value = "32,100,316", value_parser = whole(2, usize::MAX))]
+    sizes: Vec<usize>,
+    /// Steps timed per size.
+    #[arg(long, value_name = "S", default_value_t = DEFAULT_STEPS, value_parser = whole(1, usize::MAX))]
+    steps: usize,
+    /// Write the table as CSV.
+    #[arg(long, value_name = "FILE")]
+    csv: Option<PathBuf>,
+    /// Draw time and memory against n (log-log).
+    #[arg(short = 'o', long, value_name = "FILE.png")]
+    plot: Option<PathBuf>,
+    #[command(flatten)]
+    json: JsonFlag,
+    /// Internal: measure grid-N in this process (what each child runs).
+    #[arg(long, hide = true, value_name = "N", value_parser = whole(2, usize::MAX))]
+    one: Option<usize>,
+}
 
-pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(args, &COMMAND)?;
-    if let Some(extra) = args.positionals().first() {
-        return Err(AppError::Usage(format!(
-            "bench: unexpected argument '{extra}'"
-        )));
-    }
-    let steps = steps(&args)?;
+pub fn run(args: BenchArgs) -> Result<(), AppError> {
+    let steps = args.steps;
     // the hidden `--one N`: measure one size here, for the parent process
-    if let Some(side) = args.optional_count("one", 2)? {
+    if let Some(side) = args.one {
         check_grid(side)?;
         let report = measure_one(side, steps)?;
         println!(
@@ -191,15 +178,11 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         );
         return Ok(());
     }
-    let sides = match args.text("sizes").unwrap_or("") {
-        "" => DEFAULT_SIDES.to_vec(),
-        text => parse_sides(text)?,
-    };
+    let sides = args.sizes;
     for &side in &sides {
         check_grid(side)?;
     }
-    let path_of = |name: &str| args.text(name).map(PathBuf::from);
-    let (csv, plot) = (path_of("csv"), path_of("plot"));
+    let (csv, plot) = (args.csv, args.plot);
     let mut plan = FilePlan::default();
     for (flag, path) in [("--csv", &csv), ("--plot", &plot)] {
         if let Some(path) = path {
@@ -226,7 +209,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     if let Some(path) = &plot {
         draw_plot(path, &report)?;
     }
-    if args.switch("json") {
+    if args.json.json {
         println!(
             "{}",
             serde_json::to_string(&report).expect("plain numbers serialise")
@@ -288,22 +271,6 @@ fn draw_plot(path: &std::path::Path, report: &BenchReport) -> Result<(), AppErro
         height: 560,
     };
     figure.write_png(path)
-}
-
-fn steps(args: &Args) -> Result<usize, AppError> {
-    args.count("steps", DEFAULT_STEPS, 1)
-}
-
-/// `32,100,316`: grid sides, each at least 2.
-fn parse_sides(text: &str) -> Result<Vec<usize>, AppError> {
-    text.split(',')
-        .map(|part| match part.trim().parse::<usize>() {
-            Ok(side) if side >= 2 => Ok(side),
-            _ => Err(AppError::Usage(format!(
-                "--sizes {text}: '{part}' is not a grid side (an integer ≥ 2)"
-            ))),
-        })
-        .collect()
 }
 
 /// Runs `bench --one SIDE` in a fresh process of this program and reads

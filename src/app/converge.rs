@@ -22,10 +22,7 @@
 
 mod accuracy;
 
-use super::args::{Args, CommandSpec, Flag};
-use super::convergence_flags::{
-    self, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, PINS, RELAXATION, RHO, START, WINDOW,
-};
+use super::flags::{between, choice, whole, FactorFlags, StepRules};
 use super::limits::{check_kept, precompute};
 use super::render::plot::Scale;
 use super::steps_plot::{StepPlot, StepSeries};
@@ -60,7 +57,7 @@ struct Curve {
     stop: Stop,
 }
 
-struct Request {
+pub(super) struct Request {
     scene: PathBuf,
     step: usize,
     methods: Vec<StepMethod>,
@@ -69,8 +66,9 @@ struct Request {
     plot: Option<PathBuf>,
     /// `--steps S`: instead of one step, steps 1…S, medians only.
     over_steps: Option<usize>,
-    /// The canonical simulation: plain, 50 iterations, the pins given.
-    canonical: SimulationOptions,
+    /// The canonical simulation: plain, 50 iterations, the pins and the
+    /// factorization given.
+    pub(super) canonical: SimulationOptions,
     /// `--accuracy A` (with `--steps`): the accuracy's settings against the
     /// assignment's, over whole animations.
     accuracy: Option<Accuracy>,
@@ -79,81 +77,57 @@ struct Request {
 /// Plain iterations whose energies are the yardsticks.
 const YARDSTICKS: [usize; 2] = [50, 200];
 
-/// `converge`'s operands and flags.
-pub static COMMAND: CommandSpec = CommandSpec {
-    name: "converge",
-    operands: "SCENE.json",
-    summary: "Solve one time step by every method, iteration by iteration.",
-    details: "\
+/// Solve one time step by every method, iteration by iteration.
+#[derive(clap::Args, Debug)]
+#[command(
+    group(clap::ArgGroup::new("rules")
+        .args(["accuracy", "tolerance", "energy_tolerance", "at_least_plain"])
+        .multiple(true)
+        .requires("steps")),
+    after_help = "\
 Runs the canonical simulation (plain, 50 iterations) up to step K, then
 solves step K again with each method, up to N iterations, recording per
 iteration the energy E(p) − E(p⁰), the relative gradient and the wall time.
 Prints, per method, the iterations and milliseconds it needed to reach the
 energy of 50 and of 200 plain iterations; writes the curves as CSV and as a
-two-panel plot.",
-    flags: &[
-        Flag::value(
-            "step",
-            "K",
-            "The step to solve, counted from 1 (default 1).",
-        ),
-        Flag::value(
-            "methods",
-            "LIST",
-            "Comma-separated methods (default: plain,chebyshev,anderson,lbfgs,newton).",
-        ),
-        Flag::value(
-            "csv",
-            "FILE",
-            "Write the curves as CSV (with --steps: one row per step and method).",
-        ),
-        Flag::value(
-            "plot",
-            "FILE.png",
-            "Draw the curves into a PNG (with --steps: each step's cost and accuracy against \
-             plain-50's).",
-        ),
-        Flag::value(
-            "steps",
-            "S",
-            "Instead of one step, steps 1…S: the median time each method takes to reach \
-             plain-50's energy.",
-        ),
-        Flag::value(
-            "tolerance",
-            "T",
-            "With --steps: each method instead solves every step until its relative gradient \
-             is at most T (0 < T < 1), as simulate --tolerance does; prints the median step \
-             time against plain-50's and how many steps ended at or below plain-50's energy.",
-        ),
-        ENERGY_TOLERANCE,
-        AT_LEAST_PLAIN,
-        Flag::value(
-            "accuracy",
-            "A",
-            "With --steps: run the accuracy's settings (assignment: those of simulate \
-             --accuracy assignment) and the assignment's plain-50 side by side, each step from \
-             the same state; print the total time of each, the steps that ended above \
-             plain-50's energy, and how far the two trajectories part when each runs on its own.",
-        ),
-        Flag::value(
-            "delta-t",
-            "DT",
-            "The time step in seconds, 1e-4 to 1 (default 1/30, the assignment's).",
-        ),
-        ITERATIONS,
-        RHO,
-        RELAXATION,
-        START,
-        WINDOW,
-        PINS,
-    ],
-    shorts: &[],
-    run,
-};
+two-panel plot.
 
-pub fn run(args: &[String]) -> Result<(), AppError> {
-    let request = parse(args)?;
+With --steps S, does this for steps 1…S and prints medians. The stopping
+rules (--tolerance, --energy-tolerance, --at-least-plain) need --steps: each
+method then solves every step as simulate would, and the table gives the
+median step time against plain-50's and how many steps ended at or below
+plain-50's energy. --accuracy (with --steps) runs the accuracy's settings
+and the assignment's plain-50 side by side, each step from the same state.")]
+pub struct ConvergeArgs {
+    /// The scene: JSON that names an OBJ (data/README.md).
+    #[arg(value_name = "SCENE.json")]
+    scene: PathBuf,
+    /// The step to solve, counted from 1 (default 1).
+    #[arg(long, value_name = "K", value_parser = whole(1, usize::MAX), conflicts_with = "accuracy")]
+    step: Option<usize>,
+    /// Comma-separated methods (default: all of them).
+    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = choice::<StepMethod>(&StepMethod::ALL.map(StepMethod::name)), conflicts_with = "accuracy")]
+    methods: Vec<StepMethod>,
+    /// Instead of one step, steps 1…S: the median time each method takes to reach plain-50's energy.
+    #[arg(long, value_name = "S", value_parser = whole(1, usize::MAX))]
+    steps: Option<usize>,
+    /// Write the curves as CSV (with --steps: one row per step and method).
+    #[arg(long, value_name = "FILE")]
+    csv: Option<PathBuf>,
+    /// Draw the curves into a PNG (with --steps: each step's cost and accuracy against plain-50's).
+    #[arg(short = 'o', long, value_name = "FILE.png")]
+    plot: Option<PathBuf>,
+    /// The time step in seconds, 1e-4 to 1 (default 1/30, the assignment's).
+    #[arg(long, value_name = "DT", value_parser = between(1e-4, 1.0))]
+    delta_t: Option<f64>,
+    #[command(flatten)]
+    rules: StepRules,
+    #[command(flatten)]
+    factor: FactorFlags,
+}
+
+pub fn run(args: ConvergeArgs) -> Result<(), AppError> {
+    let request = parse(args);
     let scene = load_scene(&request.scene)?;
     let mut plan = FilePlan::default();
     plan_scene_inputs(&mut plan, &request.scene, &scene);
@@ -203,63 +177,34 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     Ok(())
 }
 
-fn parse(args: &[String]) -> Result<Request, AppError> {
-    let args = Args::parse(args, &COMMAND)?;
-    let scene = PathBuf::from(args.single_positional("SCENE.json")?);
-    let step = args.count("step", 1, 1)?;
-    let mut methods = match args.text("methods").unwrap_or("").to_string() {
-        list if list.is_empty() => StepMethod::ALL.to_vec(),
-        list => list
-            .split(',')
-            .map(|m| m.trim().parse::<StepMethod>().map_err(AppError::Usage))
-            .collect::<Result<_, _>>()?,
-    };
+pub(super) fn parse(args: ConvergeArgs) -> Request {
     let mut sim_options = SimulationOptions::default();
     sim_options.step.iterations = 200;
     sim_options.step.measure = true; // every report compares energies
-    convergence_flags::apply(&args, &mut sim_options)?;
-    // `--steps S` selects the mode over steps (`--steps 0` is an error)
-    let over_steps = args.optional_count("steps", 1)?;
-    let accuracy = args
-        .text("accuracy")
-        .and_then(|_| Accuracy::of(&sim_options.step));
-    if sim_options.step.has_stopping_rule() && over_steps.is_none() {
-        return Err(AppError::Usage(
-            "--accuracy, --tolerance, --energy-tolerance and --at-least-plain need --steps S \
-             (one step's curves always run every iteration)"
-                .into(),
-        ));
-    }
-    if accuracy.is_some() {
-        if let Some(other) = ["step", "methods"]
-            .into_iter()
-            .find(|f| args.text(f).is_some())
-        {
-            return Err(AppError::Usage(format!(
-                "--accuracy and --{other} cannot be given together (--accuracy compares its own \
-                 method with plain over --steps S)"
-            )));
-        }
-        methods = vec![sim_options.step.method];
-    }
-    let path = |name: &str| -> Result<Option<PathBuf>, AppError> {
-        Ok(args.text(name).map(PathBuf::from))
+    args.rules.apply(&mut sim_options);
+    let accuracy = args.rules.accuracy;
+    let methods = match accuracy {
+        Some(_) => vec![sim_options.step.method],
+        None if args.methods.is_empty() => StepMethod::ALL.to_vec(),
+        None => args.methods,
     };
-    Ok(Request {
-        scene,
-        step,
+    let mut canonical = SimulationOptions {
+        pins: sim_options.pins,
+        delta_t: args.delta_t.unwrap_or(DELTA_T),
+        ..SimulationOptions::default()
+    };
+    args.factor.apply(&mut canonical);
+    Request {
+        scene: args.scene,
+        step: args.step.unwrap_or(1),
         methods,
         control: sim_options.step,
-        csv: path("csv")?,
-        plot: path("plot")?,
-        canonical: SimulationOptions {
-            pins: sim_options.pins,
-            delta_t: args.number("delta-t", DELTA_T, 1e-4..=1.0)?,
-            ..SimulationOptions::default()
-        },
-        over_steps,
+        csv: args.csv,
+        plot: args.plot,
+        canonical,
+        over_steps: args.steps,
         accuracy,
-    })
+    }
 }
 
 /// Refuses, before any work, records that would not fit in memory: every

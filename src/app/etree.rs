@@ -4,42 +4,39 @@
 //! its own colour, its columns joined by a band. Prints `n`, the height of
 //! the tree and the number of supernodes.
 
-use super::args::{Args, CommandSpec, Flag};
+use super::flags::{size, Size};
 use super::render::encode::write_png;
 use super::render::sparsity::{depths, elimination_tree};
-use super::spy::{file_name, load_lower, required_out};
+use super::spy::{file_name, load_lower, PatternArgs};
 use super::AppError;
 use masssprings::files::{write_file, FilePlan};
-use masssprings::linalg::sparse::{Ordering, SymbolicCholesky};
-use std::path::PathBuf;
+use masssprings::linalg::sparse::SymbolicCholesky;
 
 /// Larger trees are a smudge at any size; `spy` suits them better.
 const MAX_COLUMNS: usize = 4096;
 
-/// `etree`'s operands and flags.
-pub static COMMAND: CommandSpec = CommandSpec {
-    name: "etree",
-    operands: "MATRIX.mtx|SCENE.json -o OUT.png",
-    summary: "Draw the elimination tree of Q with its supernodes.",
-    details: "\
+/// Draw the elimination tree of Q with its supernodes.
+#[derive(clap::Args, Debug)]
+#[command(after_help = "\
 Draws the elimination tree of Q in the order the factorization uses, each
 supernode in its own colour (at most 4096 columns). Prints the tree's
-height and the number of supernodes.",
-    flags: &[
-        Flag::value("out", "OUT.png", "The picture to write (required)."),
-        Flag::value("ordering", "amd|natural", "The ordering (default amd)."),
-        Flag::value("size", "WxH", "Picture size (default 720x360)."),
-    ],
-    shorts: &[('o', "out")],
-    run,
-};
+height and the number of supernodes.")]
+pub struct EtreeArgs {
+    #[command(flatten)]
+    pattern: PatternArgs,
+    /// Picture size in pixels.
+    #[arg(long, value_name = "WxH", default_value = "720x360", value_parser = size(64, 4096))]
+    size: Size,
+}
 
-pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(args, &COMMAND)?;
-    let path = PathBuf::from(args.single_positional("MATRIX.mtx|SCENE.json")?);
-    let out = required_out(&args, "etree", "OUT.png")?;
-    let (width, height) = parse_size(args.text("size").unwrap_or("720x360"))?;
-    let ordering: Ordering = args.parsed("ordering", Ordering::Amd, "amd or natural")?;
+pub fn run(args: EtreeArgs) -> Result<(), AppError> {
+    let PatternArgs {
+        matrix: path,
+        out,
+        ordering,
+    } = args.pattern;
+    let ordering = ordering.ordering;
+    let Size { width, height } = args.size;
     let mut plan = FilePlan::default();
     let lower = load_lower(&path, &mut plan)?;
     plan.output("-o", &out).check()?;
@@ -73,20 +70,4 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     write_file(&out, |file| write_png(file, &image))?;
     super::report(&out, &caption.join("; "));
     Ok(())
-}
-
-/// `WxH` in pixels, each 64 to 4096.
-fn parse_size(text: &str) -> Result<(usize, usize), AppError> {
-    let bad = || {
-        AppError::Usage(format!(
-            "--size {text}: expected WxH, 64 to 4096 pixels each"
-        ))
-    };
-    let (w, h) = text.split_once('x').ok_or_else(bad)?;
-    let (w, h): (usize, usize) = (w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?);
-    if (64..=4096).contains(&w) && (64..=4096).contains(&h) {
-        Ok((w, h))
-    } else {
-        Err(bad())
-    }
 }

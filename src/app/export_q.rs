@@ -4,8 +4,8 @@
 //! `masssprings analyze Q.mtx` (and any other sparse solver) can be tried
 //! on any scene.
 
-use super::args::{Args, CommandSpec, Flag};
-use super::spy::{required_out, scene_q};
+use super::flags::file_name_given;
+use super::spy::scene_q;
 use super::{plan_scene_inputs, report, AppError};
 use masssprings::files::{write_file, FilePlan};
 use masssprings::linalg::matrix_market::{write_coordinate, Symmetry};
@@ -14,23 +14,22 @@ use masssprings::mesh::load_scene;
 use masssprings::sim::PIN_WEIGHT;
 use std::path::PathBuf;
 
-/// `export-q`'s operands and flags.
-pub static COMMAND: CommandSpec = CommandSpec {
-    name: "export-q",
-    operands: "SCENE.json -o Q.mtx",
-    summary: "Write a scene's Q as a Matrix Market file, for analyze.",
-    details: "\
+/// Write a scene's Q as a Matrix Market file, for analyze.
+#[derive(clap::Args, Debug)]
+#[command(after_help = "\
 Writes the scene's Q = k AᵀA + M/Δt² + w CᵀC, as the simulation builds it,
-as a Matrix Market file (lower triangle) that analyze reads.",
-    flags: &[Flag::value("out", "Q.mtx", "The file to write (required).")],
-    shorts: &[('o', "out")],
-    run,
-};
+as a Matrix Market file (lower triangle) that analyze reads.")]
+pub struct ExportQArgs {
+    /// The scene: JSON that names an OBJ (data/README.md).
+    #[arg(value_name = "SCENE.json")]
+    scene: PathBuf,
+    /// The file to write.
+    #[arg(short, long, value_name = "Q.mtx", required = true, value_parser = file_name_given)]
+    out: PathBuf,
+}
 
-pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(args, &COMMAND)?;
-    let scene_path = PathBuf::from(args.single_positional("SCENE.json")?);
-    let out = required_out(&args, "export-q", "Q.mtx")?;
+pub fn run(args: ExportQArgs) -> Result<(), AppError> {
+    let (scene_path, out) = (args.scene, args.out);
     let scene = load_scene(&scene_path)?;
     let mut plan = FilePlan::default();
     plan_scene_inputs(&mut plan, &scene_path, &scene);

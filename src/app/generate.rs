@@ -4,70 +4,52 @@
 //! Each file is written all or nothing: into a temporary file in `DIR`,
 //! renamed into place once complete (`masssprings::files::write_file`).
 
-use super::args::{Args, CommandSpec, Flag};
+use super::flags::whole;
 use super::limits::check_grid;
 use super::render::encode::write_png;
-use super::suggest::nearest;
 use super::AppError;
 use masssprings::files::{remove_stale_temporaries, write_file};
 use masssprings::mesh::procedural::{self, GeneratedScene};
 use std::fs;
 use std::path::{Path, PathBuf};
 
-/// `generate`'s operands and flags.
-pub static COMMAND: CommandSpec = CommandSpec {
-    name: "generate",
-    operands: "grid N | examples",
-    summary: "Write the benchmark cloth grid-N, or the five bundled scenes.",
-    details: "\
+/// Write the benchmark cloth grid-N, or the five bundled scenes.
+#[derive(clap::Args, Debug)]
+#[command(after_help = "\
 generate grid N writes DIR/grid-N.json and .obj: the N×N cloth of the
 benchmarks, the same bytes as the reference tool's `ref grid N`.
 generate examples writes the five teaching scenes (single-spring-horizontal,
-horizontal-chain, net, flag, skirt) and their PNG textures, as in data/.",
-    flags: &[Flag::value(
-        "out",
-        "DIR",
-        "Folder to write into (default .).",
-    )],
-    shorts: &[],
-    run,
-};
+horizontal-chain, net, flag, skirt) and their PNG textures, as in data/.")]
+pub struct GenerateArgs {
+    #[command(subcommand)]
+    what: What,
+    /// Folder to write into.
+    #[arg(short, long, value_name = "DIR", default_value = ".", global = true)]
+    out: PathBuf,
+}
 
-pub fn run(args: &[String]) -> Result<(), AppError> {
-    let options = Args::parse(args, &COMMAND)?;
-    let scenes = match options.positionals() {
-        [what, n] if what == "grid" => {
-            let n = grid_size(n)?;
+/// What `generate` writes.
+#[derive(clap::Subcommand, Debug)]
+enum What {
+    /// The N×N cloth of the benchmarks, grid-N.
+    Grid {
+        /// The grid's side, at least 2.
+        #[arg(value_parser = whole(2, usize::MAX))]
+        n: usize,
+    },
+    /// The five teaching scenes and their textures.
+    Examples,
+}
+
+pub fn run(args: GenerateArgs) -> Result<(), AppError> {
+    let scenes = match args.what {
+        What::Grid { n } => {
             check_grid(n)?;
             vec![procedural::grid(n)]
         }
-        [what] if what == "grid" => {
-            return Err(AppError::Usage(
-                "generate grid needs N, the grid's side".into(),
-            ))
-        }
-        [what] if what == "examples" => procedural::examples(),
-        [] => {
-            return Err(AppError::Usage(
-                "generate what? `grid N` or `examples`".into(),
-            ))
-        }
-        [what, _, extra, ..] if what == "grid" => {
-            return Err(AppError::Usage(format!("unexpected argument '{extra}'")))
-        }
-        [what, extra, ..] if what == "examples" => {
-            return Err(AppError::Usage(format!("unexpected argument '{extra}'")))
-        }
-        [other, ..] => {
-            let hint = nearest(other, ["grid", "examples"])
-                .map(|word| format!("; did you mean {word}?"))
-                .unwrap_or_default();
-            return Err(AppError::Usage(format!(
-                "generate {other}: expected `grid N` or `examples`{hint}"
-            )));
-        }
+        What::Examples => procedural::examples(),
     };
-    let folder = PathBuf::from(options.text("out").unwrap_or("."));
+    let folder = args.out;
     super::check_output_folder(&folder, "generate writes scene files into a folder")?;
     fs::create_dir_all(&folder)
         .map_err(|e| AppError::Failed(format!("{}: {e}", folder.display())))?;
@@ -76,16 +58,6 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         write_scene(scene, &folder)?;
     }
     Ok(())
-}
-
-/// `N` of `grid N`: an integer ≥ 2.
-fn grid_size(text: &str) -> Result<usize, AppError> {
-    match text.parse::<usize>() {
-        Ok(n) if n >= 2 => Ok(n),
-        _ => Err(AppError::Usage(format!(
-            "generate grid expects N, a whole number ≥ 2, got '{text}'"
-        ))),
-    }
 }
 
 /// Writes `NAME.obj`, `NAME.json` and the texture, if any, into `folder`.

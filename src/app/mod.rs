@@ -2,14 +2,12 @@
 //! arguments, reads and writes files, times things, and calls the library.
 
 mod analyze;
-mod args;
 mod bench;
 mod converge;
-mod convergence_flags;
 mod convergence_plot;
 mod etree;
 mod export_q;
-mod factorization_flags;
+mod flags;
 mod generate;
 mod limits;
 mod progress;
@@ -18,12 +16,12 @@ mod resume;
 mod simulate;
 mod spy;
 mod steps_plot;
-mod suggest;
 mod timing;
 mod trace;
 mod view;
 
-use args::CommandSpec;
+use clap::error::ErrorKind;
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use masssprings::files::FilePlan;
 use masssprings::mesh::Scene;
 use std::io::Read;
@@ -123,108 +121,151 @@ fn looks_like_json(path: &Path) -> bool {
     }
 }
 
-/// Every command, in the order `masssprings help` lists them. Each
-/// command's flags live in its own file, in its `COMMAND` table.
-const COMMANDS: &[&CommandSpec] = &[
-    &simulate::COMMAND,
-    &render::COMMAND,
-    &view::COMMAND,
-    &converge::COMMAND,
-    &analyze::COMMAND,
-    &bench::COMMAND,
-    &export_q::COMMAND,
-    &spy::COMMAND,
-    &etree::COMMAND,
-    &trace::COMMAND,
-    &generate::COMMAND,
-];
-
-/// `masssprings help`, generated from [`COMMANDS`].
-fn usage() -> String {
-    let mut text = format!(
-        "masssprings {}: fast simulation of mass-spring systems (Liu et al. 2013)\n\n\
-         usage: masssprings COMMAND [options]\n\ncommands:\n",
-        env!("CARGO_PKG_VERSION")
-    );
-    for command in COMMANDS {
-        args::push_entry(
-            &mut text,
-            &format!("{} {}", command.name, command.operands),
-            command.summary,
-        );
-    }
-    args::push_entry(
-        &mut text,
-        "help [COMMAND]",
-        "This text, or a command's options.",
-    );
-    args::push_entry(&mut text, "--version", "The version.");
-    text.push_str(
-        "\n`masssprings help COMMAND` or `masssprings COMMAND --help` shows a command's options.\n",
-    );
-    text
+/// `masssprings`: its version, and one subcommand per command, each
+/// declared in its own file.
+#[derive(Parser, Debug)]
+#[command(
+    name = "masssprings",
+    version,
+    about = "Fast simulation of mass-spring systems (Liu et al. 2013)",
+    arg_required_else_help = true
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
 }
 
-fn find_command(name: &str) -> Result<&'static CommandSpec, AppError> {
-    if let Some(command) = COMMANDS.iter().find(|command| command.name == name) {
-        return Ok(command);
-    }
-    let names = COMMANDS.iter().map(|command| command.name);
-    let hint = suggest::nearest(name, names.chain(["help"]))
-        .map(|name| format!("; did you mean {name}?"))
-        .unwrap_or_default();
-    Err(AppError::Usage(format!("unknown command '{name}'{hint}")))
+/// Every command, in the order `masssprings help` lists them.
+#[derive(Subcommand, Debug)]
+enum Command {
+    Simulate(simulate::SimulateArgs),
+    Render(render::RenderArgs),
+    View(view::ViewArgs),
+    Converge(converge::ConvergeArgs),
+    Analyze(analyze::AnalyzeArgs),
+    Bench(bench::BenchArgs),
+    ExportQ(export_q::ExportQArgs),
+    Spy(spy::SpyArgs),
+    Etree(etree::EtreeArgs),
+    Trace(trace::TraceArgs),
+    Generate(generate::GenerateArgs),
+    /// Print a completion script for a shell (`masssprings completions bash > masssprings.bash`).
+    Completions {
+        #[arg(value_name = "SHELL")]
+        shell: clap_complete::Shell,
+    },
+    /// The version (as `--version`).
+    #[command(hide = true)]
+    Version,
 }
 
-/// Asks for help: `-h` or `--help` among the arguments (before a `--`).
-fn asks_for_help(args: &[String]) -> bool {
-    args.iter()
-        .take_while(|arg| *arg != "--")
-        .any(|arg| arg == "-h" || arg == "--help")
-}
-
-/// Runs one command line; help goes to standard output.
-fn dispatch(args: &[String]) -> Result<(), AppError> {
-    match args.first().map(String::as_str) {
-        None => Err(AppError::Usage("no command given".into())),
-        Some("help" | "--help" | "-h") => {
-            match args.get(1) {
-                None => print!("{}", usage()),
-                Some(name) => print!("{}", find_command(name)?.help()),
+impl Command {
+    fn run(self) -> Result<(), AppError> {
+        match self {
+            Command::Simulate(args) => simulate::run(args),
+            Command::Render(args) => render::run(args),
+            Command::View(args) => view::run(args),
+            Command::Converge(args) => converge::run(args),
+            Command::Analyze(args) => analyze::run(args),
+            Command::Bench(args) => bench::run(args),
+            Command::ExportQ(args) => export_q::run(args),
+            Command::Spy(args) => spy::run(args),
+            Command::Etree(args) => etree::run(args),
+            Command::Trace(args) => trace::run(args),
+            Command::Generate(args) => generate::run(args),
+            Command::Completions { shell } => {
+                let mut command = Cli::command();
+                clap_complete::generate(shell, &mut command, "masssprings", &mut std::io::stdout());
+                Ok(())
             }
-            Ok(())
-        }
-        Some("--version" | "-V" | "version") => {
-            println!("masssprings {}", env!("CARGO_PKG_VERSION"));
-            Ok(())
-        }
-        Some(name) => {
-            let command = find_command(name)?;
-            if asks_for_help(&args[1..]) {
-                print!("{}", command.help());
-                return Ok(());
+            Command::Version => {
+                println!("masssprings {}", env!("CARGO_PKG_VERSION"));
+                Ok(())
             }
-            (command.run)(&args[1..])
         }
     }
+}
+
+/// Parses `args`; help asked for anywhere before a `--` wins over any
+/// error on the line (`simulate x --bogus -h` shows `simulate`'s help).
+fn parse(args: &[String]) -> Result<Cli, clap::Error> {
+    let line = std::iter::once("masssprings").chain(args.iter().map(String::as_str));
+    // `--energy-tolerance -0.1` is a bad value, not an unknown flag `-0`
+    let command = Cli::command().mut_subcommands(|c| c.allow_negative_numbers(true));
+    let matches = command.try_get_matches_from(line);
+    matches
+        .and_then(|m| Cli::from_arg_matches(&m))
+        .map_err(|error| {
+            let asks_for_help = args
+                .iter()
+                .take_while(|arg| *arg != "--")
+                .any(|arg| arg == "-h" || arg == "--help");
+            match args.first() {
+                Some(command) if asks_for_help && error.kind() != ErrorKind::DisplayHelp => {
+                    Cli::try_parse_from(["masssprings", command, "--help"])
+                        .err()
+                        .unwrap_or(error)
+                }
+                _ => error,
+            }
+        })
 }
 
 /// Runs the command line `args` (without the program name); returns the
-/// exit code.
+/// exit code: 0, 2 for a usage error (clap's or a command's), 1 for a
+/// failure.
 pub fn run(args: &[String]) -> i32 {
-    match dispatch(args) {
+    let command = match parse(args) {
+        Ok(cli) => cli.command,
+        Err(error) => {
+            let _ = error.print();
+            return error.exit_code();
+        }
+    };
+    match command.run() {
         Ok(()) => 0,
         Err(AppError::Usage(message)) => {
-            let see = match args.first().and_then(|name| find_command(name).ok()) {
-                Some(command) => format!("masssprings {} --help", command.name),
-                None => "masssprings help".to_string(),
-            };
-            eprintln!("masssprings: {message}\n(see `{see}`)");
+            let name = args.first().map_or("", String::as_str);
+            eprintln!("masssprings: {message}\n(see `masssprings {name} --help`)");
             2
         }
         Err(AppError::Failed(message)) => {
             eprintln!("masssprings: error: {message}");
             1
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The command `line` parses into.
+    fn command(line: &[&str]) -> Command {
+        let args: Vec<String> = line.iter().map(|s| s.to_string()).collect();
+        parse(&args).expect("a valid line").command
+    }
+
+    #[test]
+    fn the_declaration_is_consistent() {
+        Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn render_and_converge_pass_the_factorization_to_their_simulation() {
+        use masssprings::linalg::sparse::{Method, Ordering};
+        let flags = ["--ordering", "natural", "--factorization", "simplicial"];
+        let options = match command(&[&["converge", "x.json"][..], &flags].concat()) {
+            Command::Converge(args) => converge::parse(args).canonical,
+            _ => unreachable!("converge"),
+        };
+        let factor =
+            |o: masssprings::sim::simulation::SimulationOptions| (o.ordering, o.factorization);
+        assert_eq!(factor(options), (Ordering::Natural, Method::Simplicial));
+        let options = match command(&[&["render", "x.json", "-o", "x.gif"][..], &flags].concat()) {
+            Command::Render(args) => render::options(&args),
+            _ => unreachable!("render"),
+        };
+        assert_eq!(factor(options), (Ordering::Natural, Method::Simplicial));
     }
 }

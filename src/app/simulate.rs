@@ -16,12 +16,7 @@
 //! `--resume DIR` continues the run whose frames are in `DIR` from its last
 //! two (`super::resume`), numbering the new frames on.
 
-use super::args::{Args, CommandSpec, Flag};
-use super::convergence_flags::{
-    self, ACCURACY, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO,
-    START, TOLERANCE, WINDOW,
-};
-use super::factorization_flags::{self, FACTORIZATION, ORDERING, TEXTBOOK};
+use super::flags::{whole, JsonFlag, SimulationFlags};
 use super::limits::precompute;
 use super::progress::{duration, Progress};
 use super::render::texture::{read_png_file, Texture};
@@ -83,88 +78,65 @@ struct Run {
     progress: bool,
 }
 
-/// `simulate`'s operands and flags.
-pub static COMMAND: CommandSpec = CommandSpec {
-    name: "simulate",
-    operands: "SCENE.json",
-    summary: "Run a scene headless, write OBJ frames, report timings.",
-    details: "\
+/// Run a scene headless, write OBJ frames, report timings.
+#[derive(clap::Args, Debug)]
+#[command(after_help = "\
 Runs the simulation (sparse unless --dense) for N steps. With --out, writes
 DIR/frame-NNNNNN.obj for step 0 and every K-th step (with DIR/NAME.mtl and
 the texture when the scene has one, so Blender shows it). Shows progress on
 standard error; ends with n, springs, precomputation time, the median step
-time and the total time.",
-    flags: &[
-        Flag::value("steps", "N", "Time steps to run (default 100)."),
-        Flag::value("every", "K", "Write every K-th step (default 1)."),
-        Flag::value("out", "DIR", "Write OBJ frames into DIR."),
-        Flag::value(
-            "resume",
-            "DIR",
-            "Continue the run whose frames are in DIR from its last frame and the one a step \
-             before it (written without --precision), adding N more frames there; give the \
-             flags of that run.",
-        ),
-        Flag::value(
-            "precision",
-            "D",
-            "Digits after the decimal point of the positions in the frames (default: as \
-             many as it takes to read back the same f64).",
-        ),
-        Flag::switch(
-            "dense",
-            "Dense matrices and Cholesky (the assignment's dense path).",
-        ),
-        Flag::switch("wind", "Add the assignment viewer's wind to gravity."),
-        Flag::switch(
-            "force",
-            "With --out: remove the frames of an earlier run there first (otherwise such a \
-             folder is refused).",
-        ),
-        Flag::switch(
-            "json",
-            "Print one JSON object instead of the table (no progress).",
-        ),
-        ACCURACY,
-        METHOD,
-        TOLERANCE,
-        ENERGY_TOLERANCE,
-        AT_LEAST_PLAIN,
-        ITERATIONS,
-        RHO,
-        RELAXATION,
-        START,
-        WINDOW,
-        PINS,
-        ORDERING,
-        FACTORIZATION,
-        TEXTBOOK,
-    ],
-    shorts: &[],
-    run,
-};
+time and the total time.")]
+pub struct SimulateArgs {
+    /// The scene: JSON that names an OBJ (data/README.md).
+    #[arg(value_name = "SCENE.json")]
+    scene: PathBuf,
+    /// Time steps to run.
+    #[arg(long, value_name = "N", default_value = "100", value_parser = whole(0, usize::MAX))]
+    steps: usize,
+    #[command(flatten)]
+    frames: FrameOutput,
+    /// Continue the run whose frames are in DIR from its last frame and the one a step before it (written without --precision), adding N more frames there; give the flags of that run.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["out", "force"])]
+    resume: Option<PathBuf>,
+    /// Add the assignment viewer's wind to gravity.
+    #[arg(long)]
+    wind: bool,
+    #[command(flatten)]
+    json: JsonFlag,
+    #[command(flatten)]
+    simulation: SimulationFlags,
+}
 
-pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(args, &COMMAND)?;
-    let scene_path = PathBuf::from(args.single_positional("SCENE.json")?);
-    let precision = match args.text("precision") {
-        None => None,
-        Some(_) => Some(args.whole_number("precision", 17, 0..=17)? as usize),
-    };
-    let resume_folder = resume_folder(&args)?;
+/// Where frames go: `simulate`'s output.
+#[derive(clap::Args, Debug)]
+struct FrameOutput {
+    /// Write OBJ frames into DIR.
+    #[arg(short, long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Remove the frames of an earlier run in --out first (otherwise such a folder is refused).
+    #[arg(long, requires = "out")]
+    force: bool,
+    /// Write every K-th step.
+    #[arg(long, value_name = "K", default_value = "1", value_parser = whole(1, usize::MAX))]
+    every: usize,
+    /// Digits after the decimal point of the positions in the frames, 0 to 17 (default: as many as it takes to read back the same f64).
+    #[arg(long, value_name = "D", value_parser = whole(0, 17))]
+    precision: Option<usize>,
+}
+
+pub fn run(args: SimulateArgs) -> Result<(), AppError> {
+    let scene_path = args.scene;
     let run = Run {
-        steps: args.count("steps", 100, 0)?,
-        every: args.count("every", 1, 1)?,
-        out: resume_folder
-            .clone()
-            .or(args.text("out").map(PathBuf::from)),
-        precision,
-        force: args.switch("force"),
-        progress: !args.switch("json"),
+        steps: args.steps,
+        every: args.frames.every,
+        out: args.resume.clone().or(args.frames.out),
+        precision: args.frames.precision,
+        force: args.frames.force,
+        progress: !args.json.json,
     };
     let scene = load_scene(&scene_path)?;
     check_files(&scene_path, &scene, run.out.as_deref())?;
-    let resumed = match &resume_folder {
+    let resumed = match &args.resume {
         Some(folder) => Some(resume::last_state(folder, &scene)?),
         None => None,
     };
@@ -174,17 +146,16 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         }
     }
     let mut options = SimulationOptions {
-        wind: args.switch("wind"),
+        wind: args.wind,
         ..SimulationOptions::default()
     };
-    convergence_flags::apply(&args, &mut options)?;
-    factorization_flags::apply(&args, &mut options)?;
-    let summary = if args.switch("dense") {
+    args.simulation.apply(&mut options);
+    let summary = if args.simulation.backend.dense {
         simulate::<Dense>(scene, &scene_path, options, &run, resumed)?
     } else {
         simulate::<Sparse>(scene, &scene_path, options, &run, resumed)?
     };
-    if args.switch("json") {
+    if args.json.json {
         println!(
             "{}",
             serde_json::to_string(&summary).expect("plain numbers serialise")
@@ -193,24 +164,6 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
         print_summary(&scene_path, &summary);
     }
     Ok(())
-}
-
-/// `--resume DIR`, refused beside `--out` (the new frames go into `DIR`)
-/// and `--force` (which would remove the frames it continues from).
-fn resume_folder(args: &Args) -> Result<Option<PathBuf>, AppError> {
-    let Some(folder) = args.text("resume") else {
-        return Ok(None);
-    };
-    let refused = if args.text("out").is_some() {
-        "--out"
-    } else if args.switch("force") {
-        "--force"
-    } else {
-        return Ok(Some(PathBuf::from(folder)));
-    };
-    Err(AppError::Usage(format!(
-        "--resume DIR writes its new frames into DIR beside the ones it continues from: leave out {refused}"
-    )))
 }
 
 /// Precompute, then step (on from `resumed`, if given), writing frames and

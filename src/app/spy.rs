@@ -6,7 +6,7 @@
 //! `nnz(L) / nnz(lower triangle of Q)`.
 
 use super::analyze::read_symmetric_lower;
-use super::args::{Args, CommandSpec, Flag};
+use super::flags::{file_name_given, size, OrderingFlag, Size};
 use super::render::encode::write_png;
 use super::render::sparsity::{spy, Mark};
 use super::{plan_scene_inputs, report, AppError};
@@ -19,8 +19,6 @@ use masssprings::sim::precomputation::{network_q, selection_matrix, DELTA_T, PIN
 use masssprings::sim::Sparse;
 use std::path::{Path, PathBuf};
 
-/// Side of the matrix in the picture, pixels, unless `--size` says.
-const DEFAULT_SIZE: usize = 480;
 /// Paper around the matrix, pixels.
 const MARGIN: usize = 8;
 
@@ -31,40 +29,57 @@ struct Picture {
     factor: bool,
 }
 
-/// `spy`'s operands and flags.
-pub static COMMAND: CommandSpec = CommandSpec {
-    name: "spy",
-    operands: "MATRIX.mtx|SCENE.json -o OUT.png",
-    summary: "Draw the sparsity pattern of Q or of its Cholesky factor L.",
-    details: "\
+/// A picture of `Q`'s structure (`spy`, `etree`): the matrix, the picture,
+/// and the order the factorization uses.
+#[derive(clap::Args, Debug)]
+pub struct PatternArgs {
+    /// A symmetric Matrix Market matrix, or a scene whose Q to draw.
+    #[arg(value_name = "MATRIX.mtx|SCENE.json")]
+    pub matrix: PathBuf,
+    /// The picture to write.
+    #[arg(short, long, value_name = "OUT.png", required = true, value_parser = file_name_given)]
+    pub out: PathBuf,
+    #[command(flatten)]
+    pub ordering: OrderingFlag,
+}
+
+/// Draw the sparsity pattern of Q or of its Cholesky factor L.
+#[derive(clap::Args, Debug)]
+#[command(after_help = "\
 Draws the pattern of Q (a scene's, or a Matrix Market matrix's lower
 triangle mirrored) in the order the factorization uses (AMD unless
 --ordering natural), or with --factor that of its Cholesky factor L,
-fill-in in orange. Prints n, nnz and the fill nnz(L)/nnz(tril Q).",
-    flags: &[
-        Flag::value("out", "OUT.png", "The picture to write (required)."),
-        Flag::value("ordering", "amd|natural", "The ordering (default amd)."),
-        Flag::switch("factor", "Draw L instead of Q."),
-        Flag::value("size", "S", "Pixels a side, 16 to 4096 (default 480)."),
-    ],
-    shorts: &[('o', "out")],
-    run,
-};
+fill-in in orange. Prints n, nnz and the fill nnz(L)/nnz(tril Q).")]
+pub struct SpyArgs {
+    #[command(flatten)]
+    pattern: PatternArgs,
+    /// Draw L instead of Q.
+    #[arg(long)]
+    factor: bool,
+    /// The matrix's side in pixels, a square: N or NxN, 16 to 4096.
+    #[arg(long, value_name = "WxH", default_value = "480x480", value_parser = size(16, 4096))]
+    size: Size,
+}
 
-pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(args, &COMMAND)?;
-    let path = PathBuf::from(args.single_positional("MATRIX.mtx|SCENE.json")?);
-    let out = required_out(&args, "spy", "OUT.png")?;
-    let size: usize = args.parsed("size", DEFAULT_SIZE, "a whole number of pixels")?;
-    if !(16..=4096).contains(&size) {
+pub fn run(args: SpyArgs) -> Result<(), AppError> {
+    let PatternArgs {
+        matrix: path,
+        out,
+        ordering,
+    } = args.pattern;
+    let Size {
+        width: size,
+        height,
+    } = args.size;
+    if height != size {
         return Err(AppError::Usage(format!(
-            "--size {size}: expected 16 to 4096 pixels"
+            "--size {size}x{height}: spy draws a square matrix; give --size {size}x{size} or --size {size}"
         )));
     }
     let picture = Picture {
         label: file_name(&path),
-        ordering: args.parsed("ordering", Ordering::Amd, "amd or natural")?,
-        factor: args.switch("factor"),
+        ordering: ordering.ordering,
+        factor: args.factor,
     };
     let mut plan = FilePlan::default();
     let lower = load_lower(&path, &mut plan)?;
@@ -173,18 +188,6 @@ pub fn scene_q(scene: &Scene, scene_path: &Path) -> Result<CscMatrix, AppError> 
         DELTA_T,
         PIN_WEIGHT,
     ))
-}
-
-/// The value of `--out`, which `command` requires (`file` names it in the
-/// message).
-pub fn required_out(args: &Args, command: &str, file: &str) -> Result<PathBuf, AppError> {
-    match args.text("out") {
-        None => Err(AppError::Usage(format!("{command} needs -o {file}"))),
-        Some("") => Err(AppError::Usage(format!(
-            "-o is empty: {command} needs -o {file}, a file name"
-        ))),
-        Some(out) => Ok(PathBuf::from(out)),
-    }
 }
 
 /// The file name of `path`, for captions.

@@ -7,6 +7,22 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+/// Every command of `masssprings --help`.
+pub const COMMANDS: [&str; 12] = [
+    "simulate",
+    "render",
+    "view",
+    "converge",
+    "analyze",
+    "bench",
+    "export-q",
+    "spy",
+    "etree",
+    "trace",
+    "generate",
+    "completions",
+];
+
 /// Runs the binary with `args` and waits for it.
 pub fn masssprings(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_masssprings"))

@@ -39,12 +39,7 @@ mod vector;
 #[path = "../../../tests/common/mod.rs"]
 mod tests_common;
 
-use super::args::{Args, CommandSpec, Flag};
-use super::convergence_flags::{
-    self, ACCURACY, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO,
-    START, TOLERANCE, WINDOW,
-};
-use super::factorization_flags::{self, FACTORIZATION, ORDERING, TEXTBOOK};
+use super::flags::{file_name_given, size, whole, JsonFlag, SimulationFlags, Size};
 use super::limits::{check_frames, precompute};
 use super::progress::Progress;
 use super::timing::median;
@@ -87,7 +82,7 @@ struct Request {
     options: SimulationOptions,
     springs: bool,
     /// Which positions the camera frames: `rest`, `last` or `all`.
-    fit: &'static str,
+    fit: String,
     json: bool,
 }
 
@@ -103,62 +98,48 @@ struct Summary {
     simulation_s: f64,
     render_frame_median_s: f64,
     encode_s: f64,
-    fit: &'static str,
+    fit: String,
 }
 
-/// `render`'s operands and flags.
-pub static COMMAND: CommandSpec = CommandSpec {
-    name: "render",
-    operands: "SCENE.json -o OUT.gif|OUT.png",
-    summary: "Draw a simulated scene into a looping GIF, or its last step into a PNG.",
-    details: "\
+/// Draw a simulated scene into a looping GIF, or its last step into a PNG.
+#[derive(clap::Args, Debug)]
+#[command(after_help = "\
 Simulates N steps and draws step 0 and every K-th step with the viewer's
 look into a looping GIF that plays in real time, or draws the last step into
 a PNG. Cloths show their surface and pins; --springs adds every spring and
-point mass (always drawn for scenes made only of springs).",
-    flags: &[
-        Flag::value(
-            "out",
-            "OUT",
-            "The picture: .gif (an animation) or .png (the last step).",
-        ),
-        Flag::value("steps", "N", "Time steps to simulate (default 100)."),
-        Flag::value(
-            "every",
-            "K",
-            "Draw every K-th step into the GIF (default 2).",
-        ),
-        Flag::value("size", "WxH", "Picture size in pixels (default 480x360)."),
-        Flag::switch("dense", "Dense matrices and Cholesky."),
-        Flag::switch("wind", "Add the assignment viewer's wind to gravity."),
-        Flag::switch("springs", "Draw every spring and point mass too."),
-        Flag::value(
-            "fit",
-            "rest|last|all",
-            "What the camera frames: the rest shape, the last step drawn, or the rest shape \
-             and every step drawn (default all).",
-        ),
-        Flag::switch("json", "Print one JSON object instead of the two lines."),
-        ACCURACY,
-        METHOD,
-        TOLERANCE,
-        ENERGY_TOLERANCE,
-        AT_LEAST_PLAIN,
-        ITERATIONS,
-        RHO,
-        RELAXATION,
-        START,
-        WINDOW,
-        ORDERING,
-        FACTORIZATION,
-        TEXTBOOK,
-        PINS,
-    ],
-    shorts: &[('o', "out")],
-    run,
-};
+point mass (always drawn for scenes made only of springs).")]
+pub struct RenderArgs {
+    /// The scene: JSON that names an OBJ (data/README.md).
+    #[arg(value_name = "SCENE.json")]
+    scene: PathBuf,
+    /// The picture: .gif (an animation) or .png (the last step).
+    #[arg(short, long, value_name = "OUT", required = true, value_parser = file_name_given)]
+    out: PathBuf,
+    /// Time steps to simulate.
+    #[arg(long, value_name = "N", default_value = "100", value_parser = whole(0, usize::MAX))]
+    steps: usize,
+    /// Draw every K-th step into the GIF.
+    #[arg(long, value_name = "K", default_value = "1", value_parser = whole(1, usize::MAX))]
+    every: usize,
+    /// Picture size in pixels.
+    #[arg(long, value_name = "WxH", default_value = "480x360", value_parser = size(1, MAX_SIDE))]
+    size: Size,
+    /// Add the assignment viewer's wind to gravity.
+    #[arg(long)]
+    wind: bool,
+    /// Draw every spring and point mass too.
+    #[arg(long)]
+    springs: bool,
+    /// What the camera frames: the rest shape, the last step drawn, or the rest shape and every step drawn.
+    #[arg(long, value_name = "F", default_value = "all", value_parser = ["rest", "last", "all"])]
+    fit: String,
+    #[command(flatten)]
+    json: JsonFlag,
+    #[command(flatten)]
+    simulation: SimulationFlags,
+}
 
-pub fn run(args: &[String]) -> Result<(), AppError> {
+pub fn run(args: RenderArgs) -> Result<(), AppError> {
     let request = parse(args)?;
     let scene = load_scene(&request.scene)?;
     let mut plan = FilePlan::default();
@@ -187,7 +168,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     if request.fit != "last" {
         bounds.include(&scene.vertices);
     }
-    match request.fit {
+    match request.fit.as_str() {
         "rest" => {}
         "last" => bounds.include(frames.last().expect("at least one frame")),
         _ => {
@@ -223,7 +204,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
             simulation_s,
             render_frame_median_s,
             encode_s: started.elapsed().as_secs_f64(),
-            fit: request.fit,
+            fit: request.fit.clone(),
         };
         println!(
             "{}",
@@ -246,36 +227,33 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
     Ok(())
 }
 
-/// Checks the command line: usage errors before any work is done.
-fn parse(args: &[String]) -> Result<Request, AppError> {
-    let args = Args::parse(args, &COMMAND)?;
-    let scene = PathBuf::from(args.single_positional("SCENE.json")?);
-    let out = PathBuf::from(args.text("out").unwrap_or(""));
-    if out.as_os_str().is_empty() {
-        return Err(AppError::Usage("missing -o OUT.gif or -o OUT.png".into()));
-    }
-    let format = output_format(&out)?;
-    let every = args.count("every", 2, 1)?;
-    let (width, height) = parse_size(args.text("size").unwrap_or("480x360"))?;
-    let mut simulation_options = SimulationOptions {
-        wind: args.switch("wind"),
+/// How `args` asks the simulation to run.
+pub(super) fn options(args: &RenderArgs) -> SimulationOptions {
+    let mut options = SimulationOptions {
+        wind: args.wind,
         ..SimulationOptions::default()
     };
-    convergence_flags::apply(&args, &mut simulation_options)?;
-    factorization_flags::apply(&args, &mut simulation_options)?;
+    args.simulation.apply(&mut options);
+    options
+}
+
+/// Checks the command line: usage errors before any work is done.
+fn parse(args: RenderArgs) -> Result<Request, AppError> {
+    let format = output_format(&args.out)?;
+    let options = options(&args);
     Ok(Request {
-        scene,
-        out,
+        scene: args.scene,
+        out: args.out,
         format,
-        steps: args.count("steps", 100, 0)?,
-        every,
-        width,
-        height,
-        dense: args.switch("dense"),
-        options: simulation_options,
-        springs: args.switch("springs"),
-        fit: args.choice("fit", "all", &["rest", "last", "all"])?,
-        json: args.switch("json"),
+        steps: args.steps,
+        every: args.every,
+        width: args.size.width,
+        height: args.size.height,
+        dense: args.simulation.backend.dense,
+        options,
+        springs: args.springs,
+        fit: args.fit,
+        json: args.json.json,
     })
 }
 
@@ -308,23 +286,6 @@ fn output_format(out: &Path) -> Result<Format, AppError> {
         _ => Err(AppError::Usage(format!(
             "-o {}: the output must end in .gif (an animation) or .png (the last frame)",
             out.display()
-        ))),
-    }
-}
-
-/// `WxH` (or `W×H`), each side from 1 to `MAX_SIDE`.
-fn parse_size(text: &str) -> Result<(usize, usize), AppError> {
-    let side = |s: &str| {
-        s.trim()
-            .parse::<usize>()
-            .ok()
-            .filter(|n| (1..=MAX_SIDE).contains(n))
-    };
-    let parts = text.split_once(['x', 'X', '×']);
-    match parts.and_then(|(w, h)| Some((side(w)?, side(h)?))) {
-        Some(size) => Ok(size),
-        None => Err(AppError::Usage(format!(
-            "--size expects WIDTHxHEIGHT, each from 1 to {MAX_SIDE} (e.g. 480x360), got '{text}'"
         ))),
     }
 }
@@ -372,15 +333,6 @@ fn write(request: &Request, images: &[RgbImage]) -> Result<(), AppError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn sizes_parse_with_either_cross_and_reject_zero_or_huge_sides() {
-        assert_eq!(parse_size("480x360").unwrap(), (480, 360));
-        assert_eq!(parse_size("3×2").unwrap(), (3, 2));
-        for bad in ["0x10", "10x0", "480", "x", "10x99999", "axb", "-1x4"] {
-            assert!(matches!(parse_size(bad), Err(AppError::Usage(_))), "{bad}");
-        }
-    }
 
     #[test]
     fn the_extension_chooses_the_format() {

@@ -24,24 +24,19 @@ mod compute;
 mod quantities;
 mod readme;
 
-use super::args::{Args, CommandSpec, Flag};
-use super::spy::required_out;
+use super::flags::{file_name_given, whole, OrderingFlag};
 use super::{load_scene, AppError};
 use compute::{labelled, trace, TraceOptions, Value};
 use masssprings::files::{remove_stale_temporaries, write_file};
 use masssprings::linalg::matrix_market::{write_array, write_coordinate, Symmetry};
-use masssprings::linalg::sparse::Ordering;
 use masssprings::mesh::Scene;
 use masssprings::sim::ITERATIONS;
 use quantities::Quantity;
 use std::path::{Path, PathBuf};
 
-/// `trace`'s operands and flags.
-pub static COMMAND: CommandSpec = CommandSpec {
-    name: "trace",
-    operands: "SCENE.json -o DIR | --compare DIR OTHER",
-    summary: "Write every quantity of the handout, to check a solution against.",
-    details: "\
+/// Write every quantity of the handout, to check a solution against.
+#[derive(clap::Args, Debug)]
+#[command(after_help = "\
 Runs the handout's precomputation and step (sim::textbook) on the scene and
 writes A, r, M, C, Q, P, L, and for step K: U_prev, U_cur, y, and each of the
 first N iterations' d, b and p, one Matrix Market file each (17 significant
@@ -50,21 +45,26 @@ digits), with DIR/README.md saying what each holds and how to compare.
 With --compare DIR OTHER, compares the files of OTHER (same names and formats,
 any subset: yours) with those of DIR (written by trace), in the handout's
 order, and exits with 1 when one differs: the first DIFFERS line is the first
-quantity to fix.",
-    flags: &[
-        Flag::value("out", "DIR", "The folder to write (required)."),
-        Flag::value("step", "K", "The step to trace, from 1 (default 1)."),
-        Flag::value(
-            "iterations",
-            "N",
-            "Iterations of step K to write, 1 to 50 (default 2).",
-        ),
-        Flag::value("ordering", "amd|natural", "P's ordering (default amd)."),
-        Flag::switch("compare", "Compare OTHER's files with DIR's."),
-    ],
-    shorts: &[('o', "out")],
-    run,
-};
+quantity to fix.")]
+pub struct TraceArgs {
+    /// The scene: JSON that names an OBJ (data/README.md).
+    #[arg(value_name = "SCENE.json", required_unless_present = "compare")]
+    scene: Option<PathBuf>,
+    /// The folder to write.
+    #[arg(short, long, value_name = "DIR", required_unless_present = "compare", value_parser = file_name_given)]
+    out: Option<PathBuf>,
+    /// The step to trace, from 1.
+    #[arg(long, value_name = "K", default_value = "1", value_parser = whole(1, usize::MAX))]
+    step: usize,
+    /// Iterations of step K to write, 1 to 50.
+    #[arg(long, value_name = "N", default_value = "2", value_parser = whole(1, ITERATIONS))]
+    iterations: usize,
+    #[command(flatten)]
+    ordering: OrderingFlag,
+    /// Compare OTHER's files with DIR's (instead of tracing a scene).
+    #[arg(long, num_args = 2, value_names = ["DIR", "OTHER"], conflicts_with_all = ["scene", "out", "step", "iterations", "ordering"])]
+    compare: Option<Vec<PathBuf>>,
+}
 
 /// What `trace.json` records about a trace, for `--compare`.
 #[derive(Debug, serde::Serialize, serde::Deserialize)]
@@ -84,22 +84,17 @@ pub struct Manifest {
 /// The file `--compare` reads first.
 const MANIFEST: &str = "trace.json";
 
-pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(args, &COMMAND)?;
-    if args.switch("compare") {
-        return match args.positionals() {
-            [ours, theirs] => compare::run(Path::new(ours), Path::new(theirs)),
-            _ => Err(AppError::Usage(
-                "--compare needs two folders: --compare DIR OTHER".into(),
-            )),
-        };
+pub fn run(args: TraceArgs) -> Result<(), AppError> {
+    if let Some([ours, theirs]) = args.compare.as_deref() {
+        return compare::run(ours, theirs);
     }
-    let scene_path = PathBuf::from(args.single_positional("SCENE.json")?);
-    let out = required_out(&args, "trace", "DIR")?;
+    let (Some(scene_path), Some(out)) = (args.scene, args.out) else {
+        unreachable!("clap requires SCENE.json and -o without --compare");
+    };
     let options = TraceOptions {
-        step: args.count("step", 1, 1)?,
-        iterations: args.whole_number("iterations", 2, 1..=ITERATIONS as u64)? as usize,
-        ordering: args.parsed("ordering", Ordering::Amd, "amd or natural")?,
+        step: args.step,
+        iterations: args.iterations,
+        ordering: args.ordering.ordering,
     };
     let scene = load_scene(&scene_path)?;
     prepare_folder(&out, &scene_path, &scene)?;

@@ -25,12 +25,7 @@ mod routes;
 mod simulation_thread;
 mod watchers;
 
-use super::args::{Args, CommandSpec, Flag};
-use super::convergence_flags::{
-    self, ACCURACY, AT_LEAST_PLAIN, ENERGY_TOLERANCE, ITERATIONS, METHOD, PINS, RELAXATION, RHO,
-    START, TOLERANCE, WINDOW,
-};
-use super::factorization_flags::{self, FACTORIZATION, ORDERING, TEXTBOOK};
+use super::flags::{whole, SimulationFlags};
 use super::limits::precompute;
 use super::{load_scene, AppError};
 use api::{Frame, Status};
@@ -61,65 +56,58 @@ const MAX_SCENES: usize = 32;
 /// as from the page: a step must end within moments for the viewer to
 /// answer and to stop.
 pub const MAX_ITERATIONS: usize = 1000;
-/// `view`'s operands and flags.
-pub static COMMAND: CommandSpec = CommandSpec {
-    name: "view",
-    operands: "SCENE.json",
-    summary: "Serve an interactive viewer of the scene to a web browser.",
-    details: "\
+/// Serve an interactive viewer of the scene to a web browser.
+#[derive(clap::Args, Debug)]
+#[command(after_help = "\
 Serves an interactive viewer on http://127.0.0.1:P/ and prints its URL. The
 simulation runs here, starting paused at rest, and steps only while playing
 and a page shows it; the page draws it with WebGL, with buttons, a scene
 picker, sliders for k, Δt, mass scale and iterations, a method picker and a
 convergence plot. Keys: space step, A play, L springs, R reset, W wind,
 F fit, M method, ? help; drag to orbit, right-drag to pan, wheel to zoom,
-shift-drag to pull a vertex. Ctrl-C stops it.",
-    flags: &[
-        Flag::value(
-            "port",
-            "P",
-            "Port to serve on (default 8080; 0 picks a free one).",
-        ),
-        Flag::value(
-            "address",
-            "ADDR",
-            "Address to serve on (default 127.0.0.1; 0.0.0.0 serves every network).",
-        ),
-        Flag::switch("dense", "Dense matrices and Cholesky."),
-        ACCURACY,
-        METHOD,
-        TOLERANCE,
-        ENERGY_TOLERANCE,
-        AT_LEAST_PLAIN,
-        ITERATIONS,
-        RHO,
-        RELAXATION,
-        START,
-        WINDOW,
-        PINS,
-        ORDERING,
-        FACTORIZATION,
-        TEXTBOOK,
-    ],
-    shorts: &[],
-    run,
-};
+shift-drag to pull a vertex. Ctrl-C stops it.
 
-pub fn run(args: &[String]) -> Result<(), AppError> {
-    let args = Args::parse(args, &COMMAND)?;
-    let scene_path = PathBuf::from(args.single_positional("SCENE.json")?);
-    let port = args.whole_number("port", u64::from(DEFAULT_PORT), 0..=u64::from(u16::MAX))? as u16;
-    let ip: IpAddr = args.parsed(
-        "address",
-        IpAddr::V4(Ipv4Addr::LOCALHOST),
-        "an IP address such as 127.0.0.1 or ::1",
-    )?;
-    let scene = load_scene(&scene_path)?;
-    let address = SocketAddr::new(ip, port);
-    let scenes = scene_list(&scene_path);
+The viewer has no authentication: it binds to the loopback address unless
+--address says otherwise, and anyone who can reach that port can drive it.")]
+pub struct ViewArgs {
+    /// The scene: JSON that names an OBJ (data/README.md).
+    #[arg(value_name = "SCENE.json")]
+    scene: PathBuf,
+    /// Port to serve on (0 picks a free one).
+    #[arg(long, value_name = "P", default_value_t = DEFAULT_PORT, value_parser = port)]
+    port: u16,
+    /// Address to serve on (0.0.0.0 serves every network: anyone who reaches it can drive the viewer).
+    #[arg(long, value_name = "ADDR", default_value = "127.0.0.1", value_parser = address)]
+    address: IpAddr,
+    #[command(flatten)]
+    simulation: SimulationFlags,
+}
+
+/// `--port`: 0 to 65535.
+fn port(text: &str) -> Result<u16, String> {
+    whole(0, usize::from(u16::MAX))(text).map(|port| port as u16)
+}
+
+/// `--address`: an IP address.
+fn address(text: &str) -> Result<IpAddr, String> {
+    text.trim()
+        .parse()
+        .map_err(|_| format!("expected an IP address such as 127.0.0.1 or ::1, got '{text}'"))
+}
+
+pub fn run(args: ViewArgs) -> Result<(), AppError> {
+    let scene = load_scene(&args.scene)?;
+    let address = SocketAddr::new(args.address, args.port);
+    if !args.address.is_loopback() {
+        eprintln!(
+            "masssprings: warning: serving on {}: the viewer has no authentication, and \
+             anyone who can reach this port can drive it (and read the scenes it lists)",
+            args.address
+        );
+    }
+    let scenes = scene_list(&args.scene);
     let mut options = SimulationOptions::default();
-    convergence_flags::apply(&args, &mut options)?;
-    factorization_flags::apply(&args, &mut options)?;
+    args.simulation.apply(&mut options);
     options.step.measure = true; // the viewer plots every step's gradient
     if options.step.iterations > MAX_ITERATIONS {
         return Err(AppError::Usage(format!(
@@ -128,7 +116,7 @@ pub fn run(args: &[String]) -> Result<(), AppError> {
             options.step.iterations
         )));
     }
-    if args.switch("dense") {
+    if args.simulation.backend.dense {
         serve::<Dense>(&scene, scenes, address, options)
     } else {
         serve::<Sparse>(&scene, scenes, address, options)
