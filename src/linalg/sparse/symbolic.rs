@@ -188,6 +188,12 @@ impl SymbolicCholesky {
             return self;
         }
         self.relaxation = Some(*rule);
+        if *rule == Relaxation::NONE {
+            // the rule then merges only where no zero is added, and two
+            // fundamental supernodes never nest so (they would be one): the
+            // partition would come back unchanged
+            return self;
+        }
         let (supernodes, last_member_first) =
             relax(&self.supernodes, &self.parent, &self.column_counts, rule);
         if supernodes == self.supernodes {
