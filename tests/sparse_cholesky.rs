@@ -4,6 +4,14 @@
 mod common;
 
 use common::*;
+use masssprings::linalg::sparse::amalgamation::relax;
+use masssprings::linalg::sparse::column_counts::column_counts;
+use masssprings::linalg::sparse::etree::elimination_tree;
+use masssprings::linalg::sparse::pattern::{permuted_triangles, ColumnPattern};
+use masssprings::linalg::sparse::postorder::postorder;
+use masssprings::linalg::sparse::row_pattern::RowPattern;
+use masssprings::linalg::sparse::supernode_rows::supernode_rows;
+use masssprings::linalg::sparse::PermutedTriangle;
 use masssprings::linalg::sparse::{
     CscMatrix, Method, Ordering, Permutation, Relaxation, SparseCholesky, SymbolicCholesky,
     Triangle,
@@ -140,6 +148,69 @@ proptest! {
     }
 
     #[test]
+    fn the_analysis_reads_both_strict_triangles_of_the_permuted_matrix((a, p) in spd_and_permutation(30, 80)) {
+        let (upper, lower) = permuted_triangles(&a, p.inverse());
+        for (pattern, triangle) in [(&upper, Triangle::Upper), (&lower, Triangle::Lower)] {
+            let sorted = PermutedTriangle::new(&a, &p, triangle).unwrap();
+            prop_assert_eq!(ColumnPattern::ncols(pattern), a.ncols());
+            for j in 0..a.ncols() {
+                let mut rows: Vec<usize> = pattern.rows(j).collect();
+                rows.sort_unstable();
+                let strict: Vec<usize> = sorted.matrix().column(j).0.iter().copied().filter(|&i| i != j).collect();
+                prop_assert_eq!(rows, strict);
+            }
+        }
+    }
+
+    #[test]
+    fn tree_and_counts_from_the_unsorted_pattern_equal_those_from_the_sorted_triangles((a, p) in spd_and_permutation(30, 80)) {
+        let (upper, lower) = permuted_triangles(&a, p.inverse());
+        let sorted_upper = PermutedTriangle::new(&a, &p, Triangle::Upper).unwrap();
+        let sorted_lower = PermutedTriangle::new(&a, &p, Triangle::Lower).unwrap();
+        let parent = elimination_tree(&upper);
+        prop_assert_eq!(&parent, &elimination_tree(sorted_upper.matrix()));
+        let post = postorder(&parent);
+        prop_assert_eq!(column_counts(&lower, &parent, &post), column_counts(sorted_lower.matrix(), &parent, &post));
+    }
+
+    #[test]
+    fn column_counts_hold_every_nonzero_of_nalgebras_factor((a, p) in spd_and_permutation(30, 80)) {
+        let symbolic = SymbolicCholesky::with_permutation(&a, &p).unwrap();
+        let oracle = nalgebra::Cholesky::new(permuted_dense(&a, symbolic.permutation())).expect("SPD").l();
+        for j in 0..a.ncols() {
+            let rows = symbolic.column_rows(j);
+            let nonzero = (j..a.ncols()).filter(|&i| oracle[(i, j)] != 0.0);
+            prop_assert!(nonzero.clone().all(|i| rows.contains(&(i as u32))));
+            prop_assert!(nonzero.count() <= symbolic.column_counts()[j]);
+        }
+    }
+
+    #[test]
+    fn supernode_rows_are_the_row_patterns_of_each_first_column((a, p) in spd_and_permutation(30, 80)) {
+        // the old way: every column's rows, row by row with ereach
+        let symbolic = SymbolicCholesky::with_permutation(&a, &p).unwrap();
+        let upper = PermutedTriangle::new(&a, symbolic.permutation(), Triangle::Upper).unwrap();
+        let n = a.ncols();
+        let mut columns: Vec<Vec<u32>> = (0..n).map(|j| vec![j as u32]).collect();
+        let mut pattern = RowPattern::new(n);
+        for k in 0..n {
+            for &j in pattern.of_row(upper.matrix(), symbolic.elimination_tree(), k) {
+                columns[j].push(k as u32);
+            }
+        }
+        for j in 0..n {
+            columns[j].sort_unstable();
+            prop_assert_eq!(symbolic.column_rows(j), columns[j].as_slice());
+        }
+        // on a relaxed partition, the walk gives the relaxed rows directly
+        let relaxed = symbolic.relaxed(&Relaxation::CHOLMOD);
+        let walked = supernode_rows(upper.matrix(), relaxed.elimination_tree(), relaxed.supernodes(), relaxed.column_counts());
+        for s in 0..relaxed.supernodes().len() {
+            prop_assert_eq!(&walked.rows[walked.start[s]..walked.start[s + 1]], relaxed.supernode_rows(s));
+        }
+    }
+
+    #[test]
     fn relaxed_supernodes_hold_the_exact_pattern_and_stay_nested((a, p) in spd_and_permutation(30, 80)) {
         let exact = SymbolicCholesky::with_permutation(&a, &p).unwrap();
         let relaxed = exact.clone().relaxed(&Relaxation::CHOLMOD);
@@ -173,13 +244,17 @@ proptest! {
         let none = exact.clone().relaxed(&Relaxation::NONE);
         prop_assert_eq!(none.row_idx(), exact.row_idx());
         prop_assert_eq!(none.supernodes(), exact.supernodes());
+        // which `relaxed` returns without asking the rule: it merges nothing
+        let (merged, _) = relax(exact.supernodes(), exact.elimination_tree(), exact.column_counts(), &Relaxation::NONE);
+        prop_assert_eq!(&merged, exact.supernodes());
     }
 
     #[test]
     fn rows_kept_per_supernode_are_every_columns_rows((a, p) in spd_and_permutation(30, 80)) {
         let exact = SymbolicCholesky::with_permutation(&a, &p).unwrap();
-        for per_column in [exact.clone(), exact.relaxed(&Relaxation::CHOLMOD)] {
+        for mut per_column in [exact.clone(), exact.relaxed(&Relaxation::CHOLMOD)] {
             let mut per_supernode = per_column.clone();
+            per_column.store_rows_per_column();
             per_supernode.store_rows_per_supernode();
             prop_assert!(per_supernode.rows_per_supernode() && !per_column.rows_per_supernode());
             prop_assert_eq!(per_supernode.row_idx(), per_column.row_idx());
@@ -191,8 +266,9 @@ proptest! {
             }
             prop_assert_eq!(per_supernode.nnz_l(), per_column.nnz_l());
             prop_assert!(per_supernode.bytes() <= per_column.bytes() + 8 * (a.ncols() + 1));
-            // relaxing goes back to rows per column, as from the start
+            // relaxing keeps rows per supernode, whichever way they were kept
             let relaxed = per_supernode.relaxed(&Relaxation::CHOLMOD);
+            prop_assert!(relaxed.rows_per_supernode());
             let again = per_column.clone().relaxed(&Relaxation::CHOLMOD);
             prop_assert_eq!(relaxed.row_idx(), again.row_idx());
         }

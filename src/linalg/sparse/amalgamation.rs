@@ -39,6 +39,7 @@
 //! Davis, Hager, Rajamanickam, "CHOLMOD", ACM TOMS 35(3), 2008 (the rule
 //! and its parameters `nrelax = 4, 16, 48`, `zrelax = 0.8, 0.1, 0.05`).
 
+use super::supernode_rows::supernodal_tree;
 use super::supernodes::Supernodes;
 
 /// The parameters of the merge rule above.
@@ -95,10 +96,7 @@ pub fn relax(
 ) -> (Supernodes, Vec<usize>) {
     let nodes = fundamental.len();
     let first = |s: usize| fundamental.columns(s).start;
-    // parent of each fundamental supernode in the supernodal tree
-    let node_parent: Vec<Option<usize>> = (0..nodes)
-        .map(|s| parent[fundamental.columns(s).end - 1].map(|p| fundamental.of_column(p)))
-        .collect();
+    let node_parent = supernodal_tree(parent, fundamental);
     let mut merged_into: Vec<Option<usize>> = vec![None; nodes];
     let mut width: Vec<usize> = (0..nodes).map(|s| fundamental.columns(s).len()).collect();
     let mut rows: Vec<usize> = (0..nodes).map(|s| count[first(s)]).collect();

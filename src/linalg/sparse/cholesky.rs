@@ -146,8 +146,9 @@ impl SparseCholesky {
         }
         let n = symbolic.n();
         let mut symbolic = symbolic;
-        if method == Method::Supernodal {
-            symbolic.store_rows_per_supernode(); // all that its blocks and solves read
+        match method {
+            Method::Supernodal => symbolic.store_rows_per_supernode(), // all its blocks and solves read
+            Method::Simplicial => symbolic.store_rows_per_column(), // its rows and substitutions read these
         }
         let workspace = match method {
             Method::Simplicial => Workspace::Simplicial(

@@ -22,7 +22,7 @@
 //! column counts for sparse Cholesky factorization", SIAM J. Matrix Anal.
 //! Appl. 15(4), 1994; Davis 2006, §4.5 (`cs_counts`, `cs_leaf`).
 
-use super::csc::CscMatrix;
+use super::pattern::ColumnPattern;
 
 /// Where `j` sits in the row subtree of `i`.
 enum Leaf {
@@ -35,9 +35,14 @@ enum Leaf {
 }
 
 /// `count[j] = nnz(L(:, j))` (diagonal included) for the symmetric matrix
-/// whose **lower** triangle is `lower` (column `j` holds rows `i ≥ j`), given
+/// whose **lower** triangle is `lower` (column `j` holds rows `i ≥ j`, in
+/// any order; rows above the diagonal are skipped), given
 /// its elimination tree `parent` and a postorder `post` of that tree.
-pub fn column_counts(lower: &CscMatrix, parent: &[Option<usize>], post: &[usize]) -> Vec<usize> {
+pub fn column_counts(
+    lower: &impl ColumnPattern,
+    parent: &[Option<usize>],
+    post: &[usize],
+) -> Vec<usize> {
     let n = lower.ncols();
     let first_descendant = first_descendants(parent, post);
     // `delta[j]`: subtrees starting at j minus subtrees merging at j
@@ -49,7 +54,7 @@ pub fn column_counts(lower: &CscMatrix, parent: &[Option<usize>], post: &[usize]
         if let Some(p) = parent[j] {
             delta[p] -= 1; // j's own path continues into its parent
         }
-        for &i in lower.column(j).0 {
+        for i in lower.rows(j) {
             match sets.classify(i, j, &first_descendant) {
                 Leaf::No => {}
                 Leaf::First => delta[j] += 1,

@@ -15,18 +15,18 @@
 //! Source: Liu, "The role of elimination trees in sparse factorization",
 //! SIAM J. Matrix Anal. Appl. 11(1), 1990; Davis 2006, §4.1 (`cs_etree`).
 
-use super::csc::CscMatrix;
+use super::pattern::ColumnPattern;
 
 /// `parent[j]`: the parent of column `j` in the elimination tree of the
 /// symmetric matrix whose **upper** triangle is `upper` (column `k` holds
-/// the rows `i ≤ k`); `None` for a root.
-pub fn elimination_tree(upper: &CscMatrix) -> Vec<Option<usize>> {
+/// the rows `i ≤ k`, in any order; others are skipped); `None` for a root.
+pub fn elimination_tree(upper: &impl ColumnPattern) -> Vec<Option<usize>> {
     let n = upper.ncols();
     let mut parent = vec![None; n];
     // ancestor[i]: a (compressed) path up from i toward its current root
     let mut ancestor: Vec<Option<usize>> = vec![None; n];
     for k in 0..n {
-        for &row in upper.column(k).0 {
+        for row in upper.rows(k) {
             let mut i = row;
             while i < k {
                 let next = ancestor[i];

@@ -12,11 +12,13 @@
 //! | `P A Pᵀ` of one triangle | [`permute`] |
 //! | choice of ordering | [`ordering`] |
 //! | fill-reducing ordering (AMD) | [`amd`] |
+//! | the pattern of `P A Pᵀ`, for the analysis | [`pattern`] |
 //! | elimination tree | [`etree`] |
 //! | postorder | [`postorder`] |
 //! | column counts | [`column_counts`] |
 //! | pattern of a row of `L` | [`row_pattern`] |
 //! | supernodes | [`supernodes`] |
+//! | rows of each supernode | [`supernode_rows`] |
 //! | relaxed supernodes (amalgamation) | [`amalgamation`] |
 //! | symbolic analysis | [`symbolic`] |
 //! | numeric factorization, row by row | [`up_looking`] |
@@ -36,6 +38,7 @@ pub mod etree;
 pub mod factor_loading;
 pub mod multiply;
 pub mod ordering;
+pub mod pattern;
 pub mod permutation;
 pub mod permute;
 pub mod postorder;
@@ -43,6 +46,7 @@ pub mod product;
 pub mod row_pattern;
 pub mod supernodal;
 pub mod supernodal_solve;
+pub mod supernode_rows;
 pub mod supernodes;
 pub mod symbolic;
 pub mod transpose;

@@ -40,20 +40,8 @@ impl PermutedTriangle {
     /// [`LinalgError::NotSquare`] for a non-square `a`;
     /// [`LinalgError::DimensionMismatch`] when `perm` has the wrong length.
     pub fn new(a: &CscMatrix, perm: &Permutation, target: Triangle) -> Result<Self, LinalgError> {
+        check_permutation_fits(a, perm)?;
         let n = a.ncols();
-        if a.nrows() != n {
-            return Err(LinalgError::NotSquare {
-                nrows: a.nrows(),
-                ncols: n,
-            });
-        }
-        if perm.len() != n {
-            return Err(LinalgError::DimensionMismatch {
-                operation: "P A Pᵀ",
-                left: (perm.len(), perm.len()),
-                right: (n, n),
-            });
-        }
         let (rows, cols, sources) = permuted_lower_entries(a, perm.inverse(), target);
         let (col_ptr, order) = sort_by_column_then_row(n, n, &rows, &cols);
         let row_idx = order.iter().map(|&e| rows[e]).collect();
@@ -94,6 +82,28 @@ impl PermutedTriangle {
         }
         Ok(())
     }
+}
+
+/// `P A Pᵀ` needs a square `A` and a permutation of its size.
+///
+/// # Errors
+/// [`LinalgError::NotSquare`]; [`LinalgError::DimensionMismatch`].
+pub(crate) fn check_permutation_fits(a: &CscMatrix, perm: &Permutation) -> Result<(), LinalgError> {
+    let n = a.ncols();
+    if a.nrows() != n {
+        return Err(LinalgError::NotSquare {
+            nrows: a.nrows(),
+            ncols: n,
+        });
+    }
+    if perm.len() != n {
+        return Err(LinalgError::DimensionMismatch {
+            operation: "P A Pᵀ",
+            left: (perm.len(), perm.len()),
+            right: (n, n),
+        });
+    }
+    Ok(())
 }
 
 /// A 64-bit hash of the shape, column pointers and row indices (FNV-1a

@@ -3,26 +3,37 @@
 //! Done once per sparsity pattern, before any arithmetic:
 //!
 //! 1. a fill-reducing permutation `P` (given, e.g. from [AMD](super::amd));
-//! 2. the elimination tree of `C = P A Pᵀ` ([`elimination_tree`]);
-//! 3. its postorder ([`postorder`]), folded into `P`: same fill, but every
+//! 2. the pattern of `C = P A Pᵀ`, both strict triangles, unsorted
+//!    ([`pattern`](super::pattern));
+//! 3. the elimination tree of `C` ([`elimination_tree`]);
+//! 4. its postorder ([`postorder`]), folded into `P`: same fill, but every
 //!    subtree becomes a contiguous range of columns;
-//! 4. the column counts of `L` ([`column_counts`]), hence `nnz(L)`, the
+//! 5. the column counts of `L` ([`column_counts`]), hence `nnz(L)`, the
 //!    flop count, and the column pointers of `L`;
-//! 5. the row indices of every column of `L` ([`RowPattern`], row by row);
-//! 6. the supernodes ([`Supernodes`]).
+//! 6. the supernodes ([`Supernodes`]), read off the tree and the counts;
+//! 7. the rows of each supernode ([`supernode_rows`]), walking the
+//!    supernodal tree row by row.
+//!
+//! Steps 3 and 5 run in the numbering of `P`; the postorder then renumbers
+//! the tree and the counts (`O(n)`), instead of permuting `A` a second
+//! time. A postorder puts every ancestor after its descendants, so the
+//! upper triangle of `C` stays the upper triangle once renumbered, and
+//! step 7 reads it through the renumbering ([`Relabeled`]).
+//!
+//! Nowhere is `L`'s full pattern built: the columns of a supernode share
+//! the rows of its first column (column `k` of it has them from position
+//! `k` on), so one sorted list per supernode describes all of `L`. That is
+//! what the supernodal factorization and its solves read: at a million
+//! vertices, 7.9 million row indices instead of 56 million (32 MB instead
+//! of 225 MB, `docs/performance.md`). The simplicial method reads every
+//! column's rows; [`SymbolicCholesky::store_rows_per_column`] writes them
+//! out (`O(nnz(L))`) when it is chosen. The values stay one column after
+//! another, laid out by the column pointers.
 //!
 //! For the supernodal factorization, [`SymbolicCholesky::relaxed`] then
 //! merges supernodes ([`amalgamation`](super::amalgamation)): the pattern
 //! grows by some explicit zeros, each column still stored from its
 //! diagonal down. The simplicial method needs the exact pattern.
-//!
-//! The rows are found column by column. The supernodal factorization and
-//! its solves only read each supernode's rows (column `k` of a supernode
-//! has the rows of its first column from position `k` on), so it keeps
-//! them once per supernode ([`SymbolicCholesky::store_rows_per_supernode`]):
-//! at a million vertices, 7.9 million row indices instead of 56 million
-//! (32 MB instead of 225 MB, `docs/performance.md`). The values stay one
-//! column after another, laid out by the column pointers.
 //!
 //! The numeric factorization then only fills in values, into arrays whose
 //! size is known here, and can be repeated when the values of `A` change.
@@ -31,20 +42,24 @@
 //!
 //! Flop count: eliminating column `j` costs about `count[j]²` multiply-adds,
 //! so `flops = Σ_j count[j]²` (the convention of Davis 2006 and CHOLMOD).
-//! Cost of the analysis: `O(nnz(A) α(n) + nnz(L))` after the ordering.
+//! Cost of the analysis: `O(nnz(A) α(n) + Σ_s count[first(s)])` after the
+//! ordering: nearly linear in `A`, plus the size of the supernodes' rows.
 //!
-//! Source: Davis 2006, ch. 4 (`cs_schol`); George & Liu, *Computer Solution
-//! of Large Sparse Positive Definite Systems*, 1981.
+//! Source: Davis 2006, ch. 4 (`cs_schol`: §4.1 tree, §4.3 postorder, §4.5
+//! counts); Chen, Davis, Hager, Rajamanickam, "CHOLMOD", ACM TOMS 35(3),
+//! 2008 (`cholmod_super_symbolic`); George & Liu, *Computer Solution of
+//! Large Sparse Positive Definite Systems*, 1981.
 
 use super::amalgamation::{relax, Relaxation};
 use super::column_counts::column_counts;
-use super::csc::{cumulative_sum, CscMatrix, Triangle};
+use super::csc::{cumulative_sum, CscMatrix};
 use super::etree::elimination_tree;
 use super::ordering::Ordering;
+use super::pattern::{permuted_triangles, Relabeled};
 use super::permutation::Permutation;
-use super::permute::PermutedTriangle;
+use super::permute::check_permutation_fits;
 use super::postorder::postorder;
-use super::row_pattern::RowPattern;
+use super::supernode_rows::{supernode_rows, SupernodeRows};
 use super::supernodes::Supernodes;
 use crate::linalg::error::LinalgError;
 use std::borrow::Cow;
@@ -125,27 +140,36 @@ impl SymbolicCholesky {
     /// the permutation has the wrong length; [`LinalgError::TooLarge`]
     /// when `n` does not fit the factor's 32-bit row indices.
     pub fn with_permutation(a: &CscMatrix, ordering: &Permutation) -> Result<Self, LinalgError> {
+        check_permutation_fits(a, ordering)?;
         let n = a.ncols();
         if u32::try_from(n).is_err() {
             return Err(LinalgError::TooLarge { n });
         }
-        let upper = PermutedTriangle::new(a, ordering, Triangle::Upper)?;
-        let post = Permutation::from_perm(postorder(&elimination_tree(upper.matrix())))?;
-        let permutation = ordering.followed_by(&post);
-        let upper = PermutedTriangle::new(a, &permutation, Triangle::Upper)?;
-        let lower = PermutedTriangle::new(a, &permutation, Triangle::Lower)?;
-        let parent = elimination_tree(upper.matrix());
-        let identity: Vec<usize> = (0..n).collect(); // the postorder of a postordered tree
-        let column_counts = column_counts(lower.matrix(), &parent, &identity);
+        // tree and counts in the numbering of `ordering`, then renumbered
+        let (upper, lower) = permuted_triangles(a, ordering.inverse());
+        let tree = elimination_tree(&upper);
+        let post = postorder(&tree);
+        let counts = column_counts(&lower, &tree, &post);
+        drop(lower);
+        let post = Permutation::from_perm(post)?;
+        let (parent, column_counts) = renumbered(&tree, &counts, &post);
         let col_ptr = cumulative_sum(&column_counts);
-        let row_idx = factor_pattern(upper.matrix(), &parent, &col_ptr);
         let supernodes = Supernodes::find(&parent, &column_counts);
+        // a postorder keeps every ancestor after its descendants, so the
+        // upper triangle renumbered is the upper triangle of the new C
+        let upper = Relabeled {
+            pattern: &upper,
+            old: post.perm(),
+            new: post.inverse(),
+        };
+        let SupernodeRows { start, rows } =
+            supernode_rows(&upper, &parent, &supernodes, &column_counts);
         Ok(SymbolicCholesky {
-            permutation,
+            permutation: ordering.followed_by(&post),
             parent,
             column_counts,
             col_ptr,
-            rows: FactorRows::PerColumn(row_idx),
+            rows: FactorRows::PerSupernode { start, rows },
             supernodes,
             explicit_zeros: 0,
             relaxation: None,
@@ -155,51 +179,44 @@ impl SymbolicCholesky {
     /// The same analysis with relaxed supernodes (see
     /// [`amalgamation`](super::amalgamation)): the column counts, pointers
     /// and rows now describe the wider pattern, explicit zeros included.
-    /// The rows are rewritten in place, last column first, so no second
-    /// copy of the pattern is made. Relaxing an analysis twice changes
-    /// nothing.
+    /// A relaxed supernode's rows are its own columns, then the rows of
+    /// its last fundamental member's first column (kept once per
+    /// supernode, whichever way they were kept before). Relaxing an
+    /// analysis twice changes nothing.
     pub fn relaxed(mut self, rule: &Relaxation) -> SymbolicCholesky {
         if self.relaxation.is_some() {
             return self;
         }
-        let mut row_idx = match std::mem::replace(&mut self.rows, FactorRows::PerColumn(Vec::new()))
-        {
-            FactorRows::PerColumn(rows) => rows,
-            per_supernode => {
-                self.rows = per_supernode;
-                self.row_idx().into_owned()
-            }
-        };
-        let exact_nnz = row_idx.len();
+        self.relaxation = Some(*rule);
+        if *rule == Relaxation::NONE {
+            // the rule then merges only where no zero is added, and two
+            // fundamental supernodes never nest so (they would be one): the
+            // partition would come back unchanged
+            return self;
+        }
         let (supernodes, last_member_first) =
             relax(&self.supernodes, &self.parent, &self.column_counts, rule);
-        // a relaxed node's column k stores rows k .. fc, then those of column fc
+        if supernodes == self.supernodes {
+            return self; // nothing merged: same pattern
+        }
+        self.store_rows_per_supernode();
+        let exact_nnz = self.nnz_l();
+        let mut start = Vec::with_capacity(supernodes.len() + 1);
+        start.push(0);
+        let mut rows = Vec::new();
         for (s, &fc) in last_member_first.iter().enumerate() {
-            for k in supernodes.columns(s).start..fc {
+            let columns = supernodes.columns(s);
+            rows.extend((columns.start..fc).map(|k| k as u32)); // n fits in u32
+            rows.extend_from_slice(self.supernode_rows(self.supernodes.of_column(fc)));
+            start.push(rows.len());
+            for k in columns.start..fc {
                 self.column_counts[k] = (fc - k) + self.column_counts[fc];
             }
         }
-        let old_ptr = std::mem::replace(&mut self.col_ptr, cumulative_sum(&self.column_counts));
-        let new_ptr = &self.col_ptr;
-        row_idx.resize(new_ptr[self.parent.len()], 0);
-        for (s, &fc) in last_member_first.iter().enumerate().rev() {
-            let columns = supernodes.columns(s);
-            for k in (fc..columns.end).rev() {
-                row_idx.copy_within(old_ptr[k]..old_ptr[k + 1], new_ptr[k]); // same rows
-            }
-            for k in (columns.start..fc).rev() {
-                let mut p = new_ptr[k];
-                for row in k..fc {
-                    row_idx[p] = row as u32; // n fits in u32, checked by the analysis
-                    p += 1;
-                }
-                row_idx.copy_within(new_ptr[fc]..new_ptr[fc + 1], p);
-            }
-        }
-        self.explicit_zeros = row_idx.len() - exact_nnz;
-        self.rows = FactorRows::PerColumn(row_idx);
+        self.col_ptr = cumulative_sum(&self.column_counts);
+        self.explicit_zeros = self.nnz_l() - exact_nnz;
+        self.rows = FactorRows::PerSupernode { start, rows };
         self.supernodes = supernodes;
-        self.relaxation = Some(*rule);
         self
     }
 
@@ -321,12 +338,13 @@ impl SymbolicCholesky {
         matches!(self.rows, FactorRows::PerSupernode { .. })
     }
 
-    /// Keeps each supernode's rows once instead of once per column (what
-    /// the supernodal factorization and solves read): `Σ_s count[first(s)]`
-    /// indices instead of `nnz(L)`. [`SymbolicCholesky::row_idx`] still
-    /// gives every column's, by building them.
+    /// Keeps each supernode's rows once (as the analysis makes them):
+    /// what the supernodal factorization and solves read, `Σ_s
+    /// count[first(s)]` indices instead of `nnz(L)`.
+    /// [`SymbolicCholesky::row_idx`] still gives every column's, by
+    /// building them.
     pub fn store_rows_per_supernode(&mut self) {
-        let FactorRows::PerColumn(per_column) = &self.rows else {
+        let FactorRows::PerColumn(_) = &self.rows else {
             return;
         };
         let count = self.supernodes.len();
@@ -338,12 +356,16 @@ impl SymbolicCholesky {
             rows.extend_from_slice(self.supernode_rows(s));
             start.push(rows.len());
         }
-        debug_assert!((0..self.n()).all(|j| {
-            let s = self.supernodes.of_column(j);
-            let k = j - self.supernodes.columns(s).start;
-            per_column[self.col_ptr[j]..self.col_ptr[j + 1]] == rows[start[s] + k..start[s + 1]]
-        }));
         self.rows = FactorRows::PerSupernode { start, rows };
+    }
+
+    /// Keeps every column's rows, laid out by the column pointers (`nnz(L)`
+    /// indices): what the simplicial factorization and its substitutions
+    /// read, borrowed from [`SymbolicCholesky::row_idx`].
+    pub fn store_rows_per_column(&mut self) {
+        if let FactorRows::PerSupernode { .. } = &self.rows {
+            self.rows = FactorRows::PerColumn(self.row_idx().into_owned());
+        }
     }
 
     /// The supernodes of `L`: fundamental, or relaxed after
@@ -353,23 +375,15 @@ impl SymbolicCholesky {
     }
 }
 
-/// Row indices of every column of `L`: row `k`'s pattern (from the tree)
-/// puts `k` into each of its columns; rows arrive in increasing order, so
-/// every column comes out sorted with its diagonal first.
-fn factor_pattern(upper: &CscMatrix, parent: &[Option<usize>], col_ptr: &[usize]) -> Vec<u32> {
-    let n = parent.len();
-    let mut next_slot = col_ptr[..n].to_vec();
-    let mut row_idx = vec![0u32; col_ptr[n]];
-    let mut pattern = RowPattern::new(n);
-    for k in 0..n {
-        let row = k as u32; // n fits in u32, checked by the caller
-        row_idx[next_slot[k]] = row; // the diagonal opens column k
-        next_slot[k] += 1;
-        for &j in pattern.of_row(upper, parent, k) {
-            row_idx[next_slot[j]] = row;
-            next_slot[j] += 1;
-        }
-    }
-    debug_assert!((0..n).all(|j| next_slot[j] == col_ptr[j + 1]));
-    row_idx
+/// The tree and the counts found in one numbering, in the numbering that
+/// follows it by `post`: node `k` is old node `post.perm()[k]`.
+fn renumbered(
+    tree: &[Option<usize>],
+    counts: &[usize],
+    post: &Permutation,
+) -> (Vec<Option<usize>>, Vec<usize>) {
+    let (old, new) = (post.perm(), post.inverse());
+    let parent = old.iter().map(|&j| tree[j].map(|p| new[p])).collect();
+    let column_counts = old.iter().map(|&j| counts[j]).collect();
+    (parent, column_counts)
 }
