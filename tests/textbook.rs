@@ -1,8 +1,13 @@
 //! The handout's functions as written (`sim::textbook`, what `--textbook`
 //! runs) against the fast path the program runs by default:
 //!
-//! * one step from the same state: within 1e-12 (max vertex distance) on
-//!   every bundled scene, sparse and dense;
+//! * one step from the same state: within 1e-11 (max vertex distance) on
+//!   every bundled scene, sparse and dense. The two paths add the same
+//!   terms in different orders (the fast factor merges small supernodes,
+//!   the textbook one goes row by row), which moves a step by about 1e-12;
+//!   the reference implementation, a third order, lands up to 6e-12 from
+//!   either (`docs/fidelity.md`), and a wrong term (a mass, a spring)
+//!   moves the flag's first step by 1e-5 or more;
 //! * 100 steps from rest: within 1e-8 on every bundled scene that is not
 //!   chaotic (all but the skirt, whose buckling turns rounding into
 //!   centimetres);
@@ -96,7 +101,7 @@ fn moving_state(scene: &Scene, steps: usize) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
 }
 
 #[test]
-fn one_textbook_step_lands_within_1e_12_of_the_fast_path_on_every_bundled_scene() {
+fn one_textbook_step_lands_within_1e_11_of_the_fast_path_on_every_bundled_scene() {
     for (name, _) in SCENES {
         let scene = scene(name);
         for steps_before in [0, 5] {
@@ -107,7 +112,7 @@ fn one_textbook_step_lands_within_1e_12_of_the_fast_path_on_every_bundled_scene(
             let textbook = handout_step_sparse(&scene, Ordering::Amd, [&u_prev, &u_cur]);
             let distance = max_distance(&textbook, fast.positions());
             assert!(
-                distance <= 1e-12,
+                distance <= 1e-11,
                 "{name}, step {}: {distance:e}",
                 steps_before + 1
             );
@@ -116,7 +121,7 @@ fn one_textbook_step_lands_within_1e_12_of_the_fast_path_on_every_bundled_scene(
 }
 
 #[test]
-fn the_dense_textbook_step_lands_within_1e_12_of_the_dense_fast_path() {
+fn the_dense_textbook_step_lands_within_1e_11_of_the_dense_fast_path() {
     for name in ["single-spring-horizontal", "horizontal-chain", "net"] {
         let scene = scene(name);
         let (u_prev, u_cur) = moving_state(&scene, 5);
@@ -135,7 +140,7 @@ fn the_dense_textbook_step_lands_within_1e_12_of_the_dense_fast_path() {
         fast.set_state(&u_prev, &u_cur, 5).unwrap();
         fast.step().unwrap();
         let distance = max_distance(&textbook, fast.positions());
-        assert!(distance <= 1e-12, "{name}: {distance:e}");
+        assert!(distance <= 1e-11, "{name}: {distance:e}");
     }
 }
 

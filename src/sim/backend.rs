@@ -17,7 +17,7 @@
 
 use crate::linalg::dense::{DenseCholesky, DenseMatrix};
 use crate::linalg::sparse::{
-    CscMatrix, Method, Ordering, SparseCholesky, SymbolicCholesky, TripletMatrix,
+    CscMatrix, Method, Ordering, Relaxation, SparseCholesky, SymbolicCholesky, TripletMatrix,
 };
 use crate::linalg::LinalgError;
 
@@ -234,6 +234,10 @@ impl LinearAlgebra for Sparse {
 
     fn factor(q: &CscMatrix, how: SparseFactorization) -> Result<SparseCholesky, LinalgError> {
         let symbolic = SymbolicCholesky::analyze(q, how.ordering)?;
+        let symbolic = match how.method {
+            Method::Supernodal => symbolic.relaxed(&Relaxation::SMALL),
+            Method::Simplicial => symbolic,
+        };
         SparseCholesky::factor(symbolic, q, how.method)
     }
 

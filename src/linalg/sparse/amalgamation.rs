@@ -59,6 +59,18 @@ impl Relaxation {
         zeros: [0.8, 0.1, 0.05],
     };
 
+    /// Merge a supernode into its parent while the merged node has at most
+    /// three columns, whatever zeros it stores; nothing larger. The
+    /// simulation's factor: on cloth most fundamental supernodes have one
+    /// or two columns, each a call of the dense kernels too small to pay
+    /// for itself, and merging them costs little memory (a few per cent
+    /// of `L`) where CHOLMOD's wider rule costs a fifth and slows the
+    /// solve (`docs/performance.md`, "Supernodes").
+    pub const SMALL: Relaxation = Relaxation {
+        columns: [3, 0, 0],
+        zeros: [0.0, 0.0, 0.0],
+    };
+
     /// No merging at all: the fundamental supernodes (to measure against).
     pub const NONE: Relaxation = Relaxation {
         columns: [0, 0, 0],
