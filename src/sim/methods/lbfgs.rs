@@ -204,7 +204,13 @@ pub(crate) fn solve<B: LinearAlgebra>(
             // = G(p⁰)`, the plain iterate
             monitor.plain_first(work.first_trial_energy);
         }
-        last_step_length = t;
+        // After plain iterations the first direction is the plain one
+        // along the slow modes, whose length says nothing of the
+        // quasi-Newton steps that follow (`plain_then_lbfgs.rs`).
+        last_step_length = match (iteration, control.plain_first) {
+            (_, true) => 1.0,
+            _ => t,
+        };
         energy = new_energy;
         let slot = work.next_slot();
         let trial = work.trial_holding(t);
