@@ -134,6 +134,12 @@ impl<'a, 'o> Monitor<'a, 'o> {
         }
     }
 
+    /// The iterations start again from an iterate of energy `energy` (`E −
+    /// E(pᵗ)`): the next decrease is measured from there.
+    pub fn restart_at(&mut self, energy: f64) {
+        self.last_energy = energy;
+    }
+
     /// From now on, stop the step, past the floor or not, at an iteration
     /// that takes off at most `fraction` of all the step has taken off:
     /// with `fraction` far below any rule's, the iterate has converged

@@ -115,6 +115,7 @@ pub(crate) fn solve<B: LinearAlgebra>(
         p.copy_from_slice(context.energy.start);
         context.global.hold_pins(p);
         (context.start_energy, context.start_measured) = (start_energy, start_measured);
+        monitor.restart_at(start_energy);
     } else {
         monitor.set_floor(floor);
         context.start_energy = energy;
