@@ -151,6 +151,9 @@ pub struct StepControl {
     pub window: usize,
     /// Where the iterations start.
     pub start: Start,
+    /// With L-BFGS: begin each step with plain iterations and hand over
+    /// to L-BFGS only once plain slows down (`methods/plain_then_lbfgs.rs`).
+    pub plain_first: bool,
     /// Measure the step's energy decrease and relative gradient for its
     /// report even when no rule or observer needs them (the plain
     /// fixed-count step otherwise computes neither: about three passes
@@ -173,6 +176,7 @@ impl StepControl {
             tolerance: None,
             energy_tolerance: None,
             at_least_plain: None,
+            plain_first: false,
             ..self
         }
     }
@@ -209,6 +213,7 @@ impl Accuracy {
                 c.tolerance,
                 c.energy_tolerance,
                 c.at_least_plain,
+                c.plain_first,
             )
         };
         Accuracy::ALL
@@ -235,25 +240,28 @@ impl FromStr for Accuracy {
 pub const ASSIGNMENT_ENERGY_TOLERANCE: f64 = 0.15;
 
 /// The budget of [`Accuracy::Assignment`]: at most 20 L-BFGS iterations a
-/// step. Measured, not derived: 20 L-BFGS iterations ended every step
-/// measured at or below plain-50's energy, 10 did not (the skirt's swing);
-/// the steps that reach the budget are those whose floor lies beyond what
-/// they can take off (`docs/convergence.md`, "How to choose").
+/// step after its plain ones. Measured, not derived: 20 L-BFGS iterations
+/// ended every step measured at or below plain-50's energy, 10 did not
+/// (the skirt's swing); the steps that reach the budget are those whose
+/// floor lies beyond what they can take off (`docs/convergence.md`, "How
+/// to choose").
 pub const ASSIGNMENT_ITERATIONS: usize = 20;
 
 impl StepControl {
     /// The fastest control known to reach `accuracy` on every step.
     ///
-    /// [`Accuracy::Assignment`]: L-BFGS from `pᵗ` (the start the floor is
-    /// measured from), the floor `at_least_plain = 50` and the energy rule
+    /// [`Accuracy::Assignment`]: plain iterations from `pᵗ` while they
+    /// converge fast, then L-BFGS (`methods/plain_then_lbfgs.rs`), with
+    /// the floor `at_least_plain = 50` and the energy rule
     /// [`ASSIGNMENT_ENERGY_TOLERANCE`] above it, within
-    /// [`ASSIGNMENT_ITERATIONS`]. The floor is not tuned: while plain's
-    /// decrease per iteration does not grow, 50 plain iterations take off
-    /// at most 50 times the first one's, so a step past the floor is at
-    /// least as low as plain-50's. Where plain speeds up (a cloth swinging
-    /// through) the floor alone would run on, and the energy rule stops
-    /// the step; where the floor lies beyond what the step can take off at
-    /// all (the steps from rest) the step runs to the budget.
+    /// [`ASSIGNMENT_ITERATIONS`] L-BFGS iterations. The floor is not
+    /// tuned: while plain's decrease per iteration does not grow, 50 plain
+    /// iterations take off at most 50 times the first one's (after `j` of
+    /// them, `50 − j` times the last one's), so a step past the floor is
+    /// at least as low as plain-50's. Where plain speeds up (a cloth
+    /// swinging through) the floor alone would run on, and the energy rule
+    /// stops the step; where plain converges fast, plain alone finishes the
+    /// step at plain-50's energy.
     pub fn for_accuracy(accuracy: Accuracy) -> Self {
         match accuracy {
             Accuracy::Assignment => StepControl {
@@ -262,6 +270,7 @@ impl StepControl {
                 energy_tolerance: Some(ASSIGNMENT_ENERGY_TOLERANCE),
                 at_least_plain: Some(ITERATIONS as f64),
                 start: Start::Current,
+                plain_first: true,
                 ..StepControl::default()
             },
         }
@@ -323,6 +332,7 @@ impl Default for StepControl {
             relaxation: DEFAULT_RELAXATION,
             window: DEFAULT_WINDOW,
             start: Start::Current,
+            plain_first: false,
             measure: false,
         }
     }
@@ -354,6 +364,9 @@ pub struct Outcome {
     /// `E(p) − E(p⁰)` at the returned `p`, when the method measured it
     /// there (the step's report then needs no pass of its own).
     pub energy: Option<f64>,
+    /// The method that ran, when not the control's (a step that plain
+    /// iterations finished before L-BFGS took over).
+    pub method: Option<StepMethod>,
 }
 
 impl Outcome {
@@ -363,6 +376,15 @@ impl Outcome {
             iterations,
             stop,
             energy: None,
+            method: None,
+        }
+    }
+
+    /// The same, said to have been run by `method`.
+    pub fn ran_by(self, method: StepMethod) -> Self {
+        Outcome {
+            method: Some(method),
+            ..self
         }
     }
 

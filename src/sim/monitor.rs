@@ -58,6 +58,9 @@ pub struct Monitor<'a, 'o> {
     /// The energy an iterate must reach before a rule may stop the step
     /// (with `at_least_plain`, once the first plain iterate's is known).
     floor: Option<f64>,
+    /// Stop, floor or not, once an iteration takes off at most this
+    /// fraction of the step's decrease ([`Monitor::stop_when_converged`]).
+    converged: Option<f64>,
     /// `E − E(p⁰)` at the first iterate and at the last one recorded.
     first_energy: f64,
     last_energy: f64,
@@ -81,6 +84,7 @@ impl<'a, 'o> Monitor<'a, 'o> {
         Monitor {
             rules: *control,
             floor: None,
+            converged: None,
             first_energy: 0.0,
             last_energy: 0.0,
             initial_gradient,
@@ -119,6 +123,30 @@ impl<'a, 'o> Monitor<'a, 'o> {
             let first_decrease = self.first_energy - energy;
             self.floor = Some(self.first_energy - multiple * first_decrease);
         }
+    }
+
+    /// Sets the floor to the energy `floor` (`E − E(pᵗ)`) directly, once:
+    /// a method that ran `j` plain iterations itself knows a closer bound
+    /// on plain-`N`'s energy than `N` times the first one's decrease.
+    pub fn set_floor(&mut self, floor: f64) {
+        if self.rules.at_least_plain.is_some() && self.floor.is_none() {
+            self.floor = Some(floor);
+        }
+    }
+
+    /// The iterations start again from an iterate of energy `energy` (`E −
+    /// E(pᵗ)`): the next decrease is measured from there.
+    pub fn restart_at(&mut self, energy: f64) {
+        self.last_energy = energy;
+    }
+
+    /// From now on, stop the step, past the floor or not, at an iteration
+    /// that takes off at most `fraction` of all the step has taken off:
+    /// with `fraction` far below any rule's, the iterate has converged
+    /// (`methods/plain_then_lbfgs.rs` says when it is safe). Only beside
+    /// the energy rule, which records each iterate's energy.
+    pub fn stop_when_converged(&mut self, fraction: f64) {
+        self.converged = Some(fraction);
     }
 
     /// Room for `∇E` at the next iterate, when the stopping rule will test
@@ -188,6 +216,9 @@ impl<'a, 'o> Monitor<'a, 'o> {
         if let (0, Some(energy)) = (iteration, energy) {
             (self.first_energy, self.last_energy) = (energy, energy);
         }
+        if self.converged_at(iteration, energy) {
+            return Some(Stop::EnergyTolerance);
+        }
         let past_floor = self.past_floor(iteration, energy);
         if let (Some(fraction), Some(energy)) = (energy_tolerance, energy) {
             if self.energy_rule_met(fraction, iteration, energy) && past_floor {
@@ -212,6 +243,17 @@ impl<'a, 'o> Monitor<'a, 'o> {
         let relative = relative_gradient(norm, self.initial_gradient?);
         self.relative_gradient = Some(relative);
         (relative <= tolerance).then_some(Stop::Tolerance)
+    }
+
+    /// Has the step converged ([`Monitor::stop_when_converged`]) at
+    /// iterate `iteration` of energy `energy`? The last energy is the one
+    /// the energy rule recorded.
+    fn converged_at(&self, iteration: usize, energy: Option<f64>) -> bool {
+        let (Some(fraction), Some(energy)) = (self.converged, energy) else {
+            return false;
+        };
+        let decrease = self.last_energy - energy;
+        iteration > 0 && (0.0..=fraction * (self.first_energy - energy)).contains(&decrease)
     }
 
     /// Records the energy of iterate `iteration` and says whether the
@@ -323,6 +365,38 @@ mod tests {
             "never the first iterate"
         );
         assert!(!monitor.past_floor(2, None), "an energy not measured");
+    }
+
+    #[test]
+    fn a_floor_set_directly_counts_once_and_convergence_stops_below_it() {
+        let control = StepControl {
+            at_least_plain: Some(50.0),
+            energy_tolerance: Some(0.15),
+            ..StepControl::default()
+        };
+        let mut room = [[0.0; 3]];
+        let mut monitor = monitor_of(control, &mut room);
+        monitor.set_floor(-100.0);
+        monitor.set_floor(-1.0); // later ones change nothing
+        monitor.plain_first(-50.0); // nor the first plain iterate's
+        assert!(!monitor.past_floor(1, Some(-99.0)));
+        assert!(monitor.past_floor(1, Some(-100.0)));
+        monitor.stop_when_converged(1e-11);
+        monitor.energy_rule_met(0.15, 0, 0.0);
+        monitor.energy_rule_met(0.15, 1, -10.0);
+        assert!(
+            !monitor.converged_at(2, Some(-10.0 - 1e-9)),
+            "1e-10 of the decrease"
+        );
+        assert!(monitor.converged_at(2, Some(-10.0 - 1e-11)));
+        assert!(
+            !monitor.converged_at(2, Some(-9.0)),
+            "a rise is not convergence"
+        );
+        assert!(
+            !monitor.converged_at(0, Some(-10.0)),
+            "never the first iterate"
+        );
     }
 
     #[test]

@@ -248,7 +248,7 @@ impl<B: LinearAlgebra> Ends<'_, '_, B> {
             return Err(SimulationError::EnergyNotFinite);
         }
         Ok(StepReport {
-            method,
+            method: outcome.method.unwrap_or(method),
             iterations: outcome.iterations,
             stop: outcome.stop,
             energy_decrease,

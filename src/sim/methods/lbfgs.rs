@@ -204,7 +204,7 @@ pub(crate) fn solve<B: LinearAlgebra>(
             // = G(p⁰)`, the plain iterate
             monitor.plain_first(work.first_trial_energy);
         }
-        last_step_length = t;
+        last_step_length = next_first_length(control, t);
         energy = new_energy;
         let slot = work.next_slot();
         let trial = work.trial_holding(t);
@@ -227,6 +227,18 @@ pub(crate) fn solve<B: LinearAlgebra>(
         }
     }
     Outcome::measured(control.iterations, Stop::Iterations, energy)
+}
+
+/// Where the next line search starts, after this one accepted `t`: at
+/// `t` (on cloth the quasi-Newton step is often too short by a steady
+/// factor), or at 1 after plain iterations (`plain_then_lbfgs.rs`), whose
+/// first direction is plain's along the slow modes and whose length says
+/// nothing of the quasi-Newton steps after it.
+fn next_first_length(control: &StepControl, t: f64) -> f64 {
+    match control.plain_first {
+        true => 1.0,
+        false => t,
+    }
 }
 
 /// The line search along `work.direction` from `p`. Each trial point is

@@ -16,6 +16,7 @@
 //! | `chebyshev` | the same, extrapolated by Chebyshev weights `ω` | [`chebyshev`] |
 //! | `anderson` | the same, extrapolated from the last `m` iterates | [`anderson`] |
 //! | `lbfgs` | a quasi-Newton step with `Q` as the initial Hessian, line search | [`lbfgs`] |
+//! | (`lbfgs`, plain first) | plain while it converges fast, then L-BFGS | [`plain_then_lbfgs`] |
 //! | `newton` | the exact Hessian, factored every iteration, line search | [`newton`] |
 //!
 //! All of them reuse the one factorization of `Q` from the precomputation
@@ -40,6 +41,7 @@ pub mod lbfgs;
 pub mod line_search;
 pub mod newton;
 pub mod plain;
+pub mod plain_then_lbfgs;
 
 use super::backend::LinearAlgebra;
 use super::control::{Outcome, StepControl, StepMethod};
@@ -170,6 +172,10 @@ pub fn solve<B: LinearAlgebra>(
         StepMethod::Anderson => {
             let work = workspaces.anderson.as_mut().expect(PREPARED);
             anderson::solve(context, control, work, p, monitor)
+        }
+        StepMethod::Lbfgs if control.plain_first => {
+            let work = workspaces.lbfgs.as_mut().expect(PREPARED);
+            plain_then_lbfgs::solve(context, control, work, p, monitor)
         }
         StepMethod::Lbfgs => {
             let work = workspaces.lbfgs.as_mut().expect(PREPARED);
