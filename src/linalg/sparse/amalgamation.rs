@@ -65,7 +65,7 @@ impl Relaxation {
     /// or two columns, each a call of the dense kernels too small to pay
     /// for itself, and merging them costs little memory (a few per cent
     /// of `L`) where CHOLMOD's wider rule costs a fifth and slows the
-    /// solve (`docs/performance.md`, "Supernodes").
+    /// solve (`docs/performance.md`, section 3).
     pub const SMALL: Relaxation = Relaxation {
         columns: [3, 0, 0],
         zeros: [0.0, 0.0, 0.0],
