@@ -107,6 +107,42 @@ fn analyze_reports_every_key_and_a_small_residual() {
 }
 
 #[test]
+fn analyze_times_the_simulations_factor_with_supernodes_small() {
+    let folder = temp_folder("analyze-small");
+    let path = folder.join("grid-12.mtx");
+    write_file(&path, |out| {
+        write_coordinate(out, &grid_matrix(12), Symmetry::Symmetric, "grid-12")
+    })
+    .unwrap();
+    let report = |supernodes: &str| {
+        let path = path.to_str().unwrap();
+        let args = [
+            "analyze",
+            path,
+            "--json",
+            "--repeats",
+            "1",
+            "--supernodes",
+            supernodes,
+        ];
+        json(&masssprings(&args))
+    };
+    let supernode_count = |r: &serde_json::Value| -> u64 {
+        let classes = r["supernodes_by_width"].as_array().unwrap();
+        classes
+            .iter()
+            .map(|c| c["supernodes"].as_u64().unwrap())
+            .sum()
+    };
+    let (fundamental, small) = (report("fundamental"), report("small"));
+    // the same L, fewer and wider supernodes, some zeros stored
+    assert_eq!(small["nnz_l"], fundamental["nnz_l"]);
+    assert!(supernode_count(&small) < supernode_count(&fundamental));
+    assert!(small["nnz_l_stored"].as_u64() > fundamental["nnz_l_stored"].as_u64());
+    assert!(small["backward_error"].as_f64().unwrap() < 1e-15, "{small}");
+}
+
+#[test]
 fn analyze_uses_the_right_hand_side_file_when_there_is_one() {
     let folder = temp_folder("analyze-rhs");
     let path = folder.join("q.mtx");

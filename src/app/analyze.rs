@@ -95,8 +95,8 @@ pub struct AnalyzeArgs {
     matrix: PathBuf,
     #[command(flatten)]
     factor: FactorFlags,
-    /// How supernodes are merged before the supernodal factorization: fundamental (none merged) or relaxed (merged by CHOLMOD's rule, storing some zeros).
-    #[arg(long, value_name = "S", default_value = "fundamental", value_parser = ["fundamental", "relaxed"])]
+    /// How supernodes are merged before the supernodal factorization: fundamental (none merged), small (merged while at most three columns, as in the simulation's factor) or relaxed (CHOLMOD's rule); the last two store some zeros.
+    #[arg(long, value_name = "S", default_value = "fundamental", value_parser = ["fundamental", "small", "relaxed"])]
     supernodes: String,
     /// Runs behind each median (default: at least 5, about a second).
     #[arg(long, value_name = "N", value_parser = whole(1, usize::MAX))]
@@ -121,6 +121,7 @@ pub fn run(args: AnalyzeArgs) -> Result<(), AppError> {
     let path = args.matrix;
     let relaxation = match args.supernodes.as_str() {
         "relaxed" => Relaxation::CHOLMOD,
+        "small" => Relaxation::SMALL,
         _ => Relaxation::NONE,
     };
     let repeats = args.repeats.map_or(Repeats::Adaptive, Repeats::Exactly);
