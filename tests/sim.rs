@@ -484,3 +484,35 @@ fn cloth(side: usize) -> (Vec<[f64; 3]>, Vec<[usize; 2]>) {
     }
     (v, springs.into_iter().collect())
 }
+
+#[test]
+fn the_supernodes_option_reaches_the_simulations_factor() {
+    use masssprings::linalg::sparse::SupernodeMerging;
+    use masssprings::mesh::procedural;
+    let scene = procedural::grid(16).to_scene().unwrap();
+    let supernodes = |merging: SupernodeMerging| {
+        let options = SimulationOptions {
+            supernodes: merging,
+            ..SimulationOptions::default()
+        };
+        let simulation =
+            masssprings::sim::Simulation::<masssprings::sim::Sparse>::from_scene(&scene, options)
+                .unwrap();
+        let factor = &simulation.system().unwrap().prefactorization;
+        (
+            factor.symbolic().supernodes().len(),
+            factor.symbolic().explicit_zeros(),
+        )
+    };
+    let (fundamental, small) = (
+        supernodes(SupernodeMerging::Fundamental),
+        supernodes(SupernodeMerging::Small),
+    );
+    assert_eq!(
+        SimulationOptions::default().supernodes,
+        SupernodeMerging::Small
+    );
+    assert_eq!(fundamental.1, 0, "fundamental supernodes store no zeros");
+    assert!(small.0 < fundamental.0, "{small:?} against {fundamental:?}");
+    assert!(small.1 > 0, "merging stores some zeros");
+}

@@ -14,7 +14,9 @@
 # pair is measured seconds apart; the summary gives the median over rounds
 # of each figure and the ratio ours / peer. The grids are the scaling sizes
 # of `masssprings bench` (32, 100, 316); LARGE=1 adds grid-1000 (minutes),
-# SIDES="..." replaces the list. Set NO_FAER=1 to skip faer.
+# SIDES="..." replaces the list. Set NO_FAER=1 to skip faer. Ours uses
+# the simulation's supernodes (small ones merged) unless SUPERNODES=
+# fundamental|relaxed says otherwise.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
@@ -59,20 +61,21 @@ done
 
 # --- interleaved rounds -----------------------------------------------------
 out="$work/results.jsonl"
+supernodes="${SUPERNODES:-small}"
 : > "$out"
 for round in $(seq "$rounds"); do
     for scene in $scenes; do
         base="${scene%.json}"
         name="$(basename "$base")"
         echo "round $round/$rounds: $name" >&2
-        echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"ours\",\"data\":$("$ours" analyze "$base.mtx" --json)}" >>"$out"
+        echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"ours\",\"data\":$("$ours" analyze "$base.mtx" --supernodes "$supernodes" --json)}" >>"$out"
         echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"cholmod\",\"data\":$("$here/cholmod_peer" "$base.mtx" 11 --json)}" >>"$out"
         if [ "${NO_FAER:-0}" != 1 ]; then
             echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"faer\",\"data\":$("$faer" "$base.mtx" 11 --json)}" >>"$out"
         fi
         steps=30
         [ "$name" = grid-1000 ] && steps=3
-        echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"ours-step\",\"data\":$("$ours" simulate "$scene" --steps "$steps" --json)}" >>"$out"
+        echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"ours-step\",\"data\":$("$ours" simulate "$scene" --steps "$steps" --supernodes "$supernodes" --json)}" >>"$out"
         csv="$("$eigen" bench "$scene" 120 | grep '^CSV,')"
         echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"eigen\",\"data\":{\"csv\":\"$csv\"}}" >>"$out"
     done

@@ -95,9 +95,6 @@ pub struct AnalyzeArgs {
     matrix: PathBuf,
     #[command(flatten)]
     factor: FactorFlags,
-    /// How supernodes are merged before the supernodal factorization: fundamental (none merged), small (merged while at most three columns, as in the simulation's factor) or relaxed (CHOLMOD's rule); the last two store some zeros.
-    #[arg(long, value_name = "S", default_value = "fundamental", value_parser = ["fundamental", "small", "relaxed"])]
-    supernodes: String,
     /// Runs behind each median (default: at least 5, about a second).
     #[arg(long, value_name = "N", value_parser = whole(1, usize::MAX))]
     repeats: Option<usize>,
@@ -107,7 +104,7 @@ pub struct AnalyzeArgs {
     #[arg(long, hide = true, value_parser = renamed("--method is the iteration method elsewhere; analyze's is --factorization supernodal|simplicial"))]
     method: Option<String>,
     /// Renamed: supernode merging is --supernodes.
-    #[arg(long, hide = true, value_parser = renamed("supernode merging is --supernodes fundamental|relaxed (cholmod: relaxed, none: fundamental)"))]
+    #[arg(long, hide = true, value_parser = renamed("supernode merging is --supernodes small|fundamental|relaxed (cholmod: relaxed, none: fundamental)"))]
     relax: Option<String>,
 }
 
@@ -119,11 +116,7 @@ fn renamed(message: &'static str) -> impl Fn(&str) -> Result<String, String> + C
 
 pub fn run(args: AnalyzeArgs) -> Result<(), AppError> {
     let path = args.matrix;
-    let relaxation = match args.supernodes.as_str() {
-        "relaxed" => Relaxation::CHOLMOD,
-        "small" => Relaxation::SMALL,
-        _ => Relaxation::NONE,
-    };
+    let relaxation = args.factor.supernodes.relaxation();
     let repeats = args.repeats.map_or(Repeats::Adaptive, Repeats::Exactly);
     let lower = read_symmetric_lower(&path)?;
     let rhs = read_or_make_rhs(&path, lower.ncols())?;

@@ -8,13 +8,13 @@
 //!   (stopping rules, budget, start, pins, and `--accuracy`, which names a
 //!   method and rules instead of spelling them out);
 //! * [`Backend`]: dense matrices, or how the sparse `Q` is factored
-//!   ([`FactorFlags`]: ordering and factorization);
+//!   ([`FactorFlags`]: ordering, factorization, supernodes);
 //! * the value parsers: whole numbers and fractions within a range, names
 //!   among a few, `--size WxH`; each error says the value and the range.
 
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::Args;
-use masssprings::linalg::sparse::{Method, Ordering};
+use masssprings::linalg::sparse::{Method, Ordering, SupernodeMerging};
 use masssprings::sim::control::{
     is_open_fraction, is_plain_multiple, Accuracy, Pins, Start, AT_LEAST_PLAIN_LIMITS, MAX_WINDOW,
 };
@@ -110,7 +110,7 @@ pub struct StepRules {
 #[derive(Args, Debug, Clone)]
 pub struct Backend {
     /// Dense matrices and Cholesky (the assignment's dense path).
-    #[arg(long, conflicts_with_all = ["ordering", "factorization"])]
+    #[arg(long, conflicts_with_all = ["ordering", "factorization", "supernodes"])]
     pub dense: bool,
     #[command(flatten)]
     pub factor: FactorFlags,
@@ -124,6 +124,9 @@ pub struct FactorFlags {
     /// The sparse Q's factorization and solves (simplicial: the textbook row-by-row method).
     #[arg(long, value_name = "F", default_value = "supernodal", value_parser = choice::<Method>(&["supernodal", "simplicial"]))]
     pub factorization: Method,
+    /// The supernodal factorization's supernodes: small (those of at most three columns merged, storing a few zeros), fundamental (none merged) or relaxed (CHOLMOD's rule, many zeros).
+    #[arg(long, value_name = "S", default_value = "small", value_parser = choice::<SupernodeMerging>(&["small", "fundamental", "relaxed"]))]
+    pub supernodes: SupernodeMerging,
 }
 
 /// The fill-reducing ordering: every command that factors `Q` or draws it
@@ -174,6 +177,7 @@ impl FactorFlags {
     pub fn apply(&self, options: &mut SimulationOptions) {
         options.ordering = self.ordering.ordering;
         options.factorization = self.factorization;
+        options.supernodes = self.supernodes;
     }
 }
 

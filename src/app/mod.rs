@@ -253,19 +253,32 @@ mod tests {
 
     #[test]
     fn render_and_converge_pass_the_factorization_to_their_simulation() {
-        use masssprings::linalg::sparse::{Method, Ordering};
-        let flags = ["--ordering", "natural", "--factorization", "simplicial"];
+        use masssprings::linalg::sparse::{Method, Ordering, SupernodeMerging};
+        let flags = [
+            "--ordering",
+            "natural",
+            "--factorization",
+            "simplicial",
+            "--supernodes",
+            "fundamental",
+        ];
         let options = match command(&[&["converge", "x.json"][..], &flags].concat()) {
             Command::Converge(args) => converge::parse(args).canonical,
             _ => unreachable!("converge"),
         };
-        let factor =
-            |o: masssprings::sim::simulation::SimulationOptions| (o.ordering, o.factorization);
-        assert_eq!(factor(options), (Ordering::Natural, Method::Simplicial));
+        let factor = |o: masssprings::sim::simulation::SimulationOptions| {
+            (o.ordering, o.factorization, o.supernodes)
+        };
+        let expected = (
+            Ordering::Natural,
+            Method::Simplicial,
+            SupernodeMerging::Fundamental,
+        );
+        assert_eq!(factor(options), expected);
         let options = match command(&[&["render", "x.json", "-o", "x.gif"][..], &flags].concat()) {
             Command::Render(args) => render::options(&args),
             _ => unreachable!("render"),
         };
-        assert_eq!(factor(options), (Ordering::Natural, Method::Simplicial));
+        assert_eq!(factor(options), expected);
     }
 }

@@ -17,18 +17,22 @@
 
 use crate::linalg::dense::{DenseCholesky, DenseMatrix};
 use crate::linalg::sparse::{
-    CscMatrix, Method, Ordering, Relaxation, SparseCholesky, SymbolicCholesky, TripletMatrix,
+    CscMatrix, Method, Ordering, SparseCholesky, SupernodeMerging, SymbolicCholesky, TripletMatrix,
 };
 use crate::linalg::LinalgError;
 
-/// How the sparse backend factors `Q`: the fill-reducing ordering and the
-/// numeric method (the dense backend has one way and ignores it).
+/// How the sparse backend factors `Q`: the fill-reducing ordering, the
+/// numeric method and, for the supernodal one, which supernodes (the dense
+/// backend has one way and ignores it).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct SparseFactorization {
     /// AMD (default) or the natural order.
     pub ordering: Ordering,
     /// Supernodal (default) or simplicial (row by row).
     pub method: Method,
+    /// The supernodal method's supernodes: by default those of at most
+    /// three columns merged (`Relaxation::SMALL`).
+    pub supernodes: SupernodeMerging,
 }
 
 /// Matrix operations the mass-spring solver needs.
@@ -235,7 +239,7 @@ impl LinearAlgebra for Sparse {
     fn factor(q: &CscMatrix, how: SparseFactorization) -> Result<SparseCholesky, LinalgError> {
         let symbolic = SymbolicCholesky::analyze(q, how.ordering)?;
         let symbolic = match how.method {
-            Method::Supernodal => symbolic.relaxed(&Relaxation::SMALL),
+            Method::Supernodal => symbolic.relaxed(&how.supernodes.relaxation()),
             Method::Simplicial => symbolic,
         };
         SparseCholesky::factor(symbolic, q, how.method)

@@ -15,7 +15,7 @@ use super::forces::{bounding_box_diagonal, external_forces};
 use super::monitor::Observer;
 use super::precomputation::{MassSpringSystem, DELTA_T};
 use super::step::{StepReport, StepState};
-use crate::linalg::sparse::{Method, Ordering};
+use crate::linalg::sparse::{Method, Ordering, SupernodeMerging};
 use crate::mesh::Scene;
 
 /// How a simulation runs.
@@ -37,6 +37,9 @@ pub struct SimulationOptions {
     /// The sparse backend's numeric factorization and solves (supernodal,
     /// or the textbook simplicial method).
     pub factorization: Method,
+    /// The supernodal factorization's supernodes (by default those of at
+    /// most three columns merged).
+    pub supernodes: SupernodeMerging,
     /// Run the handout's functions as written ([`textbook`](super::textbook))
     /// instead of the fast path: plain iterations, penalty pins, the
     /// simplicial factor; `step` then only gives the iteration count.
@@ -72,6 +75,7 @@ impl Default for SimulationOptions {
             pins: Pins::Penalty,
             ordering: Ordering::default(),
             factorization: Method::default(),
+            supernodes: SupernodeMerging::default(),
             textbook: false,
         }
     }
@@ -513,6 +517,7 @@ fn new_engine<B: LinearAlgebra>(
     let how = SparseFactorization {
         ordering: options.ordering,
         method: options.factorization,
+        supernodes: options.supernodes,
     };
     let mut engine = Engine::fast(network, how, options.pins)?;
     if let Engine::Fast { system, .. } = &mut engine {

@@ -122,6 +122,7 @@ pub fn precomputation_ordered(
     let how = SparseFactorization {
         ordering,
         method: Method::Simplicial,
+        ..SparseFactorization::default()
     };
     precomputation::<Sparse>(V, springs, k, m, pinned, delta_t, how)
 }

@@ -89,6 +89,46 @@ impl Relaxation {
     }
 }
 
+/// Which supernodes a supernodal factor uses, by name: the choice the
+/// simulation and `analyze --supernodes` offer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SupernodeMerging {
+    /// The fundamental supernodes, none merged ([`Relaxation::NONE`]).
+    Fundamental,
+    /// Merged while at most three columns ([`Relaxation::SMALL`]): the
+    /// simulation's default.
+    #[default]
+    Small,
+    /// CHOLMOD's rule ([`Relaxation::CHOLMOD`]).
+    Relaxed,
+}
+
+impl SupernodeMerging {
+    /// The merging rule of this choice.
+    pub fn relaxation(self) -> Relaxation {
+        match self {
+            SupernodeMerging::Fundamental => Relaxation::NONE,
+            SupernodeMerging::Small => Relaxation::SMALL,
+            SupernodeMerging::Relaxed => Relaxation::CHOLMOD,
+        }
+    }
+}
+
+impl std::str::FromStr for SupernodeMerging {
+    type Err = String;
+
+    fn from_str(name: &str) -> Result<Self, String> {
+        match name {
+            "fundamental" => Ok(SupernodeMerging::Fundamental),
+            "small" => Ok(SupernodeMerging::Small),
+            "relaxed" => Ok(SupernodeMerging::Relaxed),
+            other => Err(format!(
+                "unknown supernodes '{other}' (expected fundamental, small or relaxed)"
+            )),
+        }
+    }
+}
+
 impl Default for Relaxation {
     fn default() -> Self {
         Relaxation::CHOLMOD

@@ -54,7 +54,7 @@ pub mod triangular_solve;
 pub mod triplets;
 pub mod up_looking;
 
-pub use amalgamation::Relaxation;
+pub use amalgamation::{Relaxation, SupernodeMerging};
 pub use cholesky::{Method, SparseCholesky};
 pub use csc::{CscMatrix, Triangle};
 pub use ordering::Ordering;
