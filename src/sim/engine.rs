@@ -245,13 +245,14 @@ impl Handout {
             pinned,
             delta_t,
         } = *network;
-        Ok(match B::NAME == Dense::NAME {
-            true => Handout::Dense(textbook::fast_mass_springs_precomputation_dense(
+        Ok(if B::NAME == Dense::NAME {
+            Handout::Dense(textbook::fast_mass_springs_precomputation_dense(
                 vertices, springs, k, masses, pinned, delta_t,
-            )?),
-            false => Handout::Sparse(textbook::precomputation_ordered(
+            )?)
+        } else {
+            Handout::Sparse(textbook::precomputation_ordered(
                 vertices, springs, k, masses, pinned, delta_t, ordering,
-            )?),
+            )?)
         })
     }
 
