@@ -190,7 +190,7 @@ fn converge_compares_the_accuracy_with_plain_50_over_steps() {
     for line in [
         "--accuracy assignment (lbfgs) against plain-50",
         "from the same states:  plain-50 ",
-        "steps above plain-50's energy (by more than 1e-9 of its decrease): 0 of 5",
+        "steps above plain-50's energy (by more than 1e-9 of its decrease and its rounding): 0 of 5",
         "each on its own:",
         "along its own trajectory, against plain-50 from each of its states: 0 of 5 steps above",
         "trajectories apart (largest over the steps): max vertex ",

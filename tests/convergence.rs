@@ -740,6 +740,30 @@ fn with_exact_pins_every_method_reaches_newtons_minimiser() {
     }
 }
 
+/// Where every trial's energy is rounding (a cloth at rest), the search
+/// gives up once the decrease it could still see, `t |s|`, is below the
+/// energy's rounding `η`, after a few evaluations, instead of halving `t`
+/// down to 10⁻¹⁰ (34 evaluations) to reject each trial by its rounding.
+#[test]
+fn the_line_search_stops_halving_at_the_rounding_of_the_energy() {
+    use masssprings::sim::methods::line_search::{line_search, Search};
+    let (slope, rounding) = (-1e-12, 1e-13);
+    let mut evaluations = 0;
+    let found = line_search(Search::Expanding, 1.0, slope, 0.0, rounding, |_| {
+        evaluations += 1;
+        1e-14 // every trial a little higher: rounding
+    });
+    assert_eq!(found, None, "no decrease to see");
+    assert!(evaluations <= 5, "{evaluations} evaluations");
+    let mut evaluations = 0;
+    let found = line_search(Search::Expanding, 1.0, slope, 0.0, 0.0, |_| {
+        evaluations += 1;
+        1e-14
+    });
+    assert_eq!(found, None);
+    assert!(evaluations > 30, "without η: {evaluations} evaluations");
+}
+
 proptest! {
     /// On a parabola `E(t) = c t² + s t` (what the energy along a direction
     /// nearly is), the expanding search lands on the minimum `−s / 2c` in at
@@ -755,7 +779,7 @@ proptest! {
         use masssprings::sim::methods::line_search::{line_search, Search, ARMIJO, LONGEST_STEP};
         let mut evaluations = 0;
         let energy = |t: f64| curvature * t * t + slope * t;
-        let (t, e) = line_search(Search::Expanding, first, slope, 0.0, |t| {
+        let (t, e) = line_search(Search::Expanding, first, slope, 0.0, 0.0, |t| {
             evaluations += 1;
             energy(t)
         })

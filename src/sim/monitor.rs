@@ -59,11 +59,19 @@ pub struct Monitor<'a, 'o> {
     /// (with `at_least_plain`, once the first plain iterate's is known).
     floor: Option<f64>,
     /// Stop, floor or not, once an iteration takes off at most this
-    /// fraction of the step's decrease ([`Monitor::stop_when_converged`]).
-    converged: Option<f64>,
+    /// fraction of the step's decrease, or at most the rounding of the
+    /// energy ([`Monitor::stop_when_converged`]).
+    converged: Option<(f64, f64)>,
     /// `E − E(p⁰)` at the first iterate and at the last one recorded.
     first_energy: f64,
     last_energy: f64,
+    /// Where the energy rule measures the step's gain from: the first
+    /// iterate's energy, or where the iterations started again
+    /// ([`Monitor::restart_at`]).
+    rule_origin: f64,
+    /// The energy rule also waits for a decrease at most this
+    /// ([`Monitor::keep_pace_with`]).
+    pace: f64,
     /// `‖∇E(p⁰)‖` over the free vertices, when the step measured it (it
     /// does whenever a rule, an observer or the report needs it).
     initial_gradient: Option<f64>,
@@ -87,6 +95,8 @@ impl<'a, 'o> Monitor<'a, 'o> {
             converged: None,
             first_energy: 0.0,
             last_energy: 0.0,
+            rule_origin: 0.0,
+            pace: f64::INFINITY,
             initial_gradient,
             gradient,
             observer,
@@ -135,18 +145,36 @@ impl<'a, 'o> Monitor<'a, 'o> {
     }
 
     /// The iterations start again from an iterate of energy `energy` (`E −
-    /// E(pᵗ)`): the next decrease is measured from there.
+    /// E(pᵗ)`), by another method: the next decrease is measured from
+    /// there, and so is the gain the energy rule weighs it against. (After
+    /// plain iterations that took off the stiff modes' energy, a rule
+    /// weighing L-BFGS's decreases against the whole step's would stop it
+    /// at its first iterate past the floor, whatever it was still taking
+    /// off.)
     pub fn restart_at(&mut self, energy: f64) {
         self.last_energy = energy;
+        self.rule_origin = energy;
+    }
+
+    /// From now on the energy rule also waits for an iteration that takes
+    /// off at most `decrease`: the last plain iteration's, when L-BFGS takes
+    /// over from plain. While L-BFGS still takes off more per iteration
+    /// than plain did, it has not converged further than plain's pace, and
+    /// where plain speeds up later (a buckling cloth) plain-50 would pass
+    /// it.
+    pub fn keep_pace_with(&mut self, decrease: f64) {
+        self.pace = decrease;
     }
 
     /// From now on, stop the step, past the floor or not, at an iteration
-    /// that takes off at most `fraction` of all the step has taken off:
-    /// with `fraction` far below any rule's, the iterate has converged
-    /// (`methods/plain_then_lbfgs.rs` says when it is safe). Only beside
-    /// the energy rule, which records each iterate's energy.
-    pub fn stop_when_converged(&mut self, fraction: f64) {
-        self.converged = Some(fraction);
+    /// that takes off at most `fraction` of all the step has taken off, or
+    /// at most `rounding` (the energy's own rounding, below which no
+    /// decrease can be told from it): with `fraction` far below any rule's,
+    /// the iterate has converged (`methods/plain_then_lbfgs.rs` says when
+    /// it is safe). Only beside the energy rule, which records each
+    /// iterate's energy.
+    pub fn stop_when_converged(&mut self, fraction: f64, rounding: f64) {
+        self.converged = Some((fraction, rounding));
     }
 
     /// Room for `∇E` at the next iterate, when the stopping rule will test
@@ -214,7 +242,7 @@ impl<'a, 'o> Monitor<'a, 'o> {
             known => known,
         };
         if let (0, Some(energy)) = (iteration, energy) {
-            (self.first_energy, self.last_energy) = (energy, energy);
+            (self.first_energy, self.last_energy, self.rule_origin) = (energy, energy, energy);
         }
         if self.converged_at(iteration, energy) {
             return Some(Stop::EnergyTolerance);
@@ -249,11 +277,12 @@ impl<'a, 'o> Monitor<'a, 'o> {
     /// iterate `iteration` of energy `energy`? The last energy is the one
     /// the energy rule recorded.
     fn converged_at(&self, iteration: usize, energy: Option<f64>) -> bool {
-        let (Some(fraction), Some(energy)) = (self.converged, energy) else {
+        let (Some((fraction, rounding)), Some(energy)) = (self.converged, energy) else {
             return false;
         };
         let decrease = self.last_energy - energy;
-        iteration > 0 && (0.0..=fraction * (self.first_energy - energy)).contains(&decrease)
+        let small = (fraction * (self.first_energy - energy)).max(rounding);
+        iteration > 0 && (0.0..=small).contains(&decrease)
     }
 
     /// Records the energy of iterate `iteration` and says whether the
@@ -264,7 +293,8 @@ impl<'a, 'o> Monitor<'a, 'o> {
             return false;
         }
         let decrease = last - energy;
-        (0.0..=fraction * (self.first_energy - energy)).contains(&decrease)
+        let small = (fraction * (self.rule_origin - energy)).min(self.pace);
+        (0.0..=small).contains(&decrease)
     }
 
     /// May iterate `iteration`, of energy `energy`, stop the step? Always
@@ -368,6 +398,30 @@ mod tests {
     }
 
     #[test]
+    fn after_a_restart_the_energy_rule_weighs_decreases_against_the_gain_since_it() {
+        let control = StepControl {
+            energy_tolerance: Some(0.15),
+            ..StepControl::default()
+        };
+        let mut room = [[0.0; 3]];
+        let mut monitor = monitor_of(control, &mut room);
+        monitor.energy_rule_met(0.15, 0, 0.0);
+        monitor.energy_rule_met(0.15, 1, -1000.0); // plain's first iteration
+        monitor.restart_at(-1000.0);
+        assert!(
+            !monitor.energy_rule_met(0.15, 2, -1001.0),
+            "1 of the 1 gained since the restart, not of the step's 1001"
+        );
+        assert!(monitor.energy_rule_met(0.15, 3, -1001.1));
+        monitor.keep_pace_with(0.05);
+        assert!(
+            !monitor.energy_rule_met(0.15, 4, -1001.2),
+            "0.1 is more than plain's last decrease"
+        );
+        assert!(monitor.energy_rule_met(0.15, 5, -1001.24));
+    }
+
+    #[test]
     fn a_floor_set_directly_counts_once_and_convergence_stops_below_it() {
         let control = StepControl {
             at_least_plain: Some(50.0),
@@ -381,7 +435,7 @@ mod tests {
         monitor.plain_first(-50.0); // nor the first plain iterate's
         assert!(!monitor.past_floor(1, Some(-99.0)));
         assert!(monitor.past_floor(1, Some(-100.0)));
-        monitor.stop_when_converged(1e-11);
+        monitor.stop_when_converged(1e-11, 1e-13);
         monitor.energy_rule_met(0.15, 0, 0.0);
         monitor.energy_rule_met(0.15, 1, -10.0);
         assert!(
@@ -396,6 +450,11 @@ mod tests {
         assert!(
             !monitor.converged_at(0, Some(-10.0)),
             "never the first iterate"
+        );
+        monitor.stop_when_converged(1e-11, 1e-9);
+        assert!(
+            monitor.converged_at(2, Some(-10.0 - 1e-10)),
+            "a decrease below the rounding"
         );
     }
 

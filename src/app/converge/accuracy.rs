@@ -20,9 +20,12 @@
 //!   iterates' energies jitter by rounding: plain's energy, which in exact
 //!   arithmetic never rises, rises by up to that jitter once it has
 //!   converged. A step is therefore above only when it exceeds plain-50's
-//!   energy by more than both `10⁻⁹` of its decrease and how far plain's
-//!   energy wanders over its 50 iterations from the same state once it
-//!   first rises (0 where it never does), measured in an untimed pass.
+//!   energy by more than `10⁻⁹` of its decrease and than the rounding of
+//!   the energy there: the larger of how far plain's energy wanders over
+//!   its 50 iterations from the same state once it first rises (0 where it
+//!   never does), measured in an untimed pass, and the rounding `η` that
+//!   [`StepEnergy::rounding`](masssprings::sim::energy::StepEnergy::rounding)
+//!   estimates from the springs' forces (which plain's jitter matches).
 //! * **each on its own**: two simulations from rest, one by plain-50, one
 //!   by the accuracy's settings, and after every step how far apart their
 //!   vertices are: the largest distance `maxᵢ ‖aᵢ − bᵢ‖`, the RMS
@@ -151,18 +154,24 @@ fn plain_rounding(request: &Request, scene: &Scene, steps: usize) -> Result<Vec<
     Ok(rises)
 }
 
-/// How far the energy of the next step's plain iterations by `plain_50`
-/// from `simulation`'s state wanders once rounding shows: from the first
-/// iterate whose energy rose (in exact arithmetic none does), the largest
-/// minus the least energy of the iterates from the one before it on; 0
-/// when the energy never rises.
+/// How far the energy of the next step from `simulation`'s state rounds:
+/// the larger of how far plain-50's energy wanders once rounding shows
+/// (from the first iterate whose energy rose, which in exact arithmetic
+/// none does, the largest minus the least energy of the iterates from the
+/// one before it on; 0 when the energy never rises) and the rounding `η`
+/// of an energy difference at that state
+/// ([`StepEnergy::rounding`](masssprings::sim::energy::StepEnergy::rounding)).
 fn plain_rounding_at(
     simulation: &Simulation<Sparse>,
     plain_50: &StepControl,
 ) -> Result<f64, AppError> {
     let mut last = 0.0_f64;
     let mut range: Option<(f64, f64)> = None;
+    let mut eta = 0.0_f64;
     let mut observe = |iterate: &Iterate<'_>| {
+        if iterate.iteration == 0 {
+            eta = iterate.energy.rounding();
+        }
         let energy = iterate.energy.change(iterate.positions).total();
         range = match range {
             Some((low, high)) => Some((low.min(energy), high.max(energy))),
@@ -175,7 +184,7 @@ fn plain_rounding_at(
         .clone()
         .step_with(plain_50, Some(&mut observe))
         .map_err(|e| AppError::Failed(format!("plain-50: {e}")))?;
-    Ok(range.map_or(0.0, |(low, high)| high - low))
+    Ok(range.map_or(0.0, |(low, high)| high - low).max(eta))
 }
 
 /// How far apart two trajectories are, the largest over the steps.
@@ -280,7 +289,7 @@ fn print(request: &Request, accuracy: Accuracy, steps: usize, totals: &Totals, a
         .map(|(step, by)| format!("{step} (+{by:.3e})"))
         .collect();
     println!(
-        "steps above plain-50's energy (by more than {ABOVE:e} of its decrease): {} of {steps}{}",
+        "steps above plain-50's energy (by more than {ABOVE:e} of its decrease and its rounding): {} of {steps}{}",
         totals.above.len(),
         match listed.is_empty() {
             true => String::new(),

@@ -16,18 +16,23 @@
 //! §3.5), or doubles `t` while the energy keeps falling when that parabola
 //! opens downward. The *backtracking* search (Newton's, whose full step is
 //! right near the minimiser) keeps `t`. If it does not hold, `t` halves until it does,
-//! and the search fails below `t = 10⁻¹⁰`: the energy cannot be lowered
-//! along `d` to rounding, and the method has stalled. Very close to the
-//! minimiser the decrease to expect, `|s|`, falls below the rounding of the
-//! energy difference itself (`10⁻¹³ |E(p) − E(p⁰)|`); the energy can then
-//! no longer judge a step, and the full step is taken.
+//! and the search fails once the decrease to expect, `t |s|`, is below the
+//! rounding `η` of the energy difference (or below `t = 10⁻¹⁰`): the energy
+//! cannot be lowered along `d` measurably, and the method has stalled. Very
+//! close to the minimiser the decrease a full step expects, `|s|`, falls
+//! below that rounding itself (`η` of
+//! [`StepEnergy::rounding`](crate::sim::energy::StepEnergy::rounding), or
+//! `10⁻¹³ |E(p) − E(p⁰)|` if larger); the energy can then no longer judge a
+//! step, and the full step is taken. Without `η` a search at a cloth's rest
+//! halves `t` some thirty times per iteration, each time paying an energy,
+//! to reject steps by their rounding.
 //!
 //! Energies are the cancellation-free differences `E(·) − E(p⁰)` of
 //! [`energy`](crate::sim::energy), so that differences near rounding of `E`
 //! itself can still be compared.
 //!
-//! Cost: one energy evaluation, `O(m + n)`, per trial length; started
-//! where the last search ended, L-BFGS's usually needs one or two.
+//! Cost: one energy evaluation, `O(m + n)`, per trial length; L-BFGS's
+//! usually needs one or two.
 //!
 //! Source: J. Nocedal & S. J. Wright, *Numerical Optimization*, 2nd ed.,
 //! 2006, §3.1 (Armijo, backtracking), §3.5 (interpolation); the expansion
@@ -43,7 +48,8 @@ pub const LONGEST_STEP: f64 = 64.0;
 /// Below this step length the search gives up.
 pub const SHORTEST_STEP: f64 = 1e-10;
 
-/// Relative size of the rounding of an energy difference `E(p) − E(p⁰)`.
+/// Relative size of the rounding of an energy difference `E(p) − E(p⁰)`,
+/// the least rounding assumed whatever `η` says.
 pub const ROUNDING: f64 = 1e-13;
 
 /// Whether an accepted full step may grow.
@@ -55,9 +61,9 @@ pub enum Search {
 
 /// The step length `t` along `d` from `p` and the energy difference there,
 /// or `None` when no `t ≥ 10⁻¹⁰` satisfies Armijo's condition. The search
-/// tries `first` (1 for a Newton or quasi-Newton step; L-BFGS passes the
-/// length its last search accepted); `slope` is `∇E(p)ᵀd`, `energy_at_p` is
-/// `E(p) − E(p⁰)`, and `energy_at(t)` evaluates `E(p + t d) − E(p⁰)` (and
+/// tries `first` (1 for a Newton or quasi-Newton step) first; `slope` is `∇E(p)ᵀd`, `energy_at_p` is
+/// `E(p) − E(p⁰)`, `rounding` the step's `η`
+/// ([`StepEnergy::rounding`](crate::sim::energy::StepEnergy::rounding)), and `energy_at(t)` evaluates `E(p + t d) − E(p⁰)` (and
 /// whatever else the caller wants kept at the trial point, such as its
 /// gradient).
 pub fn line_search(
@@ -65,11 +71,13 @@ pub fn line_search(
     first: f64,
     slope: f64,
     energy_at_p: f64,
+    rounding: f64,
     mut energy_at: impl FnMut(f64) -> f64,
 ) -> Option<(f64, f64)> {
     let mut t = first;
     let mut e = energy_at(t);
-    if -slope <= ROUNDING * energy_at_p.abs() {
+    let rounding = rounding.max(ROUNDING * energy_at_p.abs());
+    if -slope <= rounding {
         // The decrease to expect is below the rounding of the energy: the
         // energy cannot judge the step, so take it whole.
         return Some((t, e));
@@ -82,6 +90,9 @@ pub fn line_search(
     }
     while t > SHORTEST_STEP {
         t *= 0.5;
+        if -t * slope <= rounding {
+            return None; // what is left to expect is rounding
+        }
         e = energy_at(t);
         if e <= energy_at_p + ARMIJO * t * slope {
             return Some((t, e));

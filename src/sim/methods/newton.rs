@@ -156,6 +156,22 @@ impl Workspace {
     }
 }
 
+impl Workspace {
+    /// `direction = −H⁻¹ ∇E(p)` with the factored (damped) `H`, zero at
+    /// the pinned vertices when the pins are exact.
+    fn newton_direction(&mut self, pinned: &[bool], exact_pins: bool) {
+        self.direction.copy_from_slice(&self.gradient);
+        self.cholesky
+            .solve_in_place(self.direction.as_flattened_mut());
+        scale(&mut self.direction, -1.0);
+        for (d, &pinned) in self.direction.iter_mut().zip(pinned) {
+            if pinned && exact_pins {
+                *d = [0.0; 3];
+            }
+        }
+    }
+}
+
 /// Iterates from `p` (in place) until the control says stop.
 pub(crate) fn solve<B: LinearAlgebra>(
     context: &mut StepContext<'_, B>,
@@ -184,23 +200,18 @@ pub(crate) fn solve<B: LinearAlgebra>(
         if !work.factor_damped() {
             return Outcome::new(iteration - 1, Stop::Stalled);
         }
-        work.direction.copy_from_slice(&work.gradient);
-        work.cholesky
-            .solve_in_place(work.direction.as_flattened_mut());
-        scale(&mut work.direction, -1.0);
-        for (d, &pinned) in work.direction.iter_mut().zip(context.pinned) {
-            if pinned && context.global.exact() {
-                *d = [0.0; 3];
-            }
-        }
+        work.newton_direction(context.pinned, context.global.exact());
         let slope = dot(&work.gradient, &work.direction);
         if slope.is_nan() || slope >= 0.0 {
             return Outcome::new(iteration - 1, Stop::Stalled);
         }
         let (direction, trial) = (&work.direction, &mut work.trial);
-        let Some((t, new_energy)) = line_search(Search::Backtracking, 1.0, slope, energy, |t| {
-            energy_along(&context.energy, p, direction, trial, t)
-        }) else {
+        let rounding = context.energy.rounding(); // O(m): little beside the factorization
+        let Some((t, new_energy)) =
+            line_search(Search::Backtracking, 1.0, slope, energy, rounding, |t| {
+                energy_along(&context.energy, p, direction, trial, t)
+            })
+        else {
             return Outcome::new(iteration - 1, Stop::Stalled);
         };
         moved(p, t, &work.direction, &mut work.trial);

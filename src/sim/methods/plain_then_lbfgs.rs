@@ -18,10 +18,15 @@
 //! iteration `j`:
 //!
 //! ```text
-//! δⱼ ≤ 0                          stop: the energy no longer falls (rounding)
-//! (N − j) δⱼ ≤ 10⁻⁹ (E₀ − Eⱼ)     stop: plain-N can take off at most that more
-//! ρⱼ > 0.2                        hand over to L-BFGS, floor Eⱼ − (N − j) δⱼ
+//! δⱼ ≤ 0                               stop: the energy no longer falls (rounding)
+//! (N − j) δⱼ ≤ max(10⁻⁹ (E₀ − Eⱼ), η)   stop: plain-N can take off at most that more
+//! ρⱼ > 0.2                             hand over to L-BFGS, floor Eⱼ − (N − j) δⱼ
 //! ```
+//!
+//! where `η` is the rounding of an energy difference
+//! ([`StepEnergy::rounding`](crate::sim::energy::StepEnergy::rounding)):
+//! on a cloth near rest a step's whole decrease can be `10⁻⁹` or less, and
+//! `10⁻⁹` of it is far below what the energy can resolve.
 //!
 //! with `ρ₁`, before there is a `δ₀`, predicted from the first step's
 //! curvature ([`first_rate`]). When that hands over (the flag, the skirt),
@@ -38,13 +43,21 @@
 //! that either. L-BFGS takes over from `xⱼ` with the floor moved to
 //! what plain-`N` can reach by the same premise from `j`, `Eⱼ − (N − j)
 //! δⱼ`, the energy rule above it, and one more stop: an iteration that
-//! takes off at most [`CONVERGED`] of the step's decrease, floor or not
-//! (L-BFGS is then at the minimiser to well within `10⁻⁹` of the decrease,
-//! and plain-`N` cannot go below the minimiser). From `xⱼ`, `j ≥ 2`, its
-//! line searches start at `t = 1`, not where the last one ended: the first
-//! direction is plain's along the slow modes, whose long step would
-//! otherwise stick to the quasi-Newton steps after it (on the net's step
-//! 25, 20 iterations at a rate of 0.87 instead of 13 to convergence).
+//! takes off at most [`CONVERGED`] of the step's decrease or
+//! [`ROUNDING_SHARE`] of `η`, floor or not (L-BFGS is then at the
+//! minimiser to well within `10⁻⁹` of the decrease, or to rounding, and
+//! plain-`N` cannot go below the minimiser).
+//!
+//! The energy rule then weighs L-BFGS's decreases against what it has
+//! gained since `xⱼ` (the whole step's gain is mostly plain's first
+//! iteration, which took off the stiff modes, and against it any later
+//! decrease looks small), and it also waits for a decrease no larger
+//! than plain's last, `δⱼ`: until then L-BFGS is still moving faster than
+//! plain was, and where plain speeds up after `j`, against the premise,
+//! plain-`N` would pass it. (A 64 × 64 cloth with `k` ×0.1 buckles in its
+//! steps 3–12; on step 3 plain's decreases grow sixteenfold from the sixth
+//! iteration on. Without these two, four of its steps ended above
+//! plain-50's energy.)
 //!
 //! The hand-over ratio [`HANDOVER`] comes from the cost: at a rate `ρ`,
 //! plain needs about `ln(2·10⁻¹¹) / ln ρ` iterations for the second rule
@@ -73,6 +86,15 @@ pub const PLAIN_MARGIN: f64 = 1e-9;
 /// [`PLAIN_MARGIN`] of the decrease for any `ρ ≤ 0.99`.
 pub const CONVERGED: f64 = 1e-11;
 
+/// An L-BFGS iteration taking off at most this share of the energy's
+/// rounding `η` ([`StepEnergy::rounding`]) also ends the step: at a rate
+/// up to 0.9 what is left after it is at most nine times its decrease,
+/// below `η`, where no comparison of energies can see it. (Stopping at
+/// `η` itself left steps of cloths near rest a few `η` above plain-50's.)
+///
+/// [`StepEnergy::rounding`]: crate::sim::energy::StepEnergy::rounding
+pub const ROUNDING_SHARE: f64 = 0.1;
+
 /// How the plain iterations ended.
 enum Plain {
     /// The step is done.
@@ -83,6 +105,8 @@ enum Plain {
         iterations: usize,
         energy: f64,
         floor: f64,
+        /// The last plain iteration's decrease `δⱼ`.
+        decrease: f64,
     },
 }
 
@@ -95,19 +119,18 @@ pub(crate) fn solve<B: LinearAlgebra>(
     monitor: &mut Monitor<'_, '_>,
 ) -> Outcome {
     let (start_energy, start_measured) = (context.start_energy, context.start_measured);
-    let (iterations, energy, floor) = match plain_while_fast(context, p, monitor) {
-        Plain::Done(outcome) => return outcome.ran_by(StepMethod::Plain),
-        Plain::HandOver {
-            iterations,
-            energy,
-            floor,
-        } => (iterations, energy, floor),
-    };
-    monitor.stop_when_converged(CONVERGED);
-    let lbfgs_control = StepControl {
-        plain_first: iterations > 1,
-        ..*control
-    };
+    let rounding = context.energy.rounding();
+    let (iterations, energy, floor, decrease) =
+        match plain_while_fast(context, p, monitor, rounding) {
+            Plain::Done(outcome) => return outcome.ran_by(StepMethod::Plain),
+            Plain::HandOver {
+                iterations,
+                energy,
+                floor,
+                decrease,
+            } => (iterations, energy, floor, decrease),
+        };
+    monitor.stop_when_converged(CONVERGED, ROUNDING_SHARE * rounding);
     if iterations == 1 {
         // Slow from the first step on: L-BFGS from the first iterate, as
         // without plain first (its first trial is this plain iterate, and
@@ -118,10 +141,12 @@ pub(crate) fn solve<B: LinearAlgebra>(
         monitor.restart_at(start_energy);
     } else {
         monitor.set_floor(floor);
+        monitor.restart_at(energy);
+        monitor.keep_pace_with(decrease);
         context.start_energy = energy;
         context.start_measured = false; // L-BFGS makes ∇E at p itself
     }
-    let outcome = lbfgs::solve(context, &lbfgs_control, work, p, monitor);
+    let outcome = lbfgs::solve(context, control, work, p, monitor);
     Outcome {
         iterations: iterations + outcome.iterations,
         ..outcome
@@ -134,6 +159,7 @@ fn plain_while_fast<B: LinearAlgebra>(
     context: &mut StepContext<'_, B>,
     p: &mut [[f64; 3]],
     monitor: &mut Monitor<'_, '_>,
+    rounding: f64,
 ) -> Plain {
     let start = context.local_step_at_start(p, None);
     let (mut energy, mut last_decrease) = (start, 0.0);
@@ -147,7 +173,7 @@ fn plain_while_fast<B: LinearAlgebra>(
         if decrease <= 0.0 {
             return Plain::Done(Outcome::measured(j, Stop::Stalled, energy));
         }
-        if left <= PLAIN_MARGIN * (start - energy) {
+        if left <= (PLAIN_MARGIN * (start - energy)).max(rounding) {
             return Plain::Done(Outcome::measured(j, Stop::AtLeastPlain, energy));
         }
         let rate = match j {
@@ -160,6 +186,7 @@ fn plain_while_fast<B: LinearAlgebra>(
                 iterations: j,
                 energy,
                 floor,
+                decrease,
             };
         }
         last_decrease = decrease;
