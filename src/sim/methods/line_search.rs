@@ -61,11 +61,11 @@ pub enum Search {
 
 /// The step length `t` along `d` from `p` and the energy difference there,
 /// or `None` when no `t ≥ 10⁻¹⁰` satisfies Armijo's condition. The search
-/// tries `first` (1 for a Newton or quasi-Newton step) first; `slope` is `∇E(p)ᵀd`, `energy_at_p` is
-/// `E(p) − E(p⁰)`, `rounding` the step's `η`
-/// ([`StepEnergy::rounding`](crate::sim::energy::StepEnergy::rounding)), and `energy_at(t)` evaluates `E(p + t d) − E(p⁰)` (and
-/// whatever else the caller wants kept at the trial point, such as its
-/// gradient).
+/// tries `first` (1 for a Newton or quasi-Newton step) first; `slope` is
+/// `∇E(p)ᵀd`, `energy_at_p` is `E(p) − E(p⁰)`, `rounding` the step's `η`
+/// ([`StepEnergy::rounding`](crate::sim::energy::StepEnergy::rounding)),
+/// and `energy_at(t)` evaluates `E(p + t d) − E(p⁰)` (and whatever else the
+/// caller wants kept at the trial point, such as its gradient).
 pub fn line_search(
     search: Search,
     first: f64,

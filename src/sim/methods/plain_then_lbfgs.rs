@@ -23,16 +23,16 @@
 //! ρⱼ > 0.2                             hand over to L-BFGS, floor Eⱼ − (N − j) δⱼ
 //! ```
 //!
-//! where `η` is the rounding of an energy difference
-//! ([`StepEnergy::rounding`](crate::sim::energy::StepEnergy::rounding)):
-//! on a cloth near rest a step's whole decrease can be `10⁻⁹` or less, and
-//! `10⁻⁹` of it is far below what the energy can resolve.
-//!
 //! with `ρ₁`, before there is a `δ₀`, predicted from the first step's
 //! curvature ([`first_rate`]). When that hands over (the flag, the skirt),
 //! L-BFGS starts from `pᵗ` as it would without plain first: the plain
 //! iteration was the first trial of its first line search, so one plain
 //! iteration is all the hybrid costs there.
+//!
+//! `η` is the rounding of an energy difference
+//! ([`StepEnergy::rounding`](crate::sim::energy::StepEnergy::rounding)):
+//! on a cloth near rest a step's whole decrease can be `10⁻⁹` or less, and
+//! `10⁻⁹` of it is far below what the energy can resolve.
 //!
 //! The first two rest on the premise of `--at-least-plain` (plain's
 //! decrease per iteration does not grow from here on: true near a
