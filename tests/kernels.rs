@@ -140,6 +140,29 @@ fn spring_network() -> impl Strategy<Value = (Vec<[f64; 3]>, Vec<[usize; 2]>, Ve
 proptest! {
     #![proptest_config(proptest_config(300))]
 
+    /// `⟨x, y⟩` and `y + α x` four numbers per instruction give the bits
+    /// of their one-number-at-a-time loops, for any length (the tail after
+    /// the last full four included).
+    #[test]
+    fn block_vector_dot_and_add_scaled_give_the_bits_of_their_loops(
+        pairs in prop::collection::vec(
+            (prop::array::uniform3(-1e3f64..1e3), prop::array::uniform3(-1e3f64..1e3)),
+            0..40,
+        ),
+        alpha in -10.0f64..10.0,
+    ) {
+        use masssprings::sim::methods::block_vector::{add_scaled, add_scaled_lanes, dot, dot_lanes};
+        let (x, y): (Vec<[f64; 3]>, Vec<[f64; 3]>) = pairs.into_iter().unzip();
+        prop_assert_eq!(dot(&x, &y).to_bits(), dot_lanes(&x, &y).to_bits());
+        let (mut fast, mut lanes) = (y.clone(), y.clone());
+        add_scaled(&mut fast, alpha, &x);
+        add_scaled_lanes(&mut lanes, alpha, &x);
+        prop_assert_eq!(fast, lanes);
+        let exact: f64 = x.iter().zip(&y).map(|(a, b)| (0..3).map(|c| a[c] * b[c]).sum::<f64>()).sum();
+        let scale: f64 = x.iter().zip(&y).map(|(a, b)| (0..3).map(|c| (a[c] * b[c]).abs()).sum::<f64>()).sum();
+        prop_assert!((dot(&x, &y) - exact).abs() <= 1e-13 * scale.max(1.0));
+    }
+
     #[test]
     fn gram_block_portable_and_fast_agree_with_the_definition(case in gram_block_case()) {
         let portable = case.run(gram_block_portable);

@@ -8,8 +8,20 @@
 
 /// `⟨x, y⟩ = Σ xᵢ·yᵢ`, summed in four interleaved partial sums (one
 /// running sum would make every addition wait for the one before; four let
-/// the CPU overlap them, and vectorise).
+/// the CPU overlap them, and vectorise). On a CPU with AVX2 the four lanes
+/// are one register ([`simd::block_vector`](crate::sim::simd::block_vector)),
+/// to the same bits.
 pub fn dot(x: &[[f64; 3]], y: &[[f64; 3]]) -> f64 {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU supports the features the function is compiled for.
+        return unsafe { crate::sim::simd::block_vector::dot(x, y) };
+    }
+    dot_lanes(x, y)
+}
+
+/// The loop of [`dot`], one number at a time.
+pub fn dot_lanes(x: &[[f64; 3]], y: &[[f64; 3]]) -> f64 {
     debug_assert_eq!(x.len(), y.len());
     let (x, y) = (x.as_flattened(), y.as_flattened());
     let mut sums = [0.0; 4];
@@ -33,8 +45,19 @@ pub fn norm(x: &[[f64; 3]]) -> f64 {
     dot(x, x).sqrt()
 }
 
-/// `y ← y + α x`.
+/// `y ← y + α x` (four numbers per instruction where the CPU has AVX2, as
+/// [`dot`]).
 pub fn add_scaled(y: &mut [[f64; 3]], alpha: f64, x: &[[f64; 3]]) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU supports the features the function is compiled for.
+        return unsafe { crate::sim::simd::block_vector::add_scaled(y, alpha, x) };
+    }
+    add_scaled_lanes(y, alpha, x);
+}
+
+/// The loop of [`add_scaled`], one number at a time.
+pub fn add_scaled_lanes(y: &mut [[f64; 3]], alpha: f64, x: &[[f64; 3]]) {
     debug_assert_eq!(x.len(), y.len());
     for (a, b) in y.as_flattened_mut().iter_mut().zip(x.as_flattened()) {
         *a += alpha * b;

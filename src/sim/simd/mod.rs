@@ -12,7 +12,9 @@
 //! | [`local_step`] | [`sim::local_step`](super::local_step) |
 //! | [`spring_pass`] | [`sim::spring_pass`](super::spring_pass) |
 //! | [`energy`] | [`sim::energy`](super::energy) (the vertices' sums) |
+//! | [`block_vector`] | [`sim::methods::block_vector`](super::methods::block_vector) |
 
+pub mod block_vector;
 pub mod energy;
 pub mod local_step;
 pub mod spring_pass;
