@@ -1,6 +1,6 @@
-//! The cost of one iteration of each step method against plain's (issue
-//! 11's per-iteration overhead), measured in one process, methods
-//! interleaved, ratios paired round by round.
+//! The cost of one iteration of each step method against plain's (the
+//! per-iteration overhead), measured in one process, methods interleaved,
+//! ratios paired round by round.
 //!
 //! ```text
 //! cargo bench --bench iteration_cost -- [SCENE.json …] [--rounds R] [--methods LIST]

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# CPU time per iteration of each step method, against plain (issue 11's
+# CPU time per iteration of each step method, against plain (the
 # per-iteration overhead). For each method it runs
 #   masssprings simulate SCENE --steps S --iterations N --method M
 # at N = 50 and N = 250, takes the difference of the CPU times (user + sys,
