@@ -133,7 +133,8 @@ fn simulate_json_says_what_the_steps_ran() {
 #[test]
 fn the_flags_accuracy_chooses_are_refused_beside_it() {
     let scene = data("net.json");
-    let out = temp_folder("accuracy-refused").join("never.png");
+    let folder = temp_folder("accuracy-refused");
+    let out = folder.join("never.png");
     let out = out.to_str().unwrap();
     for (command, more) in [
         ("simulate", &[][..]),

@@ -63,7 +63,8 @@ fn converge_writes_one_csv_row_per_method_and_iteration_and_a_png() {
 
 #[test]
 fn converge_over_steps_prints_a_median_per_method() {
-    let csv = temp_folder("converge-steps-csv").join("steps.csv");
+    let folder = temp_folder("converge-steps-csv");
+    let csv = folder.join("steps.csv");
     let output = masssprings(&[
         "converge",
         &data("net.json"),
@@ -197,7 +198,8 @@ fn a_tolerance_without_steps_is_a_usage_error() {
 
 #[test]
 fn converge_with_an_energy_tolerance_solves_each_step_by_that_rule() {
-    let csv = temp_folder("converge-rule-csv").join("rule.csv");
+    let folder = temp_folder("converge-rule-csv");
+    let csv = folder.join("rule.csv");
     let output = masssprings(&[
         "converge",
         &data("flag.json"),
@@ -314,7 +316,8 @@ fn at_least_plain_below_one_or_not_a_number_is_a_usage_error() {
 
 #[test]
 fn converge_with_at_least_plain_stops_each_step_past_the_floor() {
-    let csv = temp_folder("converge-floor-csv").join("floor.csv");
+    let folder = temp_folder("converge-floor-csv");
+    let csv = folder.join("floor.csv");
     let output = masssprings(&[
         "converge",
         &data("flag.json"),

@@ -15,7 +15,7 @@
 #[path = "common/cli.rs"]
 mod cli;
 
-use cli::{data, masssprings, stderr, stdout, temp_folder};
+use cli::{data, masssprings, stderr, stdout, temp_folder, TempFolder};
 use masssprings::files::write_file;
 use masssprings::linalg::dense::DenseMatrix;
 use masssprings::linalg::matrix_market::{
@@ -40,15 +40,33 @@ const SCENES: [&str; 5] = [
     "skirt",
 ];
 
-/// Runs `trace` on a bundled scene into a fresh folder.
-fn trace(scene: &str, extra: &[&str], name: &str) -> PathBuf {
-    let folder = temp_folder(name).join("ours");
+/// Runs `trace` on a bundled scene into `ours` in a fresh folder (which
+/// goes when the result does; its path reads as the result).
+fn trace(scene: &str, extra: &[&str], name: &str) -> Traced {
+    let parent = temp_folder(name);
+    let folder = parent.join("ours");
     let json = data(&format!("{scene}.json"));
     let mut args = vec!["trace", json.as_str(), "-o", folder.to_str().unwrap()];
     args.extend_from_slice(extra);
     let output = masssprings(&args);
     assert!(output.status.success(), "trace failed: {}", stderr(&output));
-    folder
+    Traced {
+        _parent: parent,
+        ours: folder,
+    }
+}
+
+/// The folder `trace` wrote, inside the temporary folder it keeps.
+struct Traced {
+    _parent: TempFolder,
+    ours: PathBuf,
+}
+
+impl std::ops::Deref for Traced {
+    type Target = PathBuf;
+    fn deref(&self) -> &PathBuf {
+        &self.ours
+    }
 }
 
 fn scene(name: &str) -> Scene {

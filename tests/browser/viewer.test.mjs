@@ -97,10 +97,12 @@ async function canvasContent() {
   });
 }
 
+let userDataDir; // Chromium's profile, removed when the tests are done
+
 before(async () => {
   fs.mkdirSync(outputFolder, { recursive: true });
   ({ child: viewer, url } = await startViewer(path.join(root, 'data/flag.json')));
-  const userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'masssprings-chromium-'));
+  userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'masssprings-chromium-'));
   browser = await chromium.launchPersistentContext(userDataDir, {
     executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
     headless: true,
@@ -118,6 +120,7 @@ before(async () => {
 
 after(async () => {
   await browser?.close();
+  if (userDataDir) fs.rmSync(userDataDir, { recursive: true, force: true });
   if (viewer && viewer.exitCode === null) {
     const exited = new Promise((resolve) => viewer.once('exit', resolve));
     viewer.kill('SIGINT');

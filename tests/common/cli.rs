@@ -42,13 +42,39 @@ pub fn stderr(output: &Output) -> String {
 }
 
 /// A fresh, empty folder under the system's temporary folder, unique to
-/// this test process and `name`.
-pub fn temp_folder(name: &str) -> PathBuf {
+/// this test process and `name`, removed when the test is done with it
+/// (kept when the test fails, to look into).
+pub fn temp_folder(name: &str) -> TempFolder {
     let folder =
         std::env::temp_dir().join(format!("masssprings-test-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&folder);
     std::fs::create_dir_all(&folder).unwrap();
-    folder
+    TempFolder(folder)
+}
+
+/// The folder of [`temp_folder`]; reads as its path.
+#[derive(Debug)]
+pub struct TempFolder(PathBuf);
+
+impl std::ops::Deref for TempFolder {
+    type Target = PathBuf;
+    fn deref(&self) -> &PathBuf {
+        &self.0
+    }
+}
+
+impl AsRef<Path> for TempFolder {
+    fn as_ref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for TempFolder {
+    fn drop(&mut self) {
+        if !std::thread::panicking() {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
 }
 
 /// The path of a bundled scene file in `data/`.
