@@ -562,7 +562,8 @@ fn non_finite_values() {
 
 #[test]
 fn missing_file_is_an_io_error_naming_the_path() {
-    let path = temp_folder("missing").join("absent.mtx");
+    let folder = temp_folder("missing");
+    let path = folder.join("absent.mtx");
     let error = read(&path).expect_err("the file does not exist");
     assert_eq!(
         error.io_error().map(|e| e.kind()),
@@ -577,6 +578,7 @@ fn missing_file_is_an_io_error_naming_the_path() {
         "{error}"
     );
     assert!(std::error::Error::source(&error).is_some());
+    std::fs::remove_dir_all(folder).unwrap();
 }
 
 #[test]
@@ -671,11 +673,13 @@ fn a_successful_write_replaces_the_file_and_leaves_nothing_else() {
 
 #[test]
 fn writing_into_a_missing_folder_fails_cleanly() {
-    let path = temp_folder("no-folder").join("absent").join("Q.mtx");
+    let folder = temp_folder("no-folder");
+    let path = folder.join("absent").join("Q.mtx");
     let error = write_file(&path, |out| write_array(out, &DenseMatrix::zeros(1, 1), ""))
         .expect_err("the folder does not exist");
     assert_eq!(
         error.io_error().map(|e| e.kind()),
         Some(io::ErrorKind::NotFound)
     );
+    std::fs::remove_dir_all(folder).unwrap();
 }
