@@ -281,9 +281,11 @@ mod tests {
             let area = edge_function(a, b, c);
             prop_assume!(area.abs() > 1.0);
             let weights = barycentric(a, b, c, p).unwrap();
-            let sum: f32 = weights.iter().sum();
-            prop_assert!((sum - 1.0).abs() < 1e-3, "sum {sum}");
+            // In f32 a weight is good to about 1e-7 of the largest one: a
+            // thin triangle and a far point make them large.
             let scale = 1.0 + weights.iter().map(|w| w.abs()).fold(0.0, f32::max);
+            let sum: f32 = weights.iter().sum();
+            prop_assert!((sum - 1.0).abs() < 1e-3 * scale, "sum {sum}");
             for k in 0..2 {
                 let back = weights[0] * a[k] + weights[1] * b[k] + weights[2] * c[k];
                 prop_assert!((back - p[k]).abs() < 1e-2 * scale, "{back} vs {}", p[k]);
