@@ -55,6 +55,9 @@ struct Curve {
     method: StepMethod,
     samples: Vec<Sample>,
     stop: Stop,
+    /// The rounding `η` of the step's energy differences
+    /// (`StepEnergy::rounding`).
+    rounding: f64,
 }
 
 pub(super) struct Request {
@@ -167,7 +170,7 @@ pub fn run(args: ConvergeArgs) -> Result<(), AppError> {
         eprintln!("converge: {method} …");
         curves.push(trace(&simulation, &control, method, control.iterations)?);
     }
-    print_table(&request, &curves, yardsticks);
+    print_table(&request, &curves, yardsticks, plain_reference.rounding);
     if let Some(path) = &request.csv {
         write_file(path, |out| write_csv(out, &curves))?;
     }
@@ -268,6 +271,7 @@ fn trace(
     let mut gradient = vec![[0.0; 3]; copy.positions().len()];
     let mut previous = copy.positions().to_vec();
     let mut initial_gradient = 0.0;
+    let mut rounding = 0.0;
     let mut not_counted = Duration::ZERO;
     let started = Instant::now();
     let mut record = |iterate: &Iterate<'_>| {
@@ -277,6 +281,7 @@ fn trace(
             // ‖∇E(pᵗ)‖: the step's start, which the first iterate need not be
             iterate.energy.gradient(iterate.energy.start, &mut gradient);
             initial_gradient = free_norm(&gradient, iterate.pinned);
+            rounding = iterate.energy.rounding();
         }
         iterate.energy.gradient(iterate.positions, &mut gradient);
         let norm = free_norm(&gradient, iterate.pinned);
@@ -301,6 +306,7 @@ fn trace(
         method,
         samples,
         stop: report.stop,
+        rounding,
     })
 }
 
@@ -327,9 +333,9 @@ fn first_reaching(curve: &Curve, energy: f64) -> Option<&Sample> {
     curve.samples.iter().find(|s| s.energy <= energy + slack)
 }
 
-fn print_table(request: &Request, curves: &[Curve], yardsticks: [Option<f64>; 2]) {
+fn print_table(request: &Request, curves: &[Curve], yardsticks: [Option<f64>; 2], rounding: f64) {
     println!(
-        "step {} of {}; energies relative to the step's start; plain-50 {}, plain-200 {}",
+        "step {} of {}; energies relative to the step's start (rounding {rounding:.1e}); plain-50 {}, plain-200 {}",
         request.step,
         request.scene.display(),
         yardsticks[0].map_or("-".into(), |e| format!("{e:.6e}")),

@@ -139,9 +139,20 @@ pub struct StepContext<'a, B: LinearAlgebra> {
     pub start_measured: bool,
     /// `E − E(pᵗ)` at the first iterate (0 when it is `pᵗ`).
     pub start_energy: f64,
+    /// The step's rounding `η` of an energy difference, once a method has
+    /// asked for it ([`StepContext::rounding`]).
+    pub rounding: Option<f64>,
 }
 
 impl<B: LinearAlgebra> StepContext<'_, B> {
+    /// The rounding `η` of the step's energy differences
+    /// ([`StepEnergy::rounding`](crate::sim::energy::StepEnergy::rounding)):
+    /// a pass over the springs, made once per step and only by the methods
+    /// that test their energies against it.
+    pub fn rounding(&mut self) -> f64 {
+        *self.rounding.get_or_insert_with(|| self.energy.rounding())
+    }
+
     /// [`StepContext::local_step_measuring`] at the first iterate `p`,
     /// unless the step made it already; returns `E(p) − E(pᵗ)`.
     pub fn local_step_at_start(

@@ -335,6 +335,7 @@ fn step_context<'a, B: LinearAlgebra>(
         global,
         start_measured: false,
         start_energy: 0.0,
+        rounding: None,
     }
 }
 

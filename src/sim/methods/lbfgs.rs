@@ -96,8 +96,6 @@ pub struct Workspace {
     first_trial_energy: f64,
     /// `γ` of `H₀ = γ Q⁻¹`, from the newest pair.
     h0_scale: f64,
-    /// The step's rounding `η` of an energy difference.
-    rounding: f64,
 }
 
 impl Workspace {
@@ -118,7 +116,6 @@ impl Workspace {
             trial_lengths: [f64::NAN; 2],
             first_trial_energy: f64::NAN,
             h0_scale: 1.0,
-            rounding: 0.0,
         }
     }
 
@@ -185,18 +182,18 @@ impl Workspace {
     }
 
     /// Powell's damping of the pair in `slot`, given `Q s` in `q_s`;
-    /// returns the (damped) `sᵀy`.
-    fn damp(&mut self, slot: usize) -> f64 {
+    /// returns the (damped) `sᵀy` and `sᵀQs`.
+    fn damp(&mut self, slot: usize) -> (f64, f64) {
         let s_q_s = dot(&self.s[slot], &self.q_s);
         let s_y = dot(&self.s[slot], &self.y[slot]);
         if s_y >= 0.2 * s_q_s {
-            return s_y;
+            return (s_y, s_q_s);
         }
         let theta = 0.8 * s_q_s / (s_q_s - s_y);
         for (y, q_s) in self.y[slot].iter_mut().zip(&self.q_s) {
             *y = std::array::from_fn(|c| theta * y[c] + (1.0 - theta) * q_s[c]);
         }
-        dot(&self.s[slot], &self.y[slot])
+        (dot(&self.s[slot], &self.y[slot]), s_q_s)
     }
 }
 
@@ -211,7 +208,7 @@ pub(crate) fn solve<B: LinearAlgebra>(
     work.held = 0;
     work.oldest = 0;
     work.h0_scale = 1.0;
-    work.rounding = context.energy.rounding();
+    let rounding = context.rounding();
     if context.start_measured {
         work.gradient.copy_from_slice(monitor.start_gradient());
     } else {
@@ -222,7 +219,9 @@ pub(crate) fn solve<B: LinearAlgebra>(
         let Some(slope) = descent_direction(context, work) else {
             return Outcome::measured(iteration - 1, Stop::Stalled, energy);
         };
-        let Some((t, new_energy)) = search_along_direction(context, work, p, slope, energy) else {
+        let Some((t, new_energy)) =
+            search_along_direction(context, work, p, slope, energy, rounding)
+        else {
             return Outcome::measured(iteration - 1, Stop::Stalled, energy);
         };
         if iteration == 1 {
@@ -242,9 +241,9 @@ pub(crate) fn solve<B: LinearAlgebra>(
         );
         std::mem::swap(&mut work.gradient, &mut work.trial_gradients[trial]);
         context.global.mul_q(&work.s[slot], &mut work.q_s);
-        let s_y = work.damp(slot);
+        let (s_y, s_q_s) = work.damp(slot);
         if s_y > 0.0 {
-            work.h0_scale = dot(&work.s[slot], &work.q_s) / s_y;
+            work.h0_scale = s_q_s / s_y;
             work.commit(s_y);
         }
         let gradient = Gradient::Given(&work.gradient);
@@ -265,6 +264,7 @@ fn search_along_direction<B: LinearAlgebra>(
     p: &[[f64; 3]],
     slope: f64,
     energy: f64,
+    rounding: f64,
 ) -> Option<(f64, f64)> {
     let Workspace {
         direction,
@@ -272,12 +272,11 @@ fn search_along_direction<B: LinearAlgebra>(
         trial_gradients,
         trial_lengths,
         first_trial_energy,
-        rounding,
         ..
     } = work;
     *trial_lengths = [f64::NAN; 2];
     let mut next = 0;
-    line_search(Search::Expanding, 1.0, slope, energy, *rounding, |t| {
+    line_search(Search::Expanding, 1.0, slope, energy, rounding, |t| {
         moved(p, t, direction, &mut trials[next]);
         let change = context
             .energy

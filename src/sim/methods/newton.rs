@@ -206,7 +206,7 @@ pub(crate) fn solve<B: LinearAlgebra>(
             return Outcome::new(iteration - 1, Stop::Stalled);
         }
         let (direction, trial) = (&work.direction, &mut work.trial);
-        let rounding = context.energy.rounding(); // O(m): little beside the factorization
+        let rounding = context.rounding();
         let Some((t, new_energy)) =
             line_search(Search::Backtracking, 1.0, slope, energy, rounding, |t| {
                 energy_along(&context.energy, p, direction, trial, t)

@@ -119,7 +119,7 @@ pub(crate) fn solve<B: LinearAlgebra>(
     monitor: &mut Monitor<'_, '_>,
 ) -> Outcome {
     let (start_energy, start_measured) = (context.start_energy, context.start_measured);
-    let rounding = context.energy.rounding();
+    let rounding = context.rounding();
     let (iterations, energy, floor, decrease) =
         match plain_while_fast(context, p, monitor, rounding) {
             Plain::Done(outcome) => return outcome.ran_by(StepMethod::Plain),
