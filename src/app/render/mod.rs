@@ -27,6 +27,7 @@ mod frame;
 mod lighting;
 mod lines;
 pub(super) mod look;
+mod mistake;
 mod palette;
 pub(super) mod plot;
 pub(super) mod sparsity;
@@ -39,7 +40,7 @@ mod vector;
 #[path = "../../../tests/common/mod.rs"]
 mod tests_common;
 
-use super::flags::{file_name_given, size, whole, JsonFlag, SimulationFlags, Size};
+use super::flags::{choice, file_name_given, size, whole, JsonFlag, SimulationFlags, Size};
 use super::limits::{check_frames, precompute};
 use super::progress::Progress;
 use super::timing::median;
@@ -50,6 +51,7 @@ use look::SUPERSAMPLING;
 use masssprings::files::{write_file, FilePlan};
 use masssprings::mesh::procedural::RgbImage;
 use masssprings::mesh::Scene;
+use masssprings::sim::mistakes::Mistake;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Dense, LinearAlgebra, Sparse};
 use std::path::{Path, PathBuf};
@@ -107,7 +109,11 @@ struct Summary {
 Simulates N steps and draws step 0 and every K-th step with the viewer's
 look into a looping GIF that plays in real time, or draws the last step into
 a PNG. Cloths show their surface and pins; --springs adds every spring and
-point mass (always drawn for scenes made only of springs).")]
+point mass (always drawn for scenes made only of springs).
+
+With --mistake NAME, draws the handout's step (left) beside the same step with
+one of the usual mistakes made in it (right), in one picture of --size:
+docs/mistakes.md shows every one and what it looks like.")]
 pub struct RenderArgs {
     /// The scene: JSON that names an OBJ (data/README.md).
     #[arg(value_name = "SCENE.json")]
@@ -133,6 +139,9 @@ pub struct RenderArgs {
     /// What the camera frames: the rest shape, the last step drawn, or the rest shape and every step drawn.
     #[arg(long, value_name = "F", default_value = "all", value_parser = ["rest", "last", "all"])]
     fit: String,
+    /// Draw the handout's step beside the same step with one of the usual mistakes in it (docs/mistakes.md).
+    #[arg(long, value_name = "NAME", value_parser = choice::<Mistake>(&Mistake::ALL.map(Mistake::name)), conflicts_with_all = ["json", "fit", "dense"])]
+    mistake: Option<Mistake>,
     #[command(flatten)]
     json: JsonFlag,
     #[command(flatten)]
@@ -140,7 +149,16 @@ pub struct RenderArgs {
 }
 
 pub fn run(args: RenderArgs) -> Result<(), AppError> {
+    let mistake = args.mistake;
     let request = parse(args)?;
+    match mistake {
+        Some(mistake) => mistake::run(&request, mistake),
+        None => render(request),
+    }
+}
+
+/// Simulates, draws and writes the picture `request` asks for.
+fn render(request: Request) -> Result<(), AppError> {
     let scene = load_scene(&request.scene)?;
     let mut plan = FilePlan::default();
     super::plan_scene_inputs(&mut plan, &request.scene, &scene);
