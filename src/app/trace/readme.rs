@@ -12,10 +12,33 @@ use std::fmt::Write;
 pub fn readme(manifest: &Manifest, values: &[(Quantity, Value)]) -> String {
     let mut text = String::new();
     header(&mut text, manifest);
+    if let Some(mistake) = &manifest.mistake {
+        let _ = write!(
+            text,
+            "**These files hold a mistake on purpose** (`--mistake {mistake}`): the \
+             precomputation and step K are a student's who made it, from our `U_prev` and \
+             `U_cur`. Trace the scene without `--mistake` and `--compare` the two folders to \
+             see which quantity the mistake makes wrong first.\n\n"
+        );
+    }
+    gallery(&mut text);
     table(&mut text, values);
     tolerances(&mut text);
     how_to_compare(&mut text, manifest);
     text
+}
+
+/// Where a student whose cloth misbehaves looks first.
+fn gallery(text: &mut String) {
+    text.push_str(
+        "**Does your cloth sag, explode, fly away or stand still?** Look for its symptom \
+         first in the gallery of common mistakes, `docs/mistakes.md` in the masssprings \
+         repository: each mistake is drawn beside the handout's step, with the quantity \
+         `--compare` finds wrong first for it (`masssprings render SCENE.json --mistake \
+         NAME -o OUT.gif` draws one; `masssprings trace SCENE.json --mistake NAME --step 3 \
+         -o DIR` writes its files). The handout's own slips, and what following each one \
+         does, are listed in `docs/equations.md`.\n\n",
+    );
 }
 
 fn header(text: &mut String, m: &Manifest) {
