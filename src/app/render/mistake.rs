@@ -83,6 +83,11 @@ pub fn run(request: &Request, mistake: Mistake) -> Result<(), AppError> {
         request.height,
         bytes as f64 / 1024.0
     );
+    println!(
+        "the mistake: {} where the handout has {}",
+        mistake.wrong(),
+        mistake.right()
+    );
     if let Some(step) = runs.stopped {
         println!("the step with the mistake {mistake} made a position infinite or NaN at step {step}: its panel holds the last finite one");
     }
