@@ -24,8 +24,9 @@ mod compute;
 mod quantities;
 mod readme;
 
+use super::error::AppError;
+use super::file_plan::load_scene;
 use super::flags::{file_name_given, whole, OrderingFlag};
-use super::{load_scene, AppError};
 use compute::{labelled, trace, TraceOptions, Value};
 use masssprings::files::{remove_stale_temporaries, write_file};
 use masssprings::linalg::matrix_market::{write_array, write_coordinate, Symmetry};
