@@ -8,6 +8,8 @@
 //!   subsystems, commands, the dispatcher), each file or folder importing
 //!   only from the floors below its own, and its files import one another
 //!   without a loop;
+//! * `src/linalg` imports only `std` and itself, so that it can be lifted
+//!   out;
 //! * no function in `src` is longer than 60 lines, and the handout's step,
 //!   `fast_mass_springs_step_sparse`, fits in 40.
 //!
@@ -421,6 +423,31 @@ fn the_app_check_sees_an_import_written_without_use() {
         graph[&dispatcher].contains(&app_folder().join("simulate.rs")),
         "mod.rs calls simulate::run: {:?}",
         graph[&dispatcher]
+    );
+}
+
+#[test]
+fn linalg_imports_only_std_and_itself() {
+    let linalg = src_folder().join("linalg");
+    let mut outside = Vec::new();
+    for file in rust_files(&linalg) {
+        for (module, path) in uses(&file) {
+            let first = path.split("::").next().unwrap();
+            let inside = match resolve(&module, &path) {
+                _ if ["std", "core", "alloc"].contains(&first) => true,
+                Some(resolved) if ["crate", "super", "self"].contains(&first) => {
+                    resolved.first().is_some_and(|name| name == "linalg")
+                }
+                _ => child_modules(&code_of(&file)).iter().any(|c| c == first),
+            };
+            if !inside {
+                outside.push(format!("{}: {path}", file.display()));
+            }
+        }
+    }
+    assert!(
+        outside.is_empty(),
+        "linalg imports from outside: {outside:#?}"
     );
 }
 

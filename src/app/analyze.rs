@@ -7,7 +7,7 @@ use super::flags::{whole, FactorFlags, JsonFlag};
 use super::matrix_input::read_symmetric_lower;
 use super::timing::Repeats;
 use masssprings::linalg::benchmark_right_hand_side;
-use masssprings::linalg::matrix_market::{self, MatrixMarket};
+use masssprings::matrix_market::{self, MatrixMarket};
 use std::path::{Path, PathBuf};
 
 /// Sparse Cholesky of a Matrix Market matrix, timed step by step.

@@ -10,7 +10,7 @@ use super::flags::file_name_given;
 use super::matrix_input::scene_q;
 use masssprings::files::{write_file, FilePlan};
 use masssprings::linalg::sparse::Triangle;
-use masssprings::linalg::matrix_market::{write_coordinate, Symmetry};
+use masssprings::matrix_market::{write_coordinate, Symmetry};
 use masssprings::mesh::load_scene;
 use masssprings::sim::PIN_WEIGHT;
 use std::path::PathBuf;

@@ -8,7 +8,7 @@ use super::flags::{file_name_given, OrderingFlag};
 use super::limits::check_q_overflow;
 use masssprings::files::FilePlan;
 use masssprings::linalg::sparse::{CscMatrix, Triangle};
-use masssprings::linalg::matrix_market;
+use masssprings::matrix_market;
 use masssprings::mesh::{load_scene, Scene};
 use masssprings::sim::precomputation::{network_q, selection_matrix, DELTA_T, PIN_WEIGHT};
 use masssprings::sim::Sparse;

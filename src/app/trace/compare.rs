@@ -31,7 +31,7 @@ use super::read_manifest;
 use crate::app::error::AppError;
 use masssprings::linalg::dense::DenseMatrix;
 use masssprings::linalg::sparse::{CscMatrix, TripletMatrix};
-use masssprings::linalg::matrix_market::{read, MatrixMarket, SparseFile, Symmetry};
+use masssprings::matrix_market::{read, MatrixMarket, SparseFile, Symmetry};
 use place::{Context, Place};
 use std::path::Path;
 

@@ -29,7 +29,7 @@ use super::file_plan::load_scene;
 use super::flags::{file_name_given, whole, OrderingFlag};
 use compute::{labelled, trace, TraceOptions, Value};
 use masssprings::files::{remove_stale_temporaries, write_file};
-use masssprings::linalg::matrix_market::{write_array, write_coordinate, Symmetry};
+use masssprings::matrix_market::{write_array, write_coordinate, Symmetry};
 use masssprings::mesh::Scene;
 use masssprings::sim::ITERATIONS;
 use quantities::Quantity;
