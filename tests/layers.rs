@@ -188,7 +188,7 @@ fn resolve(module: &[String], path: &str) -> Option<Vec<String>> {
             (0, "crate") => {}
             (0, "super") => resolved = module[..module.len() - 1].to_vec(),
             (0, "self") => resolved = module.to_vec(),
-            (0, _) if module.len() > 0 => {
+            (0, _) if !module.is_empty() => {
                 // a child module of the file, named without `self::`
                 resolved = module.to_vec();
                 resolved.push(segment.to_string());

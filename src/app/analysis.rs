@@ -99,8 +99,11 @@ pub fn analyze(
         Method::Supernodal => supernodes_by_width(&symbolic),
         Method::Simplicial => Vec::new(),
     };
-    let solved = timed_factor_and_solve(lower, symbolic, method, rhs, repeats).map_err(failed)?;
-    let (x, [numeric_s, solve_s], [numeric_runs, solve_runs]) = solved;
+    let Solved {
+        x,
+        seconds: [numeric_s, solve_s],
+        runs: [numeric_runs, solve_runs],
+    } = timed_factor_and_solve(lower, symbolic, method, rhs, repeats).map_err(failed)?;
     let (residual, backward_error) = (
         relative_residual(lower, &x, rhs),
         backward_error(lower, &x, rhs),
@@ -152,15 +155,22 @@ fn timed_symbolic(
     Ok((symbolic, seconds, runs))
 }
 
-/// The numeric factorization and the 3-column solve of `rhs`: the solution,
-/// and the median times and runs of each.
+/// The solution of a timed solve, and the median seconds and the runs of
+/// the numeric factorization and of the solve.
+struct Solved {
+    x: Vec<[f64; 3]>,
+    seconds: [f64; 2],
+    runs: [usize; 2],
+}
+
+/// The numeric factorization and the 3-column solve of `rhs`, timed.
 fn timed_factor_and_solve(
     lower: &CscMatrix,
     symbolic: SymbolicCholesky,
     method: Method,
     rhs: &[[f64; 3]],
     repeats: Repeats,
-) -> Result<(Vec<[f64; 3]>, [f64; 2], [usize; 2]), LinalgError> {
+) -> Result<Solved, LinalgError> {
     let mut cholesky = SparseCholesky::factor(symbolic, lower, method)?;
     let (numeric_s, numeric_runs) = median_seconds(repeats, || {
         cholesky.refactor(lower).expect("factored once already");
@@ -170,7 +180,11 @@ fn timed_factor_and_solve(
         x.copy_from_slice(rhs);
         cholesky.solve_points_in_place(&mut x);
     });
-    Ok((x, [numeric_s, solve_s], [numeric_runs, solve_runs]))
+    Ok(Solved {
+        x,
+        seconds: [numeric_s, solve_s],
+        runs: [numeric_runs, solve_runs],
+    })
 }
 
 /// A solution with an infinite or NaN entry, or a residual that is not a
