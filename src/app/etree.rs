@@ -5,7 +5,7 @@
 //! the tree and the number of supernodes.
 
 use super::draw::encode::write_png;
-use super::draw::sparsity::{depths, elimination_tree};
+use super::draw::sparsity::{depths, draw_elimination_tree};
 use super::error::AppError;
 use super::flags::{size, Size};
 use super::matrix_input::{file_name, load_lower, PatternArgs};
@@ -66,7 +66,7 @@ pub fn run(args: EtreeArgs) -> Result<(), AppError> {
             symbolic.nnz_l()
         ),
     ];
-    let image = elimination_tree(parent, &supernode_of, (width, height), &caption);
+    let image = draw_elimination_tree(parent, &supernode_of, (width, height), &caption);
     write_file(&out, |file| write_png(file, &image))?;
     super::file_plan::report(&out, &caption.join("; "));
     Ok(())
