@@ -16,7 +16,7 @@
 //! check it).
 
 use super::quantities::{quantities, Quantity};
-use crate::app::AppError;
+use crate::app::error::AppError;
 use masssprings::linalg::dense::DenseMatrix;
 use masssprings::linalg::sparse::{CscMatrix, Ordering};
 use masssprings::mesh::Scene;
@@ -30,7 +30,7 @@ use masssprings::sim::textbook::{
 use masssprings::sim::{Sparse, DELTA_T};
 
 /// Which step, how many of its iterations, the factor's ordering, and
-/// the mistake to make (a student's folder; see [`mistaken`](super::mistaken)).
+/// the mistake to make (a student's folder, written by `mistaken.rs`).
 #[derive(Debug, Clone, Copy)]
 pub struct TraceOptions {
     /// 1-based step `K`.
@@ -50,9 +50,6 @@ pub enum Value {
 
 /// Every quantity of a trace, in the order of [`quantities`].
 pub fn trace(scene: &Scene, options: TraceOptions) -> Result<Vec<Value>, AppError> {
-    if let Some(mistake) = options.mistake {
-        return super::mistaken::trace(scene, options, mistake);
-    }
     let pre = precomputation_ordered(
         &scene.vertices,
         &scene.springs,

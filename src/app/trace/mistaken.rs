@@ -17,7 +17,7 @@
 
 use super::compute::{points, precomputed, state_before, TraceOptions, Value};
 use super::quantities::quantities;
-use crate::app::AppError;
+use crate::app::error::AppError;
 use masssprings::linalg::dense::DenseMatrix;
 use masssprings::mesh::Scene;
 use masssprings::sim::forces::GRAVITY;

@@ -25,11 +25,12 @@ mod mistaken;
 mod quantities;
 mod readme;
 
+use super::error::AppError;
+use super::file_plan::load_scene;
 use super::flags::{choice, file_name_given, whole, OrderingFlag};
-use super::{load_scene, AppError};
 use compute::{labelled, trace, TraceOptions, Value};
 use masssprings::files::{remove_stale_temporaries, write_file};
-use masssprings::linalg::matrix_market::{write_array, write_coordinate, Symmetry};
+use masssprings::matrix_market::{write_array, write_coordinate, Symmetry};
 use masssprings::mesh::Scene;
 use masssprings::sim::mistakes::Mistake;
 use masssprings::sim::ITERATIONS;
@@ -114,7 +115,11 @@ pub fn run(args: TraceArgs) -> Result<(), AppError> {
     let scene = load_scene(&scene_path)?;
     prepare_folder(&out, &scene_path, &scene)?;
     let start = std::time::Instant::now();
-    let values = labelled(trace(&scene, options)?, options.iterations);
+    let values = match options.mistake {
+        Some(mistake) => mistaken::trace(&scene, options, mistake)?,
+        None => trace(&scene, options)?,
+    };
+    let values = labelled(values, options.iterations);
     let manifest = manifest(&scene_path, &scene, options, &values);
     write_all(&out, &scene_path, &values, &manifest)?;
     println!(
