@@ -29,6 +29,7 @@ use super::error::AppError;
 use super::file_plan::{load_scene, plan_scene_inputs};
 use super::flags::{between, choice, whole, FactorFlags, StepRules};
 use super::limits::{check_kept, precompute};
+use super::progress::Progress;
 use masssprings::files::{write_file, FilePlan};
 use masssprings::mesh::Scene;
 use masssprings::sim::energy::free_norm;
@@ -126,6 +127,9 @@ pub struct ConvergeArgs {
     /// The time step in seconds, 1e-4 to 1 (default 1/30, the assignment's).
     #[arg(long, value_name = "DT", value_parser = between(1e-4, 1.0))]
     delta_t: Option<f64>,
+    /// The most iterations each method may take on a step, the length of its curve (default 200; with --accuracy, the accuracy's).
+    #[arg(long, value_name = "N", value_parser = whole(1, usize::MAX))]
+    iterations: Option<usize>,
     #[command(flatten)]
     rules: StepRules,
     #[command(flatten)]
@@ -188,6 +192,7 @@ pub(super) fn parse(args: ConvergeArgs) -> Request {
     sim_options.step.iterations = 200;
     sim_options.step.measure = true; // every report compares energies
     args.rules.apply(&mut sim_options);
+    sim_options.step.iterations = args.iterations.unwrap_or(sim_options.step.iterations);
     let accuracy = args.rules.accuracy;
     let methods = match accuracy {
         Some(_) => vec![sim_options.step.method],
@@ -369,14 +374,14 @@ fn print_table(request: &Request, curves: &[Curve], yardsticks: [Option<f64>; 2]
             None => "not reached".into(),
         };
         println!(
-            "{:<10} {:>6} {:>14.6e} {:>10.2e} {:>20} {:>20}  {:?}",
+            "{:<10} {:>6} {:>14.6e} {:>10.2e} {:>20} {:>20}  {}",
             curve.method.name(),
             last.iteration,
             last.energy,
             last.relative_gradient,
             reach(yardsticks[0]),
             reach(yardsticks[1]),
-            curve.stop
+            curve.stop.name()
         );
     }
 }
@@ -431,6 +436,7 @@ fn run_over_steps(request: &Request, scene: &Scene, steps: usize) -> Result<(), 
     let mut iterations: Vec<Vec<f64>> = vec![Vec::new(); request.methods.len()];
     let mut plain_50_ms = Vec::new();
     let mut rows = Vec::new();
+    let mut progress = Progress::new(steps, true);
     for step in 1..=steps {
         let plain = trace(
             &simulation,
@@ -456,9 +462,9 @@ fn run_over_steps(request: &Request, scene: &Scene, steps: usize) -> Result<(), 
                 plain_50_ms: ms_of_plain,
             });
         }
-        advance(&mut simulation, step, steps)?;
+        advance(&mut simulation, step, &mut progress)?;
     }
-    eprintln!();
+    progress.finish();
     print_reach_table(request, steps, &mut plain_50_ms, &times, &iterations);
     if let Some(path) = &request.csv {
         write_file(path, |out| write_reach_csv(out, &rows))?;
@@ -656,6 +662,7 @@ fn rule_rows(
     let mut plain_runner = simulation.clone();
     let mut runners = vec![simulation.clone(); request.methods.len()];
     let mut step_rows = Vec::new();
+    let mut progress = Progress::new(steps, true);
     for step in 1..=steps {
         if control.rho.is_none() {
             let plain = trace(&simulation, &control, StepMethod::Plain, YARDSTICKS[0])?;
@@ -677,18 +684,22 @@ fn rule_rows(
                 plain_50_ms: ms_of_plain,
             });
         }
-        advance(&mut simulation, step, steps)?;
+        advance(&mut simulation, step, &mut progress)?;
     }
-    eprintln!();
+    progress.finish();
     Ok((scene.name.clone(), step_rows))
 }
 
-/// The canonical simulation's step `step` of `steps`, with progress.
-fn advance(simulation: &mut Simulation<Sparse>, step: usize, steps: usize) -> Result<(), AppError> {
+/// The canonical simulation's step `step`, shown in `progress`.
+fn advance(
+    simulation: &mut Simulation<Sparse>,
+    step: usize,
+    progress: &mut Progress,
+) -> Result<(), AppError> {
     simulation
         .step()
         .map_err(|e| AppError::Failed(format!("step {step}: {e}")))?;
-    eprint!("\rconverge: step {step}/{steps}");
+    progress.step_done(step);
     Ok(())
 }
 
@@ -759,11 +770,11 @@ fn write_rule_csv(out: &mut dyn Write, rows: &[RuleRow]) -> std::io::Result<()> 
     for r in rows {
         writeln!(
             out,
-            "{},{},{},{:?},{:e},{:e},{:.4},{:.4}",
+            "{},{},{},{},{:e},{:e},{:.4},{:.4}",
             r.step,
             r.method.name(),
             r.iterations,
-            r.stop,
+            r.stop.name(),
             r.energy,
             r.plain_50_energy,
             r.ms,
