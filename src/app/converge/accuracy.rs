@@ -33,7 +33,8 @@
 //!   own trajectory is not the assignment's, so each of its steps is
 //!   compared, too, with plain-50 from the same (its own) state.
 
-use super::{draw_rule, measured_decrease, rule_rows, timed_step, Request, RuleRow};
+use super::request::Request;
+use super::steps::{draw_rule, measured_decrease, rule_rows, timed_step, write_rule_csv, RuleRow};
 use crate::app::error::AppError;
 use crate::app::limits::precompute;
 use masssprings::mesh::Scene;
@@ -67,7 +68,7 @@ pub fn run(
         draw_rule(path, title, &request.methods, &rows)?;
     }
     if let Some(path) = &request.csv {
-        masssprings::files::write_file(path, |out| super::write_rule_csv(out, &rows))?;
+        masssprings::files::write_file(path, |out| write_rule_csv(out, &rows))?;
     }
     Ok(())
 }

@@ -18,7 +18,7 @@
 //! has come to rest.
 
 use super::steps_plot::{StepPlot, StepSeries};
-use super::Request;
+use super::request::Request;
 use crate::app::draw::plot::Scale;
 use crate::app::error::AppError;
 use crate::app::limits::precompute;

@@ -23,7 +23,10 @@
 //! where the rule spends more than the oracle, it wastes.
 
 use super::steps_plot::{StepPlot, StepSeries};
-use super::{timed_step, trace, Curve, Request, YARDSTICKS};
+use super::accuracy::median;
+use super::curve::{trace, Curve};
+use super::request::{Request, YARDSTICKS};
+use super::steps::timed_step;
 use crate::app::draw::plot::Scale;
 use crate::app::error::AppError;
 use crate::app::limits::precompute;
@@ -146,7 +149,7 @@ fn oracle_row(
 
 /// The iterations and milliseconds at which `curve` first reaches `target`.
 fn first_reaching(curve: &Curve, target: f64) -> Option<(usize, f64)> {
-    super::first_reaching(curve, target).map(|s| (s.iteration, s.elapsed_ms))
+    super::curve::first_reaching(curve, target).map(|s| (s.iteration, s.elapsed_ms))
 }
 
 /// Per trajectory: the medians of the rule's and the oracle's time over
@@ -160,8 +163,8 @@ fn print_summary(rows: &[OracleRow]) {
         println!(
             "oracle, along {trajectory}'s trajectory: the rule's median step {:.3} of plain-50's \
              ({iterations} iterations), the oracle's least {:.3} (reached on {} of {} steps)",
-            super::accuracy::median(&rule),
-            super::accuracy::median(&least),
+            median(&rule),
+            median(&least),
             least.len(),
             of.len()
         );
