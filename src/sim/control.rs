@@ -353,6 +353,10 @@ pub enum Stop {
     /// The line search found no lower energy: the iterate is as good as
     /// rounding lets this method make it.
     Stalled,
+    /// Someone asked the step to stop (the viewer's stop button) before it
+    /// was done: the step is thrown away
+    /// ([`SimulationError::Cancelled`](super::SimulationError::Cancelled)).
+    Cancelled,
 }
 
 /// What a method reports: iterations run, why it stopped, and the energy

@@ -23,6 +23,7 @@ use super::backend::LinearAlgebra;
 use super::control::{StepControl, Stop};
 use super::energy::{free_norm, StepEnergy};
 use super::global_step::StepContext;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The state after one iteration, shown to an observer.
 pub struct Iterate<'a> {
@@ -78,6 +79,9 @@ pub struct Monitor<'a, 'o> {
     /// Room for a gradient, when the method did not compute one.
     gradient: &'a mut [[f64; 3]],
     observer: Option<Observer<'o>>,
+    /// Set by someone else to stop the step at the next iterate
+    /// ([`Monitor::cancel_on`]).
+    cancel: Option<&'a AtomicBool>,
     /// The relative gradient at the last iterate recorded, when known.
     pub relative_gradient: Option<f64>,
 }
@@ -100,15 +104,23 @@ impl<'a, 'o> Monitor<'a, 'o> {
             initial_gradient,
             gradient,
             observer,
+            cancel: None,
             relative_gradient: None,
         }
     }
 
+    /// From now on, [`Monitor::after`] says [`Stop::Cancelled`] at the
+    /// first iterate after `flag` is set (one relaxed load per iteration).
+    pub fn cancel_on(&mut self, flag: Option<&'a AtomicBool>) {
+        self.cancel = flag;
+    }
+
     /// The room for a gradient when nothing will need it before the step
-    /// ends (no tolerance, no observer), as scratch for the iterations.
+    /// ends (no tolerance, no observer), as scratch for iterations that do
+    /// not consult the monitor (so not when the step may be cancelled).
     pub fn unused_room(&mut self) -> Option<&mut [[f64; 3]]> {
-        match (self.tests_iterates(), &self.observer) {
-            (false, None) => Some(&mut *self.gradient),
+        match (self.tests_iterates(), &self.observer, self.cancel) {
+            (false, None, None) => Some(&mut *self.gradient),
             _ => None,
         }
     }
@@ -221,6 +233,9 @@ impl<'a, 'o> Monitor<'a, 'o> {
         gradient: Gradient<'_>,
         energy: Option<f64>,
     ) -> Option<Stop> {
+        if self.cancel.is_some_and(|flag| flag.load(Ordering::Relaxed)) {
+            return Some(Stop::Cancelled);
+        }
         if let Some(observer) = self.observer.as_mut() {
             observer(&Iterate {
                 iteration,
