@@ -499,6 +499,21 @@ impl<B: LinearAlgebra> Simulation<B> {
         self.engine.set_iterations(iterations);
     }
 
+    /// Solves later steps as `step` says: method, budget, rules and start
+    /// at once (nothing to refactor: every method uses the same `Q`).
+    ///
+    /// # Errors
+    /// [`SimulationError::InvalidInput`] (as
+    /// [`SimulationOptions::check_textbook`]) when the simulation runs the
+    /// handout's code and `step` is not its step; nothing changes then.
+    pub fn set_step(&mut self, step: StepControl) -> Result<(), SimulationError> {
+        let wanted = SimulationOptions { step, ..self.options };
+        wanted.check_textbook()?;
+        self.options.step = step;
+        self.engine.set_iterations(step.iterations);
+        Ok(())
+    }
+
     /// Solves later steps by `method`, with `tolerance` (nothing to
     /// refactor: every method uses the same `Q`).
     pub fn set_method(&mut self, method: StepMethod, tolerance: Option<f64>) {

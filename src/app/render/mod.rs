@@ -19,11 +19,11 @@
 //! production renderer (no clipping against the near plane: the camera
 //! keeps the whole scene in front of it; no mipmaps; no shadows).
 
-mod camera;
+pub(super) mod camera;
 mod canvas;
 mod discs;
 pub(super) mod encode;
-mod frame;
+pub(super) mod frame;
 mod lighting;
 mod lines;
 pub(super) mod look;
@@ -180,7 +180,7 @@ pub fn run(args: RenderArgs) -> Result<(), AppError> {
     let (width, height) = (request.width, request.height);
     let camera = Camera::framing(&bounds, SUPERSAMPLING * width, SUPERSAMPLING * height);
     let mut renderer =
-        FrameRenderer::new(&scene, texture, camera, (width, height), request.springs);
+        FrameRenderer::new(&scene, texture.as_ref(), camera, (width, height), request.springs);
     let mut images = Vec::with_capacity(frames.len());
     let mut frame_times = Vec::with_capacity(frames.len());
     for positions in &frames {
