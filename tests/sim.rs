@@ -540,7 +540,11 @@ fn the_named_solvers_are_one_rule_and_read_back() {
         wind: true,
         ..SimulationOptions::default()
     };
-    assert_eq!(measured.solver(), None, "Newton to a tolerance is no named solver");
+    assert_eq!(
+        measured.solver(),
+        None,
+        "Newton to a tolerance is no named solver"
+    );
     for solver in Solver::ALL {
         let options = measured.solved_by(solver);
         assert_eq!(options.solver(), Some(solver));
@@ -559,12 +563,31 @@ fn the_named_solvers_are_one_rule_and_read_back() {
         },
         ..fast
     };
-    assert_eq!(budget.solver(), fast.solver(), "an accuracy whatever its budget");
+    assert_eq!(
+        budget.solver(),
+        fast.solver(),
+        "an accuracy whatever its budget"
+    );
     let assignment = measured.solved_by(Solver::Assignment);
-    assert_eq!((assignment.step.iterations, assignment.textbook), (50, false));
+    assert_eq!(
+        (assignment.step.iterations, assignment.textbook),
+        (50, false)
+    );
     let more = |step: StepControl| SimulationOptions { step, ..assignment }.solver();
-    assert_eq!(more(StepControl { iterations: 51, ..assignment.step }), None);
-    assert_eq!(more(StepControl { start: Start::Inertial, ..assignment.step }), None);
+    assert_eq!(
+        more(StepControl {
+            iterations: 51,
+            ..assignment.step
+        }),
+        None
+    );
+    assert_eq!(
+        more(StepControl {
+            start: Start::Inertial,
+            ..assignment.step
+        }),
+        None
+    );
     let textbook = measured.solved_by(Solver::Textbook);
     let inertial = SimulationOptions {
         step: StepControl {
@@ -573,7 +596,10 @@ fn the_named_solvers_are_one_rule_and_read_back() {
         },
         ..textbook
     };
-    assert!(inertial.check_textbook().is_err(), "the handout's rules hold");
+    assert!(
+        inertial.check_textbook().is_err(),
+        "the handout's rules hold"
+    );
     assert!("newton".parse::<Solver>().is_err());
 }
 
@@ -647,7 +673,11 @@ fn a_long_step_stops_between_iterations_when_cancelled_from_another_thread() {
             simulation.step()
         });
         assert_eq!(result, Err(SimulationError::Cancelled));
-        assert!(started.elapsed() < Duration::from_secs(10), "{:?}", started.elapsed());
+        assert!(
+            started.elapsed() < Duration::from_secs(10),
+            "{:?}",
+            started.elapsed()
+        );
         assert_eq!(simulation.steps(), 0);
         assert_eq!(simulation.positions(), cloth(6).0.as_slice());
     }
@@ -681,5 +711,8 @@ fn the_mechanical_energy_is_kinetic_plus_spring_plus_gravity_and_zero_at_rest() 
     let stretch = norm(sub(now[1], now[0])) - 1.0;
     expected += 0.5 * k * stretch * stretch;
     let energy = sim.mechanical_energy();
-    assert!((energy - expected).abs() <= 1e-12 * expected.abs().max(1.0), "{energy} {expected}");
+    assert!(
+        (energy - expected).abs() <= 1e-12 * expected.abs().max(1.0),
+        "{energy} {expected}"
+    );
 }

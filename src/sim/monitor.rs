@@ -233,16 +233,8 @@ impl<'a, 'o> Monitor<'a, 'o> {
         gradient: Gradient<'_>,
         energy: Option<f64>,
     ) -> Option<Stop> {
-        if self.cancel.is_some_and(|flag| flag.load(Ordering::Relaxed)) {
+        if self.show(iteration, context, p) {
             return Some(Stop::Cancelled);
-        }
-        if let Some(observer) = self.observer.as_mut() {
-            observer(&Iterate {
-                iteration,
-                positions: p,
-                energy: &context.energy,
-                pinned: context.pinned,
-            });
         }
         self.relative_gradient = None;
         let StepControl {
@@ -286,6 +278,25 @@ impl<'a, 'o> Monitor<'a, 'o> {
         let relative = relative_gradient(norm, self.initial_gradient?);
         self.relative_gradient = Some(relative);
         (relative <= tolerance).then_some(Stop::Tolerance)
+    }
+
+    /// Shows iterate `iteration` at `p` to the observer, if any; true when
+    /// the step was cancelled ([`Monitor::cancel_on`]).
+    fn show<B: LinearAlgebra>(
+        &mut self,
+        iteration: usize,
+        context: &StepContext<'_, B>,
+        p: &[[f64; 3]],
+    ) -> bool {
+        if let Some(observer) = self.observer.as_mut() {
+            observer(&Iterate {
+                iteration,
+                positions: p,
+                energy: &context.energy,
+                pinned: context.pinned,
+            });
+        }
+        self.cancel.is_some_and(|flag| flag.load(Ordering::Relaxed))
     }
 
     /// Has the step converged ([`Monitor::stop_when_converged`]) at

@@ -437,13 +437,23 @@ impl<B: LinearAlgebra> Simulation<B> {
     pub fn mechanical_energy(&self) -> f64 {
         let dt = self.options.delta_t;
         let mut energy = 0.0;
-        for (((now, before), rest), &m) in self.u_cur.iter().zip(&self.u_prev).zip(&self.rest).zip(&self.masses) {
+        for (((now, before), rest), &m) in self
+            .u_cur
+            .iter()
+            .zip(&self.u_prev)
+            .zip(&self.rest)
+            .zip(&self.masses)
+        {
             let v: [f64; 3] = std::array::from_fn(|c| (now[c] - before[c]) / dt);
             let lowered: f64 = (0..3).map(|c| GRAVITY[c] * (now[c] - rest[c])).sum();
-            energy += 0.5 * m * self.mass_scale * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) - lowered;
+            energy +=
+                0.5 * m * self.mass_scale * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) - lowered;
         }
         let length = |p: &[[f64; 3]], [i, j]: [usize; 2]| {
-            (0..3).map(|c| (p[i][c] - p[j][c]).powi(2)).sum::<f64>().sqrt()
+            (0..3)
+                .map(|c| (p[i][c] - p[j][c]).powi(2))
+                .sum::<f64>()
+                .sqrt()
         };
         let k = self.k();
         for &spring in self.engine.springs() {
@@ -507,7 +517,10 @@ impl<B: LinearAlgebra> Simulation<B> {
     /// [`SimulationOptions::check_textbook`]) when the simulation runs the
     /// handout's code and `step` is not its step; nothing changes then.
     pub fn set_step(&mut self, step: StepControl) -> Result<(), SimulationError> {
-        let wanted = SimulationOptions { step, ..self.options };
+        let wanted = SimulationOptions {
+            step,
+            ..self.options
+        };
         wanted.check_textbook()?;
         self.options.step = step;
         self.engine.set_iterations(step.iterations);

@@ -179,8 +179,13 @@ pub fn run(args: RenderArgs) -> Result<(), AppError> {
     }
     let (width, height) = (request.width, request.height);
     let camera = Camera::framing(&bounds, SUPERSAMPLING * width, SUPERSAMPLING * height);
-    let mut renderer =
-        FrameRenderer::new(&scene, texture.as_ref(), camera, (width, height), request.springs);
+    let mut renderer = FrameRenderer::new(
+        &scene,
+        texture.as_ref(),
+        camera,
+        (width, height),
+        request.springs,
+    );
     let mut images = Vec::with_capacity(frames.len());
     let mut frame_times = Vec::with_capacity(frames.len());
     for positions in &frames {

@@ -339,7 +339,11 @@ impl Frame {
         let floats = self.bytes.get(start..start + 12 * n)?;
         let float = |at: &[u8]| f64::from(f32::from_le_bytes(at.try_into().expect("4 bytes")));
         let points = floats.chunks_exact(12);
-        Some(points.map(|p| [float(&p[..4]), float(&p[4..8]), float(&p[8..])]).collect())
+        Some(
+            points
+                .map(|p| [float(&p[..4]), float(&p[4..8]), float(&p[8..])])
+                .collect(),
+        )
     }
 }
 
@@ -404,6 +408,11 @@ mod tests {
             parse(r#"{"command":"load_scene","scene":2}"#).unwrap(),
             Command::LoadScene { scene: 2 }
         );
+    }
+
+    #[test]
+    fn the_solving_commands_parse_from_the_pages_json() {
+        let parse = |text: &str| Command::from_json(text.as_bytes());
         assert_eq!(
             parse(r#"{"command":"set_solver","solver":"textbook","backend":"dense"}"#).unwrap(),
             Command::SetSolver {
@@ -418,7 +427,12 @@ mod tests {
                 backend: None
             }
         );
-        assert_eq!(parse(r#"{"command":"cancel"}"#).unwrap(), Command::Cancel {});
+        assert_eq!(
+            parse(r#"{"command":"cancel"}"#).unwrap(),
+            Command::Cancel {}
+        );
+        assert!(parse(r#"{"command":"cancel","now":true}"#).is_err());
+        assert_eq!(Command::Cancel {}.name(), "cancel");
     }
 
     #[test]

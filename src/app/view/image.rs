@@ -86,7 +86,8 @@ fn side_by_side(scene: &Scene) -> Scene {
     let mut both = scene.clone();
     both.vertices.extend_from_within(..);
     both.masses.extend_from_within(..);
-    both.faces.extend(scene.faces.iter().map(|face| shifted(face)));
+    both.faces
+        .extend(scene.faces.iter().map(|face| shifted(face)));
     both.face_texture_coords.extend_from_within(..);
     both.springs
         .extend(scene.springs.iter().map(|&[i, j]| [i + n, j + n]));
@@ -136,7 +137,8 @@ fn parse(query: &str) -> Result<View, String> {
 mod tests {
     use super::*;
 
-    const QUERY: &str = "w=320&h=200&tx=0&ty=1&tz=0&az=0.5&el=0.3&d=4&fov=0.6&sx=0.1&sy=0&springs=0";
+    const QUERY: &str =
+        "w=320&h=200&tx=0&ty=1&tz=0&az=0.5&el=0.3&d=4&fov=0.6&sx=0.1&sy=0&springs=0";
 
     #[test]
     fn the_view_is_read_from_the_query_and_refused_when_out_of_range() {

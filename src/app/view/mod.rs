@@ -137,8 +137,10 @@ pub fn run(args: ViewArgs) -> Result<(), AppError> {
 }
 
 /// The scenes the page can switch to: the one given first, then the
-/// bundled ones in the project's `data/` folder (when it is there) and the
-/// others beside the given one, each once, by name.
+/// others beside it and the bundled ones in the project's `data/` folder
+/// (when it is there), each name once (the picker lists names: a copy of
+/// `data/` elsewhere would list every bundled scene twice), the given
+/// folder's first.
 fn scene_list(given: &Path) -> Vec<PathBuf> {
     let bundled = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
     // `net.json`'s parent is the empty path, which names no folder to list.
@@ -147,25 +149,30 @@ fn scene_list(given: &Path) -> Vec<PathBuf> {
         _ => PathBuf::from("."),
     };
     let mut scenes = vec![given.to_path_buf()];
-    let mut seen = vec![std::fs::canonicalize(given).unwrap_or_else(|_| given.to_path_buf())];
-    for folder in [bundled, beside] {
-        let Ok(entries) = std::fs::read_dir(&folder) else {
-            continue;
-        };
-        let mut found: Vec<PathBuf> = entries
-            .filter_map(|entry| entry.ok().map(|e| e.path()))
-            .filter(|path| path.extension().is_some_and(|e| e == "json"))
-            .collect();
-        found.sort();
-        for path in found {
-            let canonical = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
-            if !seen.contains(&canonical) && scenes.len() < MAX_SCENES {
-                seen.push(canonical);
+    let mut names = vec![simulation_thread::scene_name(given)];
+    for folder in [beside, bundled] {
+        for path in scene_files(&folder) {
+            let name = simulation_thread::scene_name(&path);
+            if !names.contains(&name) && scenes.len() < MAX_SCENES {
+                names.push(name);
                 scenes.push(path);
             }
         }
     }
     scenes
+}
+
+/// The `.json` files of `folder`, sorted (none when it cannot be read).
+fn scene_files(folder: &Path) -> Vec<PathBuf> {
+    let Ok(entries) = std::fs::read_dir(folder) else {
+        return Vec::new();
+    };
+    let mut found: Vec<PathBuf> = entries
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|path| path.extension().is_some_and(|e| e == "json"))
+        .collect();
+    found.sort();
+    found
 }
 
 /// The scene's PNG texture, read from the path the scene names; `None`
@@ -190,7 +197,8 @@ fn serve(
     options: SimulationOptions,
 ) -> Result<(), AppError> {
     let cancel = Arc::new(AtomicBool::new(false));
-    let run = solver::build(&scene, &scenes[0], backend, options, &cancel).map_err(AppError::Failed)?;
+    let run =
+        solver::build(&scene, &scenes[0], backend, options, &cancel).map_err(AppError::Failed)?;
     let listener = TcpListener::bind(address).map_err(|e| bind_error(address, &e))?;
     let local = listener.local_addr()?;
     let stop_requested = stop_signal()?;

@@ -165,7 +165,11 @@ impl Routes {
         }
         self.shared.queued.fetch_add(1, Ordering::SeqCst);
         let (reply_to, reply) = mpsc::channel::<Reply>();
-        if self.commands.send(Message::Command(command, reply_to)).is_err() {
+        if self
+            .commands
+            .send(Message::Command(command, reply_to))
+            .is_err()
+        {
             self.shared.queued.fetch_sub(1, Ordering::SeqCst);
             return json_error(503, "the simulation has stopped");
         }

@@ -307,14 +307,16 @@ impl SimulationThread {
         self.shared.queued.fetch_sub(1, Ordering::SeqCst);
         let name = command.name();
         let result = self.apply(command);
+        self.publish_status(); // before the answer, which sends the status
         if let Err(why) = &result {
-            if reply.send(result.clone()).is_err() {
+            // Gone: the page was told the command waits; say why it failed.
+            if reply.send(result.clone()).is_err() && self.note.is_none() {
                 self.note = Some(format!("{name}, sent during a step: refused: {why}"));
+                self.publish_status();
             }
         } else {
             let _ = reply.send(result);
         }
-        self.publish_status();
     }
 
     /// The step due now; the next one is due Δt later. When steps take

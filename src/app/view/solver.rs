@@ -141,7 +141,9 @@ impl Backend {
         match name {
             "sparse" => Ok(Backend::Sparse),
             "dense" => Ok(Backend::Dense),
-            _ => Err(format!("unknown backend '{name}' (expected sparse or dense)")),
+            _ => Err(format!(
+                "unknown backend '{name}' (expected sparse or dense)"
+            )),
         }
     }
 }
