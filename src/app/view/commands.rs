@@ -17,9 +17,6 @@ use std::time::Instant;
 impl SimulationThread {
     /// Applies one command of the page.
     pub(super) fn apply(&mut self, command: Command) -> Reply {
-        if command != (Command::Cancel {}) {
-            self.note = None;
-        }
         match command {
             Command::Step {} => {
                 self.set_animating(false);
@@ -86,6 +83,7 @@ impl SimulationThread {
             shown.run.reset()?;
         }
         self.error = None;
+        self.note = None;
         self.publish_frame();
         self.clear_history();
         Ok(())

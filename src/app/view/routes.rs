@@ -9,7 +9,7 @@ use super::api::{Command, Status};
 use super::http::{Method, Request, Response};
 use super::image;
 use super::simulation_thread::{Message, Reply, SceneAssets, Shared};
-use std::sync::atomic::Ordering;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, RecvTimeoutError, Sender};
 use std::sync::Arc;
 use std::time::Duration;
@@ -134,10 +134,11 @@ impl Routes {
 
     /// Parses a command and hands it to the simulation thread; answers
     /// with its result, or, when the thread is still busy after
-    /// [`ANSWER_WITHIN`], that it waits (`202`, the status as it is now:
-    /// the command is applied after the work in progress, and a refusal
-    /// then shows in the status's note). A cancel sets the flag the step
-    /// in progress looks at first.
+    /// [`ANSWER_WITHIN`], that it is accepted (`202`, the status as it is
+    /// now, and the header `X-Command: applying` when it is the work in
+    /// progress, `waiting` when it waits for it: it is applied after it,
+    /// and a refusal then shows in the status's note). A cancel sets the
+    /// flag the step in progress looks at first.
     fn command(&self, request: &Request) -> Response {
         let media_type = request.header("content-type").unwrap_or("");
         let media_type = media_type.split(';').next().unwrap_or("").trim();
@@ -165,11 +166,9 @@ impl Routes {
         }
         self.shared.queued.fetch_add(1, Ordering::SeqCst);
         let (reply_to, reply) = mpsc::channel::<Reply>();
-        if self
-            .commands
-            .send(Message::Command(command, reply_to))
-            .is_err()
-        {
+        let taken = Arc::new(AtomicBool::new(false));
+        let message = Message::Command(command, reply_to, Arc::clone(&taken));
+        if self.commands.send(message).is_err() {
             self.shared.queued.fetch_sub(1, Ordering::SeqCst);
             return json_error(503, "the simulation has stopped");
         }
@@ -177,9 +176,14 @@ impl Routes {
             Ok(Ok(())) => json_status(&self.status()),
             Ok(Err(why)) => json_error(409, &why),
             Err(RecvTimeoutError::Timeout) => {
-                let mut waits = json_status(&self.status());
-                waits.status = 202;
-                waits
+                // Being applied (a step, a precomputation), or waiting its turn.
+                let state = match taken.load(Ordering::SeqCst) {
+                    true => "applying",
+                    false => "waiting",
+                };
+                let mut accepted = json_status(&self.status()).with_header("X-Command", state);
+                accepted.status = 202;
+                accepted
             }
             Err(RecvTimeoutError::Disconnected) => json_error(503, "the simulation has stopped"),
         }

@@ -108,9 +108,10 @@ pub type Reply = Result<(), String>;
 
 /// What the simulation thread receives.
 pub enum Message {
-    /// A command from the page and where to send the answer (the page may
-    /// have been told already that it waits, and no longer listens).
-    Command(Command, Sender<Reply>),
+    /// A command from the page, where to send the answer (the page may
+    /// have been told already that it waits, and no longer listens), and a
+    /// flag the thread sets when it takes the command.
+    Command(Command, Sender<Reply>, Arc<AtomicBool>),
     /// Stop the thread (the program is shutting down).
     Quit,
 }
@@ -295,7 +296,10 @@ impl SimulationThread {
             };
             match message {
                 Message::Quit => return,
-                Message::Command(command, reply) => self.answer(command, &reply),
+                Message::Command(command, reply, taken) => {
+                    taken.store(true, Ordering::SeqCst);
+                    self.answer(command, &reply);
+                }
             }
         }
     }
@@ -310,7 +314,7 @@ impl SimulationThread {
         self.publish_status(); // before the answer, which sends the status
         if let Err(why) = &result {
             // Gone: the page was told the command waits; say why it failed.
-            if reply.send(result.clone()).is_err() && self.note.is_none() {
+            if reply.send(result.clone()).is_err() && self.note.as_deref() != Some(why) {
                 self.note = Some(format!("{name}, sent during a step: refused: {why}"));
                 self.publish_status();
             }

@@ -49,6 +49,7 @@ impl SimulationThread {
             shown.record_time(time);
         }
         self.rate.record();
+        self.note = None; // a step completed: what the note said is over
         self.publish_frame();
         self.record_step(reports);
     }

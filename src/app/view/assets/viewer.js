@@ -877,7 +877,8 @@ async function sendCommand(body) {
   if (response.ok) {
     state.status = answer;
     state.refusal = null;
-    state.waiting = response.status === 202 ? body.command : null;
+    const waits = response.status === 202 && response.headers.get('X-Command') === 'waiting';
+    state.waiting = waits ? body.command : null;
   } else {
     state.refusal = `${body.command}: ${answer.error}`;
     console.warn('command refused:', body.command, answer.error);
@@ -1069,8 +1070,10 @@ function formatNumber(x) {
 // gradient where each step stopped (blue line, log scale, 1 at the top,
 // 1e-8 at the bottom) and the iterations it used (grey bars, up to the
 // iteration budget). When comparing, two panels of both simulations (blue:
-// the first, orange: the compared one): the energy each step took off,
-// E(p⁰) − E(p) (log scale), and the time each step took (milliseconds).
+// the first, orange: the compared one): the mechanical energy (kinetic,
+// springs, gravity: Simulation::mechanical_energy) above the lowest either
+// reached, log scale, which shows how fast each settles, and the time each
+// step took (milliseconds).
 
 const plot = document.getElementById('plot');
 const plotContext = plot.getContext('2d');
@@ -1119,9 +1122,9 @@ function drawConvergence(s) {
 
 /** Draws `history` as a line: `value(record)` (null: a gap) mapped from
  *  [low, high] to [bottom, top]. */
-function plotLine(history, value, { top, bottom, low, high }, colour) {
+function plotLine(history, value, { top, bottom, low, high, columns = PLOT_STEPS }, colour) {
   const c = plotContext;
-  const columnWidth = (plot.width - PLOT_LEFT) / PLOT_STEPS;
+  const columnWidth = (plot.width - PLOT_LEFT) / columns;
   c.strokeStyle = colour;
   c.lineWidth = 1.5;
   c.beginPath();
@@ -1140,20 +1143,31 @@ function plotLine(history, value, { top, bottom, low, high }, colour) {
   c.stroke();
 }
 
-/** Both simulations: what each step took off, and what it cost. */
+/** Both simulations: their mechanical energies, on a log scale above the
+ *  lowest either reached (so that how fast each settles shows, whatever
+ *  the energy's size), and the time each step took. */
 function drawComparison(s) {
   const first = s.history;
   const second = alignedHistory(s);
-  const log = (record) => (record.energy_decrease > 0 ? Math.log10(record.energy_decrease) : null);
-  const logs = [...first, ...second].map(log).filter((v) => v !== null);
-  const energy = { top: 12, bottom: 78, low: Math.floor(Math.min(...logs, 0)), high: Math.ceil(Math.max(...logs, 1)) };
-  const times = [...first, ...second].map((record) => record.ms);
-  const time = { top: 100, bottom: 152, low: 0, high: Math.max(1, ...times) };
-  drawPanel(energy, `energy each step took off (log, 1e${energy.low} to 1e${energy.high})`);
+  const energies = [...first, ...second].map((record) => record.energy).filter(Number.isFinite);
+  const lowest = Math.min(...energies);
+  const spread = Math.max(...energies) - lowest;
+  const floor = lowest - 1e-4 * Math.max(spread, 1e-12);
+  const above = (record) => (Number.isFinite(record.energy) ? Math.log10(record.energy - floor) : null);
+  const logs = [...first, ...second].map(above).filter((v) => v !== null);
+  // At least 30 steps across, so that the first steps of a comparison
+  // are not crowded into its left edge.
+  const columns = Math.max(30, first.length);
+  const energy = {
+    top: 12, bottom: 78, low: Math.floor(Math.min(...logs)), high: Math.ceil(Math.max(...logs)), columns,
+  };
+  const times = [...first, ...second].map((record) => record.ms).filter(Number.isFinite);
+  const time = { top: 100, bottom: 152, low: 0, high: Math.max(1, ...times), columns };
+  drawPanel(energy, `energy above the lowest (log, 1e${energy.low} to 1e${energy.high})`);
   drawPanel(time, `ms per step (0 to ${time.high.toFixed(0)})`);
   const colours = ['#3f6fb0', `rgb(${LOOK.second.map((c) => 255 * c).join(',')})`];
-  plotLine(first, log, energy, colours[0]);
-  plotLine(second, log, energy, colours[1]);
+  plotLine(first, above, energy, colours[0]);
+  plotLine(second, above, energy, colours[1]);
   plotLine(first, (record) => record.ms, time, colours[0]);
   plotLine(second, (record) => record.ms, time, colours[1]);
   plotContext.fillStyle = '#5d6d7e';
@@ -1164,7 +1178,7 @@ function drawComparison(s) {
  *  (the two step together; the comparison may have started later). */
 function alignedHistory(s) {
   const byStep = new Map(s.compare.history.map((record) => [record.step, record]));
-  return s.history.map((record) => byStep.get(record.step) || { energy_decrease: null, ms: null });
+  return s.history.map((record) => byStep.get(record.step) || { energy: null, ms: null });
 }
 
 /** A panel's frame and title. */
@@ -1667,9 +1681,28 @@ canvas.addEventListener('touchend', (event) => {
 function everyAnimationFrame() {
   if (!state.loadingScene && state.scene) {
     pollFrame();
-    if (fallback) drawImage(); else if (gpu) draw();
+    if (fallback) {
+      drawImage();
+    } else if (gpu) {
+      if (state.positions) frameScene(aspectRatio());
+      // Drawn again only when something drawn changed: an idle page
+      // leaves the processor to the simulation.
+      const key = drawKey();
+      if (key !== lastDrawKey) draw();
+      lastDrawKey = key;
+    }
   }
   requestAnimationFrame(everyAnimationFrame);
+}
+
+let lastDrawKey = null;
+
+/** Everything the WebGL picture depends on, as one string. */
+function drawKey() {
+  const s = state.status;
+  return [state.serial, camera.azimuth, camera.elevation, camera.distance, ...camera.target, ...camera.shift,
+    canvas.clientWidth, canvas.clientHeight, window.devicePixelRatio, s && s.show_springs, gpu.texture !== null,
+    state.layout, state.dragTarget && state.dragTarget.join(), state.second !== null].join('|');
 }
 
 async function start() {
