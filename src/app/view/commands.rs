@@ -4,8 +4,11 @@
 //! first's.
 
 use super::api::Command;
-use super::simulation_thread::{scene_name, Reply, SceneAssets, Shared, Shown, SimulationThread};
+use super::simulation_thread::{
+    scene_name, Reply, SceneAssets, Shared, Shown, SimulationThread, MAX_ITERATIONS,
+};
 use super::solver::{self, Backend, Run};
+use crate::app::error::AppError;
 use masssprings::mesh::bounding_box::BoundingBox;
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
@@ -257,8 +260,8 @@ impl SimulationThread {
             .get(index)
             .ok_or_else(|| format!("there is no scene {index}"))?
             .clone();
-        let scene = crate::app::load_scene(&path).map_err(|e| match e {
-            crate::app::AppError::Usage(why) | crate::app::AppError::Failed(why) => why,
+        let scene = crate::app::file_plan::load_scene(&path).map_err(|e| match e {
+            AppError::Usage(why) | AppError::Failed(why) => why,
         })?;
         self.busy(format!("precomputing {}", scene_name(&path)));
         let built = self.build_all(&scene, &path);
@@ -329,10 +332,9 @@ fn check_parameters([k, delta_t, mass_scale]: [f64; 3], iterations: usize) -> Re
             "mass scale {mass_scale}: expected from 0.001 to 1000"
         ));
     }
-    if !(1..=super::MAX_ITERATIONS).contains(&iterations) {
+    if !(1..=MAX_ITERATIONS).contains(&iterations) {
         return Err(format!(
-            "{iterations} iterations: expected from 1 to {}",
-            super::MAX_ITERATIONS
+            "{iterations} iterations: expected from 1 to {MAX_ITERATIONS}"
         ));
     }
     Ok(())

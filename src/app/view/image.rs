@@ -20,10 +20,10 @@
 
 use super::http::Response;
 use super::simulation_thread::Shared;
-use crate::app::render::camera::{Camera, Orbit};
-use crate::app::render::encode::write_png;
-use crate::app::render::frame::FrameRenderer;
-use crate::app::render::look::SUPERSAMPLING;
+use crate::app::draw::camera::{Camera, Orbit};
+use crate::app::draw::encode::write_png;
+use crate::app::draw::frame::FrameRenderer;
+use crate::app::draw::look::SUPERSAMPLING;
 use masssprings::mesh::Scene;
 
 /// The largest width or height asked for.

@@ -34,15 +34,16 @@ mod solver;
 mod stepping;
 mod watchers;
 
+use super::error::AppError;
+use super::file_plan::load_scene;
 use super::flags::{whole, SimulationFlags};
-use super::{load_scene, AppError};
 use api::{Frame, Status};
 use http::{Connection, Method, ReadError};
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
 use pool::{Member, Pool};
 use routes::Routes;
-use simulation_thread::{Message, SceneAssets, Shared, Shown, SimulationThread};
+use simulation_thread::{Message, SceneAssets, Shared, Shown, SimulationThread, MAX_ITERATIONS};
 use solver::Backend;
 use std::io::Write;
 use std::net::{IpAddr, Ipv4Addr, Ipv6Addr, SocketAddr, TcpListener, TcpStream};
@@ -60,10 +61,6 @@ const DEFAULT_PORT: u16 = 8080;
 const MAX_CONNECTIONS: usize = 64;
 /// Scenes listed in the page's picker at most.
 const MAX_SCENES: usize = 32;
-/// The most iterations a step of the viewer may take, from the command line
-/// as from the page: a step must end within moments for the viewer to
-/// answer and to stop.
-pub const MAX_ITERATIONS: usize = 1000;
 /// Serve an interactive viewer of the scene to a web browser.
 #[derive(clap::Args, Debug)]
 #[command(after_help = "\
@@ -173,19 +170,6 @@ fn scene_files(folder: &Path) -> Vec<PathBuf> {
         .collect();
     found.sort();
     found
-}
-
-/// The scene's PNG texture, read from the path the scene names; `None`
-/// (with a warning) when it cannot be read or is not a PNG.
-fn read_texture(scene: &Scene) -> Option<Vec<u8>> {
-    let path = scene.texture.as_ref()?;
-    match super::render::texture::read_png_file(path) {
-        Ok(bytes) => Some(bytes),
-        Err(error) => {
-            eprintln!("masssprings: warning: {error}; drawing without texture");
-            None
-        }
-    }
 }
 
 /// Starts the threads, prints the URL, and serves until Ctrl-C.

@@ -22,7 +22,7 @@ use super::api::{Command, Frame, Status, HISTORY_LENGTH};
 use super::display_mesh::display_mesh;
 use super::solver::{self, Backend, Run};
 use super::watchers::Watchers;
-use crate::app::render::texture::Texture;
+use crate::app::draw::texture::{read_png_file, Texture};
 use masssprings::mesh::bounding_box::BoundingBox;
 use masssprings::mesh::Scene;
 use masssprings::sim::StepMethod;
@@ -31,6 +31,24 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
+
+/// The most iterations a step of the viewer may take, from the command line
+/// as from the page: a step must end within moments for the viewer to
+/// answer and to stop (and any can be cancelled).
+pub const MAX_ITERATIONS: usize = 1000;
+
+/// The scene's PNG texture, read from the path the scene names; `None`
+/// (with a warning) when it cannot be read or is not a PNG.
+fn read_texture(scene: &Scene) -> Option<Vec<u8>> {
+    let path = scene.texture.as_ref()?;
+    match read_png_file(path) {
+        Ok(bytes) => Some(bytes),
+        Err(error) => {
+            eprintln!("masssprings: warning: {error}; drawing without texture");
+            None
+        }
+    }
+}
 
 /// How often the thread looks again whether a page has come back, while
 /// animating with nobody watching.
@@ -86,7 +104,7 @@ pub struct SceneAssets {
 impl SceneAssets {
     /// The display mesh and texture of `scene` on backend `backend`.
     pub fn of(scene: &Scene, backend: &'static str) -> SceneAssets {
-        let texture = super::read_texture(scene);
+        let texture = read_texture(scene);
         let mesh = display_mesh(scene, texture.is_some(), backend);
         let decoded = texture.as_ref().and_then(|bytes| {
             let cursor = std::io::Cursor::new(bytes.as_slice());

@@ -12,8 +12,8 @@
 //! How a name becomes options is `SimulationOptions::solved_by`, the one
 //! rule `--textbook` and `--accuracy` use too; nothing here repeats it.
 
+use crate::app::error::AppError;
 use crate::app::limits::precompute;
-use crate::app::AppError;
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{
