@@ -30,6 +30,7 @@ use masssprings::mesh::Scene;
 const MAX_SIDE: f64 = 2048.0;
 
 /// What the page asks to see.
+#[derive(Debug)]
 struct View {
     width: usize,
     height: usize,
