@@ -445,6 +445,13 @@ fn it_animates_only_while_a_page_asks_for_frames() {
         assert!(Instant::now() < deadline, "a watching page starts it");
         thread::sleep(Duration::from_millis(20));
     }
+    // Watched for over a second, it counts its steps per second.
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while viewer.status()["steps_per_second"].as_f64().unwrap() <= 0.0 {
+        viewer.get("/api/frame?page=42");
+        assert!(Instant::now() < deadline, "the overlay's rate");
+        thread::sleep(Duration::from_millis(20));
+    }
 }
 
 #[test]

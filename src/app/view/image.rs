@@ -29,6 +29,11 @@ use masssprings::mesh::Scene;
 /// The largest width or height asked for.
 const MAX_SIDE: f64 = 2048.0;
 
+/// The most pixels an image may have: drawn at 2 × 2 samples of 16 bytes,
+/// 128 MB while it is drawn. One image is drawn at a time
+/// ([`Shared::drawing`]); the page asks for at most 1.5 million.
+const MAX_PIXELS: usize = 2_000_000;
+
 /// What the page asks to see.
 #[derive(Debug)]
 struct View {
@@ -39,11 +44,15 @@ struct View {
     offset: f64,
 }
 
-/// The PNG of the latest frame seen as `query` says, or a `400`.
+/// The PNG of the latest frame seen as `query` says, a `400` naming what
+/// is wrong with the query, or a `503` while another image is drawn.
 pub fn respond(shared: &Shared, query: Option<&str>) -> Response {
     let view = match parse(query.unwrap_or("")) {
         Ok(view) => view,
         Err(why) => return Response::error(400, &why),
+    };
+    let Ok(_drawing) = shared.drawing.try_lock() else {
+        return Response::error(503, "another image is being drawn; ask again");
     };
     let (scene, texture) = {
         let assets = Shared::lock(&shared.scene);
@@ -117,6 +126,12 @@ fn parse(query: &str) -> Result<View, String> {
         }
     };
     let side = |name: &str| within(name, 16.0, MAX_SIDE).map(|x| x.round() as usize);
+    let (width, height) = (side("w")?, side("h")?);
+    if width * height > MAX_PIXELS {
+        return Err(format!(
+            "{width} × {height} pixels: expected at most {MAX_PIXELS}"
+        ));
+    }
     let orbit = Orbit {
         target: [value("tx")?, value("ty")?, value("tz")?],
         azimuth: value("az")?,
@@ -126,8 +141,8 @@ fn parse(query: &str) -> Result<View, String> {
         shift: [within("sx", -1.0, 1.0)?, within("sy", -1.0, 1.0)?],
     };
     Ok(View {
-        width: side("w")?,
-        height: side("h")?,
+        width,
+        height,
         orbit,
         springs: within("springs", 0.0, 1.0)? > 0.5,
         offset: value("ox").unwrap_or(0.0),
@@ -152,6 +167,8 @@ mod tests {
         assert!(missing.contains("h"), "{missing}");
         let huge = parse(&QUERY.replace("w=320", "w=99999")).unwrap_err();
         assert!(huge.contains("w=99999"), "{huge}");
+        let many = parse(&QUERY.replace("w=320&h=200", "w=2000&h=2000")).unwrap_err();
+        assert!(many.contains("at most 2000000"), "{many}");
         assert!(parse(&QUERY.replace("d=4", "d=nan")).is_err());
     }
 }

@@ -248,6 +248,7 @@ fn shared_state(scene: &Scene, backend: Backend, cancel: Arc<AtomicBool>) -> Sha
         cancel,
         busy: Mutex::new(None),
         queued: AtomicUsize::new(0),
+        drawing: Mutex::new(()),
     }
 }
 

@@ -72,6 +72,8 @@ pub struct Shared {
     pub busy: Mutex<Option<Busy>>,
     /// Commands sent to the simulation thread and not yet taken.
     pub queued: AtomicUsize,
+    /// Held while `/api/image` draws (one image at a time).
+    pub drawing: Mutex<()>,
 }
 
 impl Shared {
@@ -196,15 +198,14 @@ impl StepRate {
         let elapsed = self.window_start.elapsed().as_secs_f64();
         if elapsed >= 1.0 {
             self.steps_per_second = f64::from(self.window_steps) / elapsed;
-            self.restart();
+            self.window_start = Instant::now();
+            self.window_steps = 0;
         }
     }
 
-    /// Starts counting afresh (when the animation starts or stops).
+    /// Starts counting afresh, from 0 (when the animation starts or stops).
     pub fn restart(&mut self) {
-        self.window_start = Instant::now();
-        self.window_steps = 0;
-        self.steps_per_second = 0.0;
+        *self = StepRate::new();
     }
 }
 

@@ -823,10 +823,15 @@ function drawImage() {
     .finally(() => { imageView.pending = false; });
 }
 
+/** The most pixels an image is asked for (the server draws at most 2
+ *  million); a larger canvas shows it stretched. */
+const IMAGE_PIXELS = 1.5e6;
+
 /** The query of the image for the current frame and camera. */
 function imageKey() {
+  const shrink = Math.min(1, Math.sqrt(IMAGE_PIXELS / Math.max(1, canvas.width * canvas.height)));
   const parameters = {
-    w: canvas.width, h: canvas.height,
+    w: Math.max(16, Math.floor(canvas.width * shrink)), h: Math.max(16, Math.floor(canvas.height * shrink)),
     tx: camera.target[0], ty: camera.target[1], tz: camera.target[2],
     az: camera.azimuth, el: camera.elevation, d: camera.distance, fov: camera.fovY,
     sx: camera.shift[0], sy: camera.shift[1],
