@@ -147,6 +147,12 @@ test('a change of k with the slider refactors Q, and the overlay shows how long 
     slider.dispatchEvent(new Event('change'));
   });
   await waitForStatus((s) => s.iterations === 20, '20 iterations');
+  await page.evaluate(() => {
+    const slider = document.getElementById('iterations');
+    slider.value = '50'; // the assignment's again
+    slider.dispatchEvent(new Event('change'));
+  });
+  await waitForStatus((s) => s.iterations === 50 && s.solver === 'assignment', 'the assignment again');
 });
 
 test('the method picker and the convergence plot', async () => {
