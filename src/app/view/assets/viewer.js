@@ -1355,7 +1355,7 @@ function syncControls() {
   const compare = !s.compare ? '' : s.compare.solver === 'textbook' ? `textbook:${s.compare.backend}`
     : (s.compare.solver || '');
   syncPicker(controls.compare, compare);
-  controls.layout.disabled = !s.compare;
+  controls.layout.disabled = !s.compare || fallback; // the server's images draw it beside
   syncRules(s);
   for (const name of Object.keys(SLIDERS)) {
     const input = document.getElementById(name);
