@@ -47,7 +47,7 @@ fn fast_step<B: LinearAlgebra>(
         u_prev,
         u_cur,
     };
-    solve_step(system, &mut workspace, &control, state, u_next, None)
+    solve_step(system, &mut workspace, &control, state, u_next, None, None)
 }
 
 proptest! {
@@ -501,4 +501,204 @@ fn the_supernodes_option_reaches_the_simulations_factor() {
     assert_eq!(fundamental.1, 0, "fundamental supernodes store no zeros");
     assert!(small.0 < fundamental.0, "{small:?} against {fundamental:?}");
     assert!(small.1 > 0, "merging stores some zeros");
+}
+
+/// A simulation of a 6 × 6 cloth hanging from two corners, solved as
+/// `options` say, on backend `B`.
+fn hanging_cloth<B: LinearAlgebra>(options: SimulationOptions) -> Simulation<B> {
+    let (v, springs) = cloth(6);
+    let masses = vec![0.05; v.len()];
+    Simulation::<B>::new(&v, &springs, 1e3, &masses, &[0, 5], options).unwrap()
+}
+
+#[test]
+fn the_named_solvers_are_one_rule_and_read_back() {
+    use masssprings::sim::{Accuracy, Pins, Solver, Start};
+    let measured = SimulationOptions {
+        step: StepControl {
+            measure: true,
+            method: StepMethod::Newton,
+            tolerance: Some(1e-3),
+            iterations: 7,
+            ..StepControl::default()
+        },
+        pins: Pins::Exact,
+        wind: true,
+        ..SimulationOptions::default()
+    };
+    assert_eq!(
+        measured.solver(),
+        None,
+        "Newton to a tolerance is no named solver"
+    );
+    for solver in Solver::ALL {
+        let options = measured.solved_by(solver);
+        assert_eq!(options.solver(), Some(solver));
+        assert_eq!(solver.name().parse::<Solver>(), Ok(solver));
+        assert!(options.step.measure && options.wind, "kept: {options:?}");
+        assert_eq!(options.pins, Pins::Penalty);
+        assert!(options.check_textbook().is_ok());
+    }
+    let fast = measured.solved_by(Solver::Accuracy(Accuracy::Assignment));
+    assert_eq!(fast.step.method, StepMethod::Lbfgs);
+    assert!(fast.step.plain_first && !fast.textbook);
+    let budget = SimulationOptions {
+        step: StepControl {
+            iterations: 5,
+            ..fast.step
+        },
+        ..fast
+    };
+    assert_eq!(
+        budget.solver(),
+        fast.solver(),
+        "an accuracy whatever its budget"
+    );
+    let assignment = measured.solved_by(Solver::Assignment);
+    assert_eq!(
+        (assignment.step.iterations, assignment.textbook),
+        (50, false)
+    );
+    let more = |step: StepControl| SimulationOptions { step, ..assignment }.solver();
+    assert_eq!(
+        more(StepControl {
+            iterations: 51,
+            ..assignment.step
+        }),
+        None
+    );
+    assert_eq!(
+        more(StepControl {
+            start: Start::Inertial,
+            ..assignment.step
+        }),
+        None
+    );
+    let textbook = measured.solved_by(Solver::Textbook);
+    let inertial = SimulationOptions {
+        step: StepControl {
+            start: Start::Inertial,
+            ..textbook.step
+        },
+        ..textbook
+    };
+    assert!(
+        inertial.check_textbook().is_err(),
+        "the handout's rules hold"
+    );
+    assert!("newton".parse::<Solver>().is_err());
+}
+
+/// Steps `simulation` once with its cancel flag already set: the step is
+/// refused as cancelled and the state is the one before it.
+fn cancelled_step<B: LinearAlgebra>(simulation: &mut Simulation<B>) {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    simulation.step().unwrap();
+    let (before, previous) = (
+        simulation.positions().to_vec(),
+        simulation.previous_positions().to_vec(),
+    );
+    let flag = Arc::new(AtomicBool::new(true));
+    simulation.set_cancel(Some(Arc::clone(&flag)));
+    assert_eq!(simulation.step(), Err(SimulationError::Cancelled));
+    assert_eq!(simulation.steps(), 1);
+    assert_eq!(simulation.positions(), before.as_slice());
+    assert_eq!(simulation.previous_positions(), previous.as_slice());
+    flag.store(false, Ordering::Relaxed);
+    simulation.step().unwrap();
+    assert_eq!(simulation.steps(), 2, "cleared, the flag stops nothing");
+}
+
+#[test]
+fn a_cancelled_step_leaves_the_state_at_the_last_completed_step() {
+    use masssprings::sim::{Accuracy, Solver};
+    for method in StepMethod::ALL {
+        let step = StepControl {
+            method,
+            ..StepControl::default()
+        };
+        let options = SimulationOptions {
+            step,
+            ..SimulationOptions::default()
+        };
+        cancelled_step(&mut hanging_cloth::<Sparse>(options));
+    }
+    for solver in [Solver::Textbook, Solver::Accuracy(Accuracy::Assignment)] {
+        let options = SimulationOptions::default().solved_by(solver);
+        cancelled_step(&mut hanging_cloth::<Sparse>(options));
+        cancelled_step(&mut hanging_cloth::<Dense>(options));
+    }
+}
+
+#[test]
+fn a_long_step_stops_between_iterations_when_cancelled_from_another_thread() {
+    use masssprings::sim::Solver;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    use std::time::{Duration, Instant};
+    let long = |options: SimulationOptions| SimulationOptions {
+        step: StepControl {
+            iterations: 100_000_000, // hours
+            ..options.step
+        },
+        ..options
+    };
+    let fast = long(SimulationOptions::default());
+    let textbook = long(SimulationOptions::default().solved_by(Solver::Textbook));
+    for options in [fast, textbook] {
+        let mut simulation = hanging_cloth::<Sparse>(options);
+        let flag = Arc::new(AtomicBool::new(false));
+        simulation.set_cancel(Some(Arc::clone(&flag)));
+        let started = Instant::now();
+        let result = std::thread::scope(|scope| {
+            scope.spawn(|| {
+                std::thread::sleep(Duration::from_millis(100));
+                flag.store(true, Ordering::Relaxed);
+            });
+            simulation.step()
+        });
+        assert_eq!(result, Err(SimulationError::Cancelled));
+        assert!(
+            started.elapsed() < Duration::from_secs(10),
+            "{:?}",
+            started.elapsed()
+        );
+        assert_eq!(simulation.steps(), 0);
+        assert_eq!(simulation.positions(), cloth(6).0.as_slice());
+    }
+}
+
+#[test]
+fn the_mechanical_energy_is_kinetic_plus_spring_plus_gravity_and_zero_at_rest() {
+    let vertices = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
+    let (k, masses) = (500.0, [1.0, 2.0]);
+    let mut sim = Simulation::<Sparse>::new(
+        &vertices,
+        &[[0, 1]],
+        k,
+        &masses,
+        &[0],
+        SimulationOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(sim.mechanical_energy(), 0.0);
+    for _ in 0..3 {
+        sim.step().unwrap();
+    }
+    sim.set_parameters(k, DELTA_T, 3.0).unwrap(); // masses × 3
+    let (now, before) = (sim.positions(), sim.previous_positions());
+    let mut expected = 0.0;
+    for i in 0..2 {
+        let v = sub(now[i], before[i]);
+        expected += 0.5 * 3.0 * masses[i] * dot(v, v) / (DELTA_T * DELTA_T);
+        expected += 9.8 * (now[i][1] - vertices[i][1]);
+    }
+    let stretch = norm(sub(now[1], now[0])) - 1.0;
+    expected += 0.5 * k * stretch * stretch;
+    let energy = sim.mechanical_energy();
+    assert!(
+        (energy - expected).abs() <= 1e-12 * expected.abs().max(1.0),
+        "{energy} {expected}"
+    );
 }

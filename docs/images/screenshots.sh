@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# Redraws the viewer's two screenshots (viewer.png, viewer-skirt.png) of
-# docs/viewer.md: the browser test drives the viewer in headless Chromium
-# and copies its screenshots here. Installs Chromium and its npm package
+# Redraws the viewer's four screenshots of docs/viewer.md (viewer.png,
+# viewer-skirt.png, viewer-compare.png: the assignment beside converged
+# steps, viewer-without-webgl.png: the page drawn by the crate's renderer):
+# the browser tests drive the viewer in headless Chromium and copy their
+# screenshots here. Installs Chromium and its npm package
 # when they are missing (see tests/browser/run.sh).
 #
 #     bash docs/images/screenshots.sh

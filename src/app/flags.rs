@@ -18,8 +18,8 @@ use masssprings::linalg::sparse::{Method, Ordering, SupernodeMerging};
 use masssprings::sim::control::{
     is_open_fraction, is_plain_multiple, Accuracy, Pins, Start, AT_LEAST_PLAIN_LIMITS, MAX_WINDOW,
 };
-use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::{StepControl, StepMethod};
+use masssprings::sim::simulation::{SimulationOptions, Solver};
+use masssprings::sim::StepMethod;
 use std::path::PathBuf;
 use std::str::FromStr;
 
@@ -71,7 +71,7 @@ pub struct StepMethodFlags {
     #[arg(long, value_name = "M", value_parser = choice::<StepMethod>(&StepMethod::ALL.map(StepMethod::name)), conflicts_with = "accuracy")]
     pub method: Option<StepMethod>,
     /// Run the handout's precomputation and step as written (sim/textbook.rs): plain iterations, penalty pins, the simplicial factor; dense with --dense.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "accuracy")]
     pub textbook: bool,
 }
 
@@ -142,29 +142,32 @@ pub struct OrderingFlag {
 }
 
 impl Solve {
-    /// Sets `options` from the flags that were given.
+    /// Sets `options` from the flags that were given: `--textbook` first
+    /// (the solver, by `SimulationOptions::solved_by`, the one rule the
+    /// viewer's solve picker uses too), then the rules and the method on
+    /// top (a textbook run refuses those that are not the handout's).
     pub fn apply(&self, options: &mut SimulationOptions) {
+        if self.method.textbook {
+            *options = options.solved_by(Solver::Textbook);
+        }
         self.rules.apply(options);
         options.step.iterations = self.iterations.unwrap_or(options.step.iterations);
         if let Some(method) = self.method.method {
             options.step.method = method;
         }
-        options.textbook = self.method.textbook;
     }
 }
 
 impl StepRules {
     /// Sets `options` from the flags that were given: `--accuracy` first
-    /// (its method, rules and budget), then each flag given on top (the
-    /// budget, `--iterations`, is set after this by the command).
+    /// (its solver, by `SimulationOptions::solved_by`: its method, rules
+    /// and budget), then each flag given on top (the budget,
+    /// `--iterations`, is set after this by the command).
     pub fn apply(&self, options: &mut SimulationOptions) {
-        let step = &mut options.step;
         if let Some(accuracy) = self.accuracy {
-            *step = StepControl {
-                measure: step.measure,
-                ..StepControl::for_accuracy(accuracy)
-            };
+            *options = options.solved_by(Solver::Accuracy(accuracy));
         }
+        let step = &mut options.step;
         step.tolerance = self.tolerance.or(step.tolerance);
         step.energy_tolerance = self.energy_tolerance.or(step.energy_tolerance);
         step.at_least_plain = self.at_least_plain.or(step.at_least_plain);

@@ -221,7 +221,7 @@ fn draw_frames(
     frames: &[Vec<[f64; 3]>],
 ) -> (Vec<RgbImage>, Vec<f64>) {
     let size = (request.width, request.height);
-    let mut renderer = FrameRenderer::new(scene, texture, camera, size, request.springs);
+    let mut renderer = FrameRenderer::new(scene, texture.as_ref(), camera, size, request.springs);
     let mut images = Vec::with_capacity(frames.len());
     let mut frame_times = Vec::with_capacity(frames.len());
     for positions in frames {

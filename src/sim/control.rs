@@ -355,6 +355,46 @@ pub enum Stop {
     /// The line search found no lower energy: the iterate is as good as
     /// rounding lets this method make it.
     Stalled,
+    /// Someone asked the step to stop (the viewer's stop button) before it
+    /// was done: the step is thrown away
+    /// ([`SimulationError::Cancelled`](super::SimulationError::Cancelled)).
+    Cancelled,
+}
+
+/// The names of the reasons a step stops, as the command line and its
+/// output say them (the words of the flags behind the rules: `tolerance`,
+/// `energy-tolerance`, `at-least-plain`, the budget `iterations`), never
+/// Rust's names of the variants.
+impl Stop {
+    /// Every reason, in the order of the enum.
+    pub const ALL: [Stop; 6] = [
+        Stop::Iterations,
+        Stop::Tolerance,
+        Stop::EnergyTolerance,
+        Stop::AtLeastPlain,
+        Stop::Stalled,
+        Stop::Cancelled,
+    ];
+
+    /// The name in the output: the word of the flag whose rule stopped
+    /// the step (`Iterations`: the budget, `--iterations`), or `stalled`, or
+    /// `cancelled`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stop::Iterations => "iterations",
+            Stop::Tolerance => "tolerance",
+            Stop::EnergyTolerance => "energy-tolerance",
+            Stop::AtLeastPlain => "at-least-plain",
+            Stop::Stalled => "stalled",
+            Stop::Cancelled => "cancelled",
+        }
+    }
+}
+
+impl std::fmt::Display for Stop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
 }
 
 /// What a method reports: iterations run, why it stopped, and the energy

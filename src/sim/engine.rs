@@ -19,6 +19,8 @@ use super::precomputation::MassSpringSystem;
 use super::step::{solve_step, StepReport, StepState, StepWorkspace};
 use super::textbook::{self, Precomputation};
 use crate::linalg::sparse::Ordering;
+use std::sync::atomic::{AtomicBool, Ordering as MemoryOrder};
+use std::sync::Arc;
 
 /// The network a simulation is made from.
 #[derive(Debug, Clone, Copy)]
@@ -107,23 +109,26 @@ impl<B: LinearAlgebra> Engine<B> {
     }
 
     /// One step from `state` into `u_next`, solved as `control` says (the
-    /// handout's functions take only its iteration count).
+    /// handout's functions take only its iteration count), stopped between
+    /// two iterations once `cancel` is set.
     ///
     /// # Errors
-    /// As [`solve_step`]; [`SimulationError::NotFinite`] on the textbook
-    /// path too.
+    /// As [`solve_step`]; [`SimulationError::NotFinite`] and
+    /// [`SimulationError::Cancelled`] on the textbook path too.
     pub fn step(
         &mut self,
         control: &StepControl,
         state: StepState<'_>,
         u_next: &mut [[f64; 3]],
         observer: Option<Observer<'_>>,
+        cancel: Option<&Arc<AtomicBool>>,
     ) -> Result<StepReport, SimulationError> {
         match self {
             Engine::Fast { system, workspace } => {
-                solve_step(system, workspace, control, state, u_next, observer)
+                let cancel = cancel.map(|flag| &**flag);
+                solve_step(system, workspace, control, state, u_next, observer, cancel)
             }
-            Engine::Textbook { handout, .. } => handout.step(state, u_next),
+            Engine::Textbook { handout, .. } => handout.step(state, u_next, cancel),
         }
     }
 
@@ -264,11 +269,13 @@ impl Handout {
         }
     }
 
-    /// One step of the handout's `fast_mass_springs_step_*`.
+    /// One step of the handout's `fast_mass_springs_step_*`, which looks at
+    /// `cancel` between its iterations (`Precomputation::stop`).
     fn step(
-        &self,
+        &mut self,
         state: StepState<'_>,
         u_next: &mut [[f64; 3]],
+        cancel: Option<&Arc<AtomicBool>>,
     ) -> Result<StepReport, SimulationError> {
         let StepState {
             f_ext,
@@ -277,14 +284,19 @@ impl Handout {
         } = state;
         let iterations = match self {
             Handout::Sparse(pre) => {
+                pre.stop = cancel.cloned();
                 textbook::fast_mass_springs_step_sparse(pre, f_ext, u_prev, u_cur, u_next);
                 pre.iterations
             }
             Handout::Dense(pre) => {
+                pre.stop = cancel.cloned();
                 textbook::fast_mass_springs_step_dense(pre, f_ext, u_prev, u_cur, u_next);
                 pre.iterations
             }
         };
+        if cancel.is_some_and(|flag| flag.load(MemoryOrder::Relaxed)) {
+            return Err(SimulationError::Cancelled); // u_next is not a step's end
+        }
         if let Some(vertex) = u_next.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
             return Err(SimulationError::NotFinite { vertex });
         }

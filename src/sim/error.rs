@@ -18,6 +18,10 @@ pub enum SimulationError {
     /// A step's energy or gradient overflowed (positions beyond what
     /// `f64` can square).
     EnergyNotFinite,
+    /// The step was asked to stop between two iterations
+    /// ([`Simulation::set_cancel`](super::Simulation::set_cancel)); the state
+    /// is left at the last completed step.
+    Cancelled,
 }
 
 impl fmt::Display for SimulationError {
@@ -33,6 +37,10 @@ impl fmt::Display for SimulationError {
             SimulationError::EnergyNotFinite => write!(
                 f,
                 "the step's energy or gradient is not finite (positions too large to square in f64); the simulation stopped"
+            ),
+            SimulationError::Cancelled => write!(
+                f,
+                "the step was cancelled before it was done; the simulation stays at its last completed step"
             ),
         }
     }

@@ -23,6 +23,7 @@ use super::backend::LinearAlgebra;
 use super::control::{StepControl, Stop};
 use super::energy::{free_norm, StepEnergy};
 use super::global_step::StepContext;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The state after one iteration, shown to an observer.
 pub struct Iterate<'a> {
@@ -78,6 +79,9 @@ pub struct Monitor<'a, 'o> {
     /// Room for a gradient, when the method did not compute one.
     gradient: &'a mut [[f64; 3]],
     observer: Option<Observer<'o>>,
+    /// Set by someone else to stop the step at the next iterate
+    /// ([`Monitor::cancel_on`]).
+    cancel: Option<&'a AtomicBool>,
     /// The relative gradient at the last iterate recorded, when known.
     pub relative_gradient: Option<f64>,
 }
@@ -100,15 +104,23 @@ impl<'a, 'o> Monitor<'a, 'o> {
             initial_gradient,
             gradient,
             observer,
+            cancel: None,
             relative_gradient: None,
         }
     }
 
+    /// From now on, [`Monitor::after`] says [`Stop::Cancelled`] at the
+    /// first iterate after `flag` is set (one relaxed load per iteration).
+    pub fn cancel_on(&mut self, flag: Option<&'a AtomicBool>) {
+        self.cancel = flag;
+    }
+
     /// The room for a gradient when nothing will need it before the step
-    /// ends (no tolerance, no observer), as scratch for the iterations.
+    /// ends (no tolerance, no observer), as scratch for iterations that do
+    /// not consult the monitor (so not when the step may be cancelled).
     pub fn unused_room(&mut self) -> Option<&mut [[f64; 3]]> {
-        match (self.tests_iterates(), &self.observer) {
-            (false, None) => Some(&mut *self.gradient),
+        match (self.tests_iterates(), &self.observer, self.cancel) {
+            (false, None, None) => Some(&mut *self.gradient),
             _ => None,
         }
     }
@@ -221,13 +233,8 @@ impl<'a, 'o> Monitor<'a, 'o> {
         gradient: Gradient<'_>,
         energy: Option<f64>,
     ) -> Option<Stop> {
-        if let Some(observer) = self.observer.as_mut() {
-            observer(&Iterate {
-                iteration,
-                positions: p,
-                energy: &context.energy,
-                pinned: context.pinned,
-            });
+        if self.show(iteration, context, p) {
+            return Some(Stop::Cancelled);
         }
         self.relative_gradient = None;
         let StepControl {
@@ -271,6 +278,25 @@ impl<'a, 'o> Monitor<'a, 'o> {
         let relative = relative_gradient(norm, self.initial_gradient?);
         self.relative_gradient = Some(relative);
         (relative <= tolerance).then_some(Stop::Tolerance)
+    }
+
+    /// Shows iterate `iteration` at `p` to the observer, if any; true when
+    /// the step was cancelled ([`Monitor::cancel_on`]).
+    fn show<B: LinearAlgebra>(
+        &mut self,
+        iteration: usize,
+        context: &StepContext<'_, B>,
+        p: &[[f64; 3]],
+    ) -> bool {
+        if let Some(observer) = self.observer.as_mut() {
+            observer(&Iterate {
+                iteration,
+                positions: p,
+                energy: &context.energy,
+                pinned: context.pinned,
+            });
+        }
+        self.cancel.is_some_and(|flag| flag.load(Ordering::Relaxed))
     }
 
     /// Has the step converged ([`Monitor::stop_when_converged`]) at
@@ -336,41 +362,6 @@ fn relative_gradient(norm: f64, initial: f64) -> f64 {
         norm / initial
     } else {
         norm
-    }
-}
-
-/// The names of the reasons a step stops, as the command line and its
-/// output say them (the words of the flags behind the rules: `tolerance`,
-/// `energy-tolerance`, `at-least-plain`, the budget `iterations`), never
-/// Rust's names of the variants. [`Stop`] is declared with the rest of a
-/// step's vocabulary in `control.rs`; its names are given here, beside the
-/// rules that produce it.
-impl Stop {
-    /// Every reason, in the order of the enum.
-    pub const ALL: [Stop; 5] = [
-        Stop::Iterations,
-        Stop::Tolerance,
-        Stop::EnergyTolerance,
-        Stop::AtLeastPlain,
-        Stop::Stalled,
-    ];
-
-    /// The name in the output: the word of the flag whose rule stopped
-    /// the step (`Iterations`: the budget, `--iterations`), or `stalled`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Stop::Iterations => "iterations",
-            Stop::Tolerance => "tolerance",
-            Stop::EnergyTolerance => "energy-tolerance",
-            Stop::AtLeastPlain => "at-least-plain",
-            Stop::Stalled => "stalled",
-        }
-    }
-}
-
-impl std::fmt::Display for Stop {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
     }
 }
 
@@ -518,7 +509,8 @@ mod tests {
                 "tolerance",
                 "energy-tolerance",
                 "at-least-plain",
-                "stalled"
+                "stalled",
+                "cancelled"
             ]
         );
         assert_eq!(Stop::EnergyTolerance.to_string(), "energy-tolerance");

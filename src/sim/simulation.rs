@@ -8,15 +8,19 @@
 //! copied, and no step of the fast path allocates.
 
 use super::backend::{LinearAlgebra, SparseFactorization};
-use super::control::{Pins, Start, StepControl, StepMethod};
+use super::control::{Accuracy, Pins, Start, StepControl, StepMethod};
 use super::engine::{Engine, Network};
 use super::error::SimulationError;
-use super::forces::{bounding_box_diagonal, external_forces};
+use super::forces::{bounding_box_diagonal, external_forces, GRAVITY};
 use super::monitor::Observer;
 use super::precomputation::{MassSpringSystem, DELTA_T};
 use super::step::{StepReport, StepState};
 use crate::linalg::sparse::{Method, Ordering, SupernodeMerging};
 use crate::mesh::Scene;
+use std::fmt;
+use std::str::FromStr;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 
 /// How a simulation runs.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -63,6 +67,109 @@ impl SimulationOptions {
             ));
         }
         Ok(())
+    }
+}
+
+/// The ways of solving a step this crate is about, by name: what the
+/// command line's `--textbook` and `--accuracy` select and the viewer's
+/// "solve" picker offers. [`SimulationOptions::solved_by`] is the one rule
+/// that turns a name into options, [`SimulationOptions::solver`] the way
+/// back.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Solver {
+    /// The assignment's step on the fast path: 50 plain local/global
+    /// iterations from `pᵗ`, penalty pins.
+    Assignment,
+    /// The same step by the handout's functions as written
+    /// ([`textbook`](super::textbook)), dense or sparse as the backend is.
+    Textbook,
+    /// Every step solved to a named accuracy, as fast as the crate knows
+    /// how ([`StepControl::for_accuracy`]).
+    Accuracy(Accuracy),
+}
+
+impl Solver {
+    /// Every solver, in the order the docs present them.
+    pub const ALL: [Solver; 3] = [
+        Solver::Assignment,
+        Solver::Textbook,
+        Solver::Accuracy(Accuracy::Assignment),
+    ];
+
+    /// Its name (the viewer's; the command line says `--textbook` and
+    /// `--accuracy assignment`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Solver::Assignment => "assignment",
+            Solver::Textbook => "textbook",
+            Solver::Accuracy(Accuracy::Assignment) => "accuracy-assignment",
+        }
+    }
+}
+
+impl fmt::Display for Solver {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Solver {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, String> {
+        Solver::ALL
+            .into_iter()
+            .find(|solver| solver.name() == text)
+            .ok_or_else(|| {
+                format!(
+                    "unknown solver '{text}' (expected assignment, textbook or accuracy-assignment)"
+                )
+            })
+    }
+}
+
+impl SimulationOptions {
+    /// These options solved by `solver`: its method, budget and rules
+    /// (nothing else of the step's: Chebyshev's and the history's settings
+    /// go back to their defaults), the handout's code or the fast path, and
+    /// the assignment's penalty pins; the time step, wind, backend settings
+    /// and [`StepControl::measure`] stay. What `--textbook` and `--accuracy`
+    /// do before the other flags are applied on top.
+    pub fn solved_by(self, solver: Solver) -> SimulationOptions {
+        let step = match solver {
+            Solver::Accuracy(accuracy) => StepControl::for_accuracy(accuracy),
+            Solver::Assignment | Solver::Textbook => StepControl::default(),
+        };
+        SimulationOptions {
+            step: StepControl {
+                measure: self.step.measure,
+                ..step
+            },
+            textbook: solver == Solver::Textbook,
+            pins: Pins::Penalty,
+            ..self
+        }
+    }
+
+    /// The solver these options are, if any: the handout's code (whatever
+    /// its iteration count), an accuracy's method and rules (whatever its
+    /// budget: [`Accuracy::of`]), or the assignment's 50 plain iterations;
+    /// `None` for anything else (another method, a stopping rule, exact
+    /// pins, another start or count).
+    pub fn solver(&self) -> Option<Solver> {
+        if self.textbook {
+            return Some(Solver::Textbook);
+        }
+        if self.pins != Pins::Penalty {
+            return None;
+        }
+        if let Some(accuracy) = Accuracy::of(&self.step) {
+            return Some(Solver::Accuracy(accuracy));
+        }
+        let assignment = SimulationOptions::default().solved_by(Solver::Assignment);
+        let rules = |c: &StepControl| (c.method, c.start, c.iterations, c.plain_first);
+        let no_rule = !self.step.has_stopping_rule();
+        (no_rule && rules(&self.step) == rules(&assignment.step)).then_some(Solver::Assignment)
     }
 }
 
@@ -128,6 +235,9 @@ pub struct Simulation<B: LinearAlgebra> {
     masses: Vec<f64>,
     /// The factor the scene's masses are multiplied by.
     mass_scale: f64,
+    /// Once set, the step in progress stops between two iterations
+    /// ([`Simulation::set_cancel`]).
+    cancel: Option<Arc<AtomicBool>>,
 }
 
 impl<B: LinearAlgebra> Simulation<B> {
@@ -169,6 +279,7 @@ impl<B: LinearAlgebra> Simulation<B> {
             dragged: None,
             masses: masses.to_vec(),
             mass_scale: 1.0,
+            cancel: None,
         })
     }
 
@@ -224,9 +335,10 @@ impl<B: LinearAlgebra> Simulation<B> {
             u_prev: &self.u_prev,
             u_cur: &self.u_cur,
         };
+        let cancel = self.cancel.as_ref();
         let report = self
             .engine
-            .step(control, state, &mut self.u_next, observer)?;
+            .step(control, state, &mut self.u_next, observer, cancel)?;
         std::mem::swap(&mut self.u_prev, &mut self.u_cur); // U_prev ← U_cur
         std::mem::swap(&mut self.u_cur, &mut self.u_next); // U_cur ← U
         self.steps += 1;
@@ -305,6 +417,52 @@ impl<B: LinearAlgebra> Simulation<B> {
         items
     }
 
+    /// Lets another thread stop a step in progress: once `flag` is set, the
+    /// step stops between two iterations and returns
+    /// [`SimulationError::Cancelled`], the state left at the last completed
+    /// step (the caller clears the flag for the next). Costs one relaxed
+    /// load per iteration; `plain` then forgoes its loop in the factor's
+    /// order, which does not look between iterations (the same bits, a few
+    /// per cent slower). `None` (the default): steps cannot be cancelled.
+    pub fn set_cancel(&mut self, flag: Option<Arc<AtomicBool>>) {
+        self.cancel = flag;
+    }
+
+    /// The mechanical energy of the state: the kinetic
+    /// `½ Σ mᵢ ‖(U_cur − U_prev)ᵢ / Δt‖²`, the springs'
+    /// `½ k Σ (‖pᵢ − pⱼ‖ − rᵢⱼ)²` and gravity's `−Σ g·(pᵢ − Vᵢ)` (a force
+    /// per vertex, [`GRAVITY`]); zero at rest. The pins' penalty and the
+    /// wind are left out. Implicit Euler loses some of it every step, even
+    /// solved exactly; a step solved less far loses more. `O(n + m)`.
+    pub fn mechanical_energy(&self) -> f64 {
+        let dt = self.options.delta_t;
+        let mut energy = 0.0;
+        for (((now, before), rest), &m) in self
+            .u_cur
+            .iter()
+            .zip(&self.u_prev)
+            .zip(&self.rest)
+            .zip(&self.masses)
+        {
+            let v: [f64; 3] = std::array::from_fn(|c| (now[c] - before[c]) / dt);
+            let lowered: f64 = (0..3).map(|c| GRAVITY[c] * (now[c] - rest[c])).sum();
+            energy +=
+                0.5 * m * self.mass_scale * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) - lowered;
+        }
+        let length = |p: &[[f64; 3]], [i, j]: [usize; 2]| {
+            (0..3)
+                .map(|c| (p[i][c] - p[j][c]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        };
+        let k = self.k();
+        for &spring in self.engine.springs() {
+            let stretch = length(&self.u_cur, spring) - length(&self.rest, spring);
+            energy += 0.5 * k * stretch * stretch;
+        }
+        energy
+    }
+
     /// Is the wind blowing?
     pub fn wind(&self) -> bool {
         self.options.wind
@@ -349,6 +507,24 @@ impl<B: LinearAlgebra> Simulation<B> {
     pub fn set_iterations(&mut self, iterations: usize) {
         self.options.step.iterations = iterations;
         self.engine.set_iterations(iterations);
+    }
+
+    /// Solves later steps as `step` says: method, budget, rules and start
+    /// at once (nothing to refactor: every method uses the same `Q`).
+    ///
+    /// # Errors
+    /// [`SimulationError::InvalidInput`] (as
+    /// [`SimulationOptions::check_textbook`]) when the simulation runs the
+    /// handout's code and `step` is not its step; nothing changes then.
+    pub fn set_step(&mut self, step: StepControl) -> Result<(), SimulationError> {
+        let wanted = SimulationOptions {
+            step,
+            ..self.options
+        };
+        wanted.check_textbook()?;
+        self.options.step = step;
+        self.engine.set_iterations(step.iterations);
+        Ok(())
     }
 
     /// Solves later steps by `method`, with `tolerance` (nothing to

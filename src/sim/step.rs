@@ -37,6 +37,7 @@ use super::global_step::{GlobalStep, StepContext};
 use super::methods::{self, MethodWorkspaces, Problem};
 use super::monitor::{Gradient, Monitor, Observer};
 use super::precomputation::{mass_mul_points, MassSpringSystem};
+use std::sync::atomic::AtomicBool;
 
 /// What a step did.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -127,13 +128,15 @@ impl StepWorkspace {
 
 /// Computes `u_next` from the state under its forces, by the method and
 /// stopping rule of `control`; `observer`, if any, sees every iterate
-/// (iteration 0 is the first iterate).
+/// (iteration 0 is the first iterate); `cancel`, if any, stops the step at
+/// the first iterate after it is set.
 ///
 /// # Errors
 /// [`SimulationError::NotFinite`] when the new positions hold NaN or
 /// infinity, [`SimulationError::EnergyNotFinite`] when the energy or
 /// gradient there does (reported, not propagated: `u_next` is then not a
-/// state to continue from); an error of Newton's first factorization.
+/// state to continue from); [`SimulationError::Cancelled`] when `cancel`
+/// stopped it; an error of Newton's first factorization.
 ///
 /// # Panics
 /// When a slice does not have one row per vertex.
@@ -144,6 +147,7 @@ pub fn solve_step<B: LinearAlgebra>(
     state: StepState<'_>,
     u_next: &mut [[f64; 3]],
     observer: Option<Observer<'_>>,
+    cancel: Option<&AtomicBool>,
 ) -> Result<StepReport, SimulationError> {
     begin(system, workspace, control, state)?; // the method's arrays, y, l⁰
     u_next.copy_from_slice(state.u_cur);
@@ -167,6 +171,7 @@ pub fn solve_step<B: LinearAlgebra>(
     let mut context = step_context(system, parts, b);
     let first = first_iterate(&mut context, control.start, measure, u_next, gradient);
     let mut monitor = Monitor::new(control, first.initial_gradient, gradient, observer);
+    monitor.cancel_on(cancel);
     let start = if first.measured {
         Gradient::InRoom
     } else {
@@ -174,6 +179,9 @@ pub fn solve_step<B: LinearAlgebra>(
     };
     monitor.after(0, &context, u_next, start, Some(first.energy));
     let outcome = methods::solve(workspaces, &mut context, control, u_next, &mut monitor);
+    if outcome.stop == Stop::Cancelled {
+        return Err(SimulationError::Cancelled);
+    }
     if let Some(vertex) = u_next.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
         return Err(SimulationError::NotFinite { vertex });
     }

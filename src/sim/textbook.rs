@@ -56,6 +56,8 @@ use crate::linalg::sparse::triangular_solve::{
     back_substitution_sparse, forward_substitution_sparse,
 };
 use crate::linalg::sparse::{Method, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering as MemoryOrder};
+use std::sync::Arc;
 
 /// The handout's precomputation: its inputs the step reads again, and its
 /// outputs `r`, `M`, `A`, `C` and the factorization of `Q`.
@@ -88,6 +90,10 @@ pub struct Precomputation<B: LinearAlgebra> {
     pub prefactorization: B::Factorization,
     /// Local/global iterations per step: the handout's 50.
     pub iterations: usize,
+    /// Not the handout's: once this flag is set, a step stops before its
+    /// next iteration and leaves `U_next` as it was (the viewer's stop
+    /// button; `None` everywhere else).
+    pub stop: Option<Arc<AtomicBool>>,
 }
 
 /// The handout's `fast_mass_springs_precomputation_sparse`: `Q` ordered
@@ -179,7 +185,15 @@ fn precomputation<B: LinearAlgebra>(
         Q,
         prefactorization,
         iterations: ITERATIONS,
+        stop: None,
     })
+}
+
+/// Has someone asked the step in progress to stop (`Precomputation::stop`)?
+fn stop_requested<B: LinearAlgebra>(pre: &Precomputation<B>) -> bool {
+    pre.stop
+        .as_ref()
+        .is_some_and(|flag| flag.load(MemoryOrder::Relaxed))
 }
 
 const SIZES: &str = "the precomputation fixed every size";
@@ -203,6 +217,9 @@ pub fn fast_mass_springs_step_sparse(
     let (mut d, mut b) = (vec![[0.0; 3]; pre.springs.len()], vec![[0.0; 3]; n]);
     let (mut p, mut x) = (U_cur.to_vec(), vec![[0.0; 3]; n]);
     for _ in 0..pre.iterations {
+        if stop_requested(pre) {
+            return; // not the handout's: the viewer's stop button
+        }
         project_springs(&pre.springs, &pre.r, &p, &mut d); // local step
         right_hand_side(pre, &d, &y, &pins, &mut b); // b = k Aᵀd + y + w CᵀC V
         solve_sparse(pre, &b, &mut x, &mut p); // p = back_substitution(Lᵀ, forward_substitution(L, b))
@@ -258,6 +275,9 @@ pub fn fast_mass_springs_step_dense(
     let (mut d, mut b) = (vec![[0.0; 3]; pre.springs.len()], vec![[0.0; 3]; n]);
     let (mut p, mut column) = (U_cur.to_vec(), vec![0.0; n]);
     for _ in 0..pre.iterations {
+        if stop_requested(pre) {
+            return; // not the handout's: the viewer's stop button
+        }
         project_springs(&pre.springs, &pre.r, &p, &mut d); // local step
         right_hand_side(pre, &d, &y, &pins, &mut b); // b = k Aᵀd + y + w CᵀC V
         for c in 0..3 {

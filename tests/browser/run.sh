@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# The browser test of `masssprings view` (viewer.test.mjs beside this file):
-# installs what is missing (Debian's chromium, the npm packages pinned by
-# package-lock.json), builds the binary, and runs the test with node's test
-# runner. The screenshots go to target/browser/; with --update-screenshots,
-# the two docs/viewer.md shows are then copied to docs/images/.
+# The browser tests of `masssprings view` (viewer.test.mjs and
+# teaching.test.mjs beside this file, one after the other): installs what is
+# missing (Debian's chromium, the npm packages pinned by package-lock.json),
+# builds the binary, and runs the tests with node's test runner. The
+# screenshots go to target/browser/; with --update-screenshots, the four
+# docs/viewer.md shows are then copied to docs/images/.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
@@ -21,9 +22,11 @@ fi
 
 cd "$here"
 MASSSPRINGS_BIN="$root/target/debug/masssprings" CHROMIUM="$(command -v chromium)" \
-  node --test viewer.test.mjs
+  node --test --test-concurrency=1 viewer.test.mjs teaching.test.mjs
 if [ "${1:-}" = "--update-screenshots" ]; then
   cp "$root/target/browser/viewer.png" "$root/docs/images/viewer.png"
   cp "$root/target/browser/skirt.png" "$root/docs/images/viewer-skirt.png"
-  echo "copied target/browser/{viewer,skirt}.png to docs/images/"
+  cp "$root/target/browser/compare.png" "$root/docs/images/viewer-compare.png"
+  cp "$root/target/browser/without-webgl.png" "$root/docs/images/viewer-without-webgl.png"
+  echo "copied target/browser/{viewer,skirt,compare,without-webgl}.png to docs/images/"
 fi

@@ -48,6 +48,17 @@ pub struct ScreenPoint {
     pub inv_depth: f32,
 }
 
+/// Where an orbit camera is ([`Camera::orbit`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Orbit {
+    pub target: [f64; 3],
+    pub azimuth: f64,
+    pub elevation: f64,
+    pub distance: f64,
+    pub fov_y: f64,
+    pub shift: [f64; 2],
+}
+
 /// A pinhole camera looking at a target, for an image of a given size.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Camera {
@@ -57,8 +68,9 @@ pub struct Camera {
     back: [f64; 3],
     /// `f`: pixels per unit of `x/z`.
     focal: f64,
-    width: f64,
-    height: f64,
+    /// Where the line of sight meets the image: its centre, unless the
+    /// camera's lens is shifted ([`Camera::orbit`]).
+    centre: [f64; 2],
 }
 
 impl Camera {
@@ -104,8 +116,37 @@ impl Camera {
             up,
             back,
             focal: 0.5 * height / tan_y,
-            width,
-            height,
+            centre: [0.5 * width, 0.5 * height],
+        }
+    }
+
+    /// The camera of an orbit around `view.target`, as the viewer's page
+    /// keeps it: from the direction of `azimuth` and `elevation` (radians,
+    /// as in the module header), `distance` away, with the vertical field
+    /// of view `fov_y` (radians), for a `width × height` image whose centre
+    /// of view is moved by `shift` (a fraction of the half width and half
+    /// height, right and up: the page frames the scene in the free part of
+    /// its window).
+    pub fn orbit(view: &Orbit, width: usize, height: usize) -> Camera {
+        let (azimuth, elevation) = (view.azimuth, view.elevation);
+        let back = [
+            elevation.cos() * azimuth.sin(),
+            elevation.sin(),
+            elevation.cos() * azimuth.cos(),
+        ];
+        let right = normalize(cross([0.0, 1.0, 0.0], back));
+        let up = cross(back, right);
+        let (width, height) = (width as f64, height as f64);
+        Camera {
+            eye: std::array::from_fn(|k| view.target[k] + view.distance * back[k]),
+            right,
+            up,
+            back,
+            focal: 0.5 * height / (0.5 * view.fov_y).tan(),
+            centre: [
+                0.5 * width * (1.0 + view.shift[0]),
+                0.5 * height * (1.0 - view.shift[1]),
+            ],
         }
     }
 
@@ -131,8 +172,8 @@ impl Camera {
             -dot(from_eye, self.back),
         );
         ScreenPoint {
-            x: (0.5 * self.width + self.focal * x / z) as f32,
-            y: (0.5 * self.height - self.focal * y / z) as f32,
+            x: (self.centre[0] + self.focal * x / z) as f32,
+            y: (self.centre[1] - self.focal * y / z) as f32,
             inv_depth: (1.0 / z) as f32,
         }
     }

@@ -42,7 +42,7 @@ use masssprings::mesh::Scene;
 /// Draws frames of one scene through one camera, reusing its buffers.
 pub struct FrameRenderer<'a> {
     scene: &'a Scene,
-    texture: Option<Texture>,
+    texture: Option<&'a Texture>,
     camera: Camera,
     canvas: Canvas,
     /// Per vertex: where it lands on the canvas (this frame).
@@ -66,7 +66,7 @@ impl<'a> FrameRenderer<'a> {
     /// `springs` asks for them; the pinned vertices always are.
     pub fn new(
         scene: &'a Scene,
-        texture: Option<Texture>,
+        texture: Option<&'a Texture>,
         camera: Camera,
         (width, height): (usize, usize),
         springs: bool,
@@ -124,7 +124,7 @@ impl<'a> FrameRenderer<'a> {
                         [uv[0] as f32, uv[1] as f32]
                     })
                 });
-                let texture = self.texture.as_ref();
+                let texture = self.texture;
                 let shade = |fragment: &Fragment| -> Rgb {
                     let base = match (texture, uvs) {
                         (Some(texture), Some(uvs)) => {

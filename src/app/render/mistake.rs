@@ -193,17 +193,17 @@ fn draw(
 ) -> Vec<RgbImage> {
     let (width, height) = (picture.size.0 / 2, picture.size.1);
     let camera = frame_both(scene, runs, width, height);
-    let renderer = |texture| {
+    let renderer = || {
         FrameRenderer::new(
             scene,
-            texture,
+            texture.as_ref(),
             camera.clone(),
             (width, height),
             picture.springs,
         )
     };
-    let mut left = renderer(texture.clone());
-    let mut right = renderer(texture);
+    let mut left = renderer();
+    let mut right = renderer();
     let stopped = runs
         .stopped
         .map(|step| format!("not finite from step {step}"));

@@ -3,9 +3,10 @@
 //! | endpoint | answer |
 //! |---|---|
 //! | `GET /api/scene` | JSON [`DisplayMesh`](super::display_mesh::DisplayMesh): triangles, springs, pins, texture coordinates (once per scene: again when `scene_serial` changes) |
-//! | `GET /api/frame[?since=S]` | binary [`Frame`]: the positions; `204` when serial `S` is still the latest |
-//! | `GET /api/status` | JSON [`Status`]: steps, time, toggles, parameters, timings, the last steps' convergence |
-//! | `POST /api/command` | JSON [`Command`] in; the new [`Status`] out (`409` with `{"error"}` when refused) |
+//! | `GET /api/frame[?since=S]` | binary [`Frame`]: the positions (of both simulations when comparing); `204` when serial `S` is still the latest |
+//! | `GET /api/status` | JSON [`Status`]: steps, time, toggles, parameters, timings, the last steps' convergence and energies, the step in progress |
+//! | `GET /api/image?…` | PNG: the frame drawn by the crate's own renderer, for a page without WebGL (`image.rs`) |
+//! | `POST /api/command` | JSON [`Command`] in; the new [`Status`] out (`409` with `{"error"}` when refused; `202` when it waits for the step in progress, after which it is applied) |
 
 use serde::{Deserialize, Serialize};
 use std::collections::VecDeque;
@@ -55,7 +56,9 @@ pub enum Command {
     /// no such rule), held back by `at_least_plain` (see
     /// `--at-least-plain`; `null` or absent: no floor). Nothing is
     /// refactored: every method uses the same `Q`. `start` (`current` or
-    /// `inertial`, see `--start`) is kept when absent.
+    /// `inertial`, see `--start`) is kept when absent; so are the budget,
+    /// the history window and, while the method stays, how it runs
+    /// (L-BFGS's plain iterations first).
     SetMethod {
         method: String,
         tolerance: Option<f64>,
@@ -66,9 +69,53 @@ pub enum Command {
         #[serde(default)]
         start: Option<String>,
     },
+    /// Solve later steps by `solver` (one of [`Status::solvers`]: the
+    /// assignment, the handout's code, the assignment's accuracy fast), as
+    /// the command line's `--textbook` and `--accuracy` do, on `backend`
+    /// (`sparse` or `dense`; absent: the viewer's). The simulation is
+    /// precomputed again and goes on from where it is.
+    SetSolver {
+        solver: String,
+        #[serde(default)]
+        backend: Option<String>,
+    },
+    /// Run a second simulation of the scene beside the first, from where
+    /// the first is, solved by `with` (a solver, or `converged`; `null`:
+    /// stop comparing) on `backend`. Every later command acts on both,
+    /// but the method, the solver and the iterations, which are the
+    /// first's.
+    Compare {
+        with: Option<String>,
+        #[serde(default)]
+        backend: Option<String>,
+    },
+    /// Stop the step in progress between two iterations (the simulation
+    /// stays at its last completed step), and the steps of commands sent
+    /// before this one; pause.
+    Cancel {},
 }
 
 impl Command {
+    /// The command's name, as the page sends it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Command::Step {} => "step",
+            Command::ToggleAnimation {} => "toggle_animation",
+            Command::ToggleSprings {} => "toggle_springs",
+            Command::Reset {} => "reset",
+            Command::ToggleWind {} => "toggle_wind",
+            Command::DragStart { .. } => "drag_start",
+            Command::DragTo { .. } => "drag_to",
+            Command::DragEnd {} => "drag_end",
+            Command::SetParameters { .. } => "set_parameters",
+            Command::LoadScene { .. } => "load_scene",
+            Command::SetMethod { .. } => "set_method",
+            Command::SetSolver { .. } => "set_solver",
+            Command::Compare { .. } => "compare",
+            Command::Cancel {} => "cancel",
+        }
+    }
+
     /// Parses a command from the body of `POST /api/command`: one JSON
     /// object (serde would also take `["step"]`, which the page never sends).
     ///
@@ -126,6 +173,28 @@ pub struct Status {
     /// How each step is solved, and the methods there are.
     pub method: &'static str,
     pub methods: Vec<&'static str>,
+    /// The solver the options are (`assignment`, `textbook`,
+    /// `accuracy-assignment`), or `null` for another method or rules; the
+    /// solvers there are; and which path and functions run a step.
+    pub solver: Option<&'static str>,
+    pub solvers: Vec<&'static str>,
+    pub functions: String,
+    /// Does L-BFGS start each step with plain iterations (as
+    /// `--accuracy assignment` does)?
+    pub plain_first: bool,
+    /// The step or work in progress, and since when (milliseconds): filled
+    /// in when the status is sent, so a page sees it during a long step.
+    pub busy: Option<String>,
+    pub busy_ms: Option<f64>,
+    /// Commands waiting for the simulation thread.
+    pub queued: usize,
+    /// What happened that is not an error: a step cancelled, a command
+    /// that waited for a step and was then refused (with why).
+    pub note: Option<String>,
+    /// The mechanical energy now (`Simulation::mechanical_energy`).
+    pub energy: f64,
+    /// The second simulation, when comparing.
+    pub compare: Option<Compared>,
     /// The relative gradient a step stops at (`None`: every iteration).
     pub tolerance: Option<f64>,
     /// The energy tolerance (`--energy-tolerance`), if any.
@@ -146,6 +215,24 @@ pub struct Status {
     pub history: VecDeque<StepRecord>,
 }
 
+/// The second simulation of a comparison.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Compared {
+    /// Its solver (or `converged`; `null`: another method), backend,
+    /// method and path, as for the first.
+    pub solver: Option<&'static str>,
+    pub backend: &'static str,
+    pub method: &'static str,
+    pub functions: String,
+    /// Moving average of its step's time, milliseconds.
+    pub ms_per_step: f64,
+    pub iterations: usize,
+    /// Its mechanical energy now.
+    pub energy: f64,
+    /// Its last steps, oldest first.
+    pub history: VecDeque<StepRecord>,
+}
+
 /// What one step did, for the convergence plot.
 #[derive(Debug, Clone, Copy, Default, Serialize)]
 pub struct StepRecord {
@@ -162,6 +249,10 @@ pub struct StepRecord {
     /// Did the step stop on the tolerance (rather than on its iteration
     /// budget or a stalled line search)?
     pub converged: bool,
+    /// The mechanical energy after the step.
+    pub energy: f64,
+    /// How long the step took, milliseconds.
+    pub ms: f64,
 }
 
 /// The latest positions, encoded once per step for every client:
@@ -172,6 +263,7 @@ pub struct StepRecord {
 ///         8  u32  steps (saturating)
 ///        12  f32  simulated time, seconds
 ///        16  f32 × 3n  x0 y0 z0 x1 y1 z1 …
+///  16 + 12n  f32 × 3n  the second simulation's, when comparing
 /// ```
 ///
 /// All little-endian. The positions start at a multiple of 4 bytes, so the
@@ -186,10 +278,11 @@ pub struct Frame {
 pub const FRAME_HEADER_BYTES: usize = 16;
 
 impl Frame {
-    /// A frame for `n` vertices, all at the origin, serial 0.
-    pub fn new(n: usize) -> Self {
+    /// A frame for `sets` sets of `n` vertices (2 when comparing), all at
+    /// the origin, serial 0.
+    pub fn new(n: usize, sets: usize) -> Self {
         let mut frame = Frame {
-            bytes: vec![0; FRAME_HEADER_BYTES + 12 * n],
+            bytes: vec![0; FRAME_HEADER_BYTES + 12 * n * sets],
             serial: 0,
         };
         frame.bytes[..4].copy_from_slice(&(n as u32).to_le_bytes());
@@ -200,15 +293,17 @@ impl Frame {
     /// serial on.
     ///
     /// # Panics
-    /// When `positions` is not as long as the frame was made for.
-    pub fn write(&mut self, positions: &[[f64; 3]], steps: usize, time: f64) {
-        assert_eq!(12 * positions.len(), self.bytes.len() - FRAME_HEADER_BYTES);
+    /// When the sets of `positions` are not as long as the frame was
+    /// made for.
+    pub fn write(&mut self, positions: &[&[[f64; 3]]], steps: usize, time: f64) {
+        let values: usize = positions.iter().map(|set| 3 * set.len()).sum();
+        assert_eq!(4 * values, self.bytes.len() - FRAME_HEADER_BYTES);
         self.serial = self.serial.wrapping_add(1);
         let steps = u32::try_from(steps).unwrap_or(u32::MAX);
         self.bytes[4..8].copy_from_slice(&self.serial.to_le_bytes());
         self.bytes[8..12].copy_from_slice(&steps.to_le_bytes());
         self.bytes[12..16].copy_from_slice(&(time as f32).to_le_bytes());
-        let floats = positions.iter().flatten();
+        let floats = positions.iter().flat_map(|set| set.iter().flatten());
         for (slot, &value) in self.bytes[FRAME_HEADER_BYTES..]
             .chunks_exact_mut(4)
             .zip(floats)
@@ -222,9 +317,33 @@ impl Frame {
         self.serial
     }
 
+    /// Sizes the frame for `sets` sets of `n` vertices (all at the
+    /// origin until written), keeping its serial: a page that asks for the
+    /// frame after serial `S` must never be told that `S` is the latest of
+    /// another shape.
+    pub fn reshape(&mut self, n: usize, sets: usize) {
+        let serial = self.serial;
+        *self = Frame::new(n, sets);
+        self.serial = serial;
+    }
+
     /// The encoded frame.
     pub fn bytes(&self) -> &[u8] {
         &self.bytes
+    }
+
+    /// The positions of set `set` (0: the first simulation), as `f64`.
+    pub fn positions(&self, set: usize) -> Option<Vec<[f64; 3]>> {
+        let n = u32::from_le_bytes(self.bytes[..4].try_into().expect("4 bytes")) as usize;
+        let start = FRAME_HEADER_BYTES + 12 * n * set;
+        let floats = self.bytes.get(start..start + 12 * n)?;
+        let float = |at: &[u8]| f64::from(f32::from_le_bytes(at.try_into().expect("4 bytes")));
+        let points = floats.chunks_exact(12);
+        Some(
+            points
+                .map(|p| [float(&p[..4]), float(&p[4..8]), float(&p[8..])])
+                .collect(),
+        )
     }
 }
 
@@ -292,9 +411,34 @@ mod tests {
     }
 
     #[test]
+    fn the_solving_commands_parse_from_the_pages_json() {
+        let parse = |text: &str| Command::from_json(text.as_bytes());
+        assert_eq!(
+            parse(r#"{"command":"set_solver","solver":"textbook","backend":"dense"}"#).unwrap(),
+            Command::SetSolver {
+                solver: "textbook".into(),
+                backend: Some("dense".into())
+            }
+        );
+        assert_eq!(
+            parse(r#"{"command":"compare","with":null}"#).unwrap(),
+            Command::Compare {
+                with: None,
+                backend: None
+            }
+        );
+        assert_eq!(
+            parse(r#"{"command":"cancel"}"#).unwrap(),
+            Command::Cancel {}
+        );
+        assert!(parse(r#"{"command":"cancel","now":true}"#).is_err());
+        assert_eq!(Command::Cancel {}.name(), "cancel");
+    }
+
+    #[test]
     fn a_frame_is_a_header_and_little_endian_floats() {
-        let mut frame = Frame::new(2);
-        frame.write(&[[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]], 7, 0.5);
+        let mut frame = Frame::new(2, 1);
+        frame.write(&[&[[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]]], 7, 0.5);
         let bytes = frame.bytes();
         let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
         let float = |at: usize| f32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
@@ -302,5 +446,10 @@ mod tests {
         let positions: Vec<f32> = (0..6).map(|i| float(16 + 4 * i)).collect();
         assert_eq!(positions, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
         assert_eq!(frame.serial(), 1);
+        assert_eq!(frame.positions(0).unwrap()[1], [4.0, 5.0, 6.0]);
+        assert_eq!(frame.positions(1), None);
+        let mut two = Frame::new(1, 2);
+        two.write(&[&[[1.0, 2.0, 3.0]], &[[4.0, 5.0, 6.0]]], 1, 0.0);
+        assert_eq!(two.positions(1).unwrap(), [[4.0, 5.0, 6.0]]);
     }
 }

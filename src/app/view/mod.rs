@@ -3,44 +3,52 @@
 //!
 //! Threads:
 //!
-//! * the **simulation thread** ([`simulation_thread`]) owns the simulation,
-//!   steps it in real time (Δt = 1/30 s) while animating, applies commands,
-//!   and publishes the positions and the status;
+//! * the **simulation thread** ([`simulation_thread`]) owns the simulation
+//!   (two when comparing solvers, [`solver`]), steps it in real time (Δt =
+//!   1/30 s) while animating ([`stepping`]), applies commands
+//!   ([`commands`]), and publishes the positions and the status
+//!   ([`publish`]);
 //! * the **acceptor** (this file) takes connections and gives each its own
 //!   **connection thread** (at most [`MAX_CONNECTIONS`] at once: when full,
 //!   the connection waiting longest is closed to make room, see [`pool`]),
 //!   which reads requests with [`http`] and answers them with [`routes`];
 //! * the **main thread** waits for Ctrl-C (SIGINT, or SIGTERM), then stops
 //!   the other two and returns, so the program exits with status 0 (within
-//!   [`STOP_GRACE`] even in the middle of a long step, which is dropped).
+//!   [`STOP_GRACE`] even in the middle of a long step, which it cancels).
 //!
 //! The page polls `GET /api/frame` once per animation frame of the browser
-//! and posts key presses and drags to `POST /api/command` ([`api`]).
+//! and posts key presses and drags to `POST /api/command` ([`api`]);
+//! without WebGL it shows `GET /api/image`, the frame drawn by the crate's
+//! own renderer ([`image`]).
 
 mod api;
+mod commands;
 mod display_mesh;
 mod http;
+mod image;
 mod pool;
+mod publish;
 mod routes;
 mod simulation_thread;
+mod solver;
+mod stepping;
 mod watchers;
 
 use super::error::AppError;
 use super::file_plan::load_scene;
 use super::flags::{whole, SimulationFlags};
-use super::limits::precompute;
 use api::{Frame, Status};
 use http::{Connection, Method, ReadError};
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::{Dense, LinearAlgebra, Simulation, Sparse};
 use pool::{Member, Pool};
 use routes::Routes;
-use simulation_thread::{Message, SceneAssets, Shared, SimulationThread, MAX_ITERATIONS};
+use simulation_thread::{Message, SceneAssets, Shared, Shown, SimulationThread, MAX_ITERATIONS};
+use solver::Backend;
 use std::io::Write;
 use std::net::{IpAddr, Ipv4Addr, Ipv6Addr, SocketAddr, TcpListener, TcpStream};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Arc, Mutex};
 use std::thread;
 use std::time::Duration;
@@ -58,11 +66,16 @@ const MAX_SCENES: usize = 32;
 #[command(after_help = "\
 Serves an interactive viewer on http://127.0.0.1:P/ and prints its URL. The
 simulation runs here, starting paused at rest, and steps only while playing
-and a page shows it; the page draws it with WebGL, with buttons, a scene
-picker, sliders for k, Δt, mass scale and iterations, a method picker and a
-convergence plot. Keys: space step, A play, L springs, R reset, W wind,
-F fit, M method, ? help; drag to orbit, right-drag to pan, wheel to zoom,
-shift-drag to pull a vertex. Ctrl-C stops it.
+and a page shows it; the page draws it with WebGL (without WebGL, as images
+drawn by this program's renderer), with buttons, a scene picker, a solve
+picker (the assignment, the handout's code dense or sparse, the
+assignment's accuracy fast), compare with (a second simulation from the
+same start, beside the first or as a wireframe over it), sliders for k, Δt,
+mass scale and iterations, a method picker and a plot. A long step can be
+stopped from the page (Esc). Keys: space step, A play, L springs, R reset,
+W wind, F fit, M method, ? help; drag to orbit, right-drag to pan, wheel to
+zoom, shift-drag to pull a vertex; by touch, one finger orbits, two zoom
+and pan, a long press pulls. Ctrl-C stops it.
 
 The viewer has no authentication: it binds to the loopback address unless
 --address says otherwise, and anyone who can reach that port can drive it.")]
@@ -113,16 +126,18 @@ pub fn run(args: ViewArgs) -> Result<(), AppError> {
             options.step.iterations
         )));
     }
-    if args.simulation.backend.dense {
-        serve::<Dense>(&scene, scenes, address, options)
-    } else {
-        serve::<Sparse>(&scene, scenes, address, options)
-    }
+    let backend = match args.simulation.backend.dense {
+        true => Backend::Dense,
+        false => Backend::Sparse,
+    };
+    serve(scene, scenes, address, backend, options)
 }
 
 /// The scenes the page can switch to: the one given first, then the
-/// bundled ones in the project's `data/` folder (when it is there) and the
-/// others beside the given one, each once, by name.
+/// others beside it and the bundled ones in the project's `data/` folder
+/// (when it is there), each name once (the picker lists names: a copy of
+/// `data/` elsewhere would list every bundled scene twice), the given
+/// folder's first.
 fn scene_list(given: &Path) -> Vec<PathBuf> {
     let bundled = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
     // `net.json`'s parent is the empty path, which names no folder to list.
@@ -131,20 +146,12 @@ fn scene_list(given: &Path) -> Vec<PathBuf> {
         _ => PathBuf::from("."),
     };
     let mut scenes = vec![given.to_path_buf()];
-    let mut seen = vec![std::fs::canonicalize(given).unwrap_or_else(|_| given.to_path_buf())];
-    for folder in [bundled, beside] {
-        let Ok(entries) = std::fs::read_dir(&folder) else {
-            continue;
-        };
-        let mut found: Vec<PathBuf> = entries
-            .filter_map(|entry| entry.ok().map(|e| e.path()))
-            .filter(|path| path.extension().is_some_and(|e| e == "json"))
-            .collect();
-        found.sort();
-        for path in found {
-            let canonical = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
-            if !seen.contains(&canonical) && scenes.len() < MAX_SCENES {
-                seen.push(canonical);
+    let mut names = vec![simulation_thread::scene_name(given)];
+    for folder in [beside, bundled] {
+        for path in scene_files(&folder) {
+            let name = simulation_thread::scene_name(&path);
+            if !names.contains(&name) && scenes.len() < MAX_SCENES {
+                names.push(name);
                 scenes.push(path);
             }
         }
@@ -152,34 +159,47 @@ fn scene_list(given: &Path) -> Vec<PathBuf> {
     scenes
 }
 
+/// The `.json` files of `folder`, sorted (none when it cannot be read).
+fn scene_files(folder: &Path) -> Vec<PathBuf> {
+    let Ok(entries) = std::fs::read_dir(folder) else {
+        return Vec::new();
+    };
+    let mut found: Vec<PathBuf> = entries
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|path| path.extension().is_some_and(|e| e == "json"))
+        .collect();
+    found.sort();
+    found
+}
+
 /// Starts the threads, prints the URL, and serves until Ctrl-C.
-fn serve<B>(
-    scene: &Scene,
+fn serve(
+    scene: Scene,
     scenes: Vec<PathBuf>,
     address: SocketAddr,
+    backend: Backend,
     options: SimulationOptions,
-) -> Result<(), AppError>
-where
-    B: LinearAlgebra + 'static,
-    Simulation<B>: Send,
-{
-    let simulation = precompute::<B>(scene, &scenes[0], options)?;
+) -> Result<(), AppError> {
+    let cancel = Arc::new(AtomicBool::new(false));
+    let run =
+        solver::build(&scene, &scenes[0], backend, options, &cancel).map_err(AppError::Failed)?;
     let listener = TcpListener::bind(address).map_err(|e| bind_error(address, &e))?;
     let local = listener.local_addr()?;
     let stop_requested = stop_signal()?;
-
-    let shared = shared_state::<B>(scene);
-    // A cloth shows its surface; a scene made only of springs, its springs.
-    let show_springs = scene.faces.first().is_none_or(|face| face.len() < 3);
+    let shared = Arc::new(shared_state(&scene, backend, cancel));
     let (commands, inbox) = mpsc::channel();
-    let simulation_thread =
-        SimulationThread::new(simulation, Arc::clone(&shared), show_springs, scenes, 0);
+    let start = simulation_thread::Start {
+        main: Shown::new(run, backend),
+        scene,
+        scenes,
+        scene_index: 0,
+    };
+    let simulation_thread = SimulationThread::new(start, Arc::clone(&shared));
     let simulation_handle = thread::Builder::new()
         .name("simulation".into())
         .spawn(move || simulation_thread.run(inbox))?;
-
     let routes = Arc::new(Routes {
-        shared,
+        shared: Arc::clone(&shared),
         commands: commands.clone(),
         allowed_hosts: allowed_hosts(local),
     });
@@ -190,20 +210,21 @@ where
             .name("acceptor".into())
             .spawn(move || accept_connections(listener, routes, &stopping))?
     };
-
-    println!("http://{local}/");
+    println!("{}", url_of(local));
     std::io::stdout().flush()?;
 
     // Blocks until Ctrl-C; an error means the handler is gone, so stop too.
     let _ = stop_requested.recv();
     eprintln!("masssprings: stopping");
     stopping.store(true, Ordering::SeqCst);
+    shared.cancel.store(true, Ordering::SeqCst); // the step in progress ends
     let _ = commands.send(Message::Quit);
     if wake_acceptor(local) {
         let _ = acceptor.join();
     }
-    // The simulation thread sees Quit after the step it is in; a long step
-    // is not waited for: returning ends the process, and the step with it.
+    // The simulation thread sees Quit after the step it is in, which the
+    // flag ends at its next iteration; a precomputation is not waited for:
+    // returning ends the process, and the work with it.
     let grace = std::time::Instant::now() + STOP_GRACE;
     while !simulation_handle.is_finished() && std::time::Instant::now() < grace {
         thread::sleep(Duration::from_millis(10));
@@ -211,21 +232,29 @@ where
     Ok(())
 }
 
-/// What the simulation thread and the connections share, before the first
-/// step: the rest frame, the status, the scene's assets, no watchers.
-fn shared_state<B: LinearAlgebra>(scene: &Scene) -> Arc<Shared> {
-    Arc::new(Shared {
-        frame: Mutex::new(Frame::new(scene.vertices.len())),
+/// What the threads share, for `scene` at rest on `backend`.
+fn shared_state(scene: &Scene, backend: Backend, cancel: Arc<AtomicBool>) -> Shared {
+    Shared {
+        frame: Mutex::new(Frame::new(scene.vertices.len(), 1)),
         status: Mutex::new(Status {
             scene: scene.name.clone(),
-            backend: B::NAME,
+            backend: backend.name(),
             n: scene.vertices.len(),
             springs: scene.springs.len(),
             ..Status::default()
         }),
-        scene: Mutex::new(SceneAssets::of(scene, B::NAME)),
+        scene: Mutex::new(SceneAssets::of(scene, backend.name())),
         watchers: Mutex::new(Watchers::default()),
-    })
+        cancel,
+        busy: Mutex::new(None),
+        queued: AtomicUsize::new(0),
+        drawing: Mutex::new(()),
+    }
+}
+
+/// The URL a browser opens for a server listening on `local`.
+fn url_of(local: SocketAddr) -> String {
+    format!("http://{local}/")
 }
 
 /// How long a stopping viewer waits for the step in progress to end.
@@ -260,14 +289,21 @@ fn stop_signal() -> Result<mpsc::Receiver<()>, AppError> {
     Ok(receiver)
 }
 
-/// The `Host` values a browser sends for a loopback server; `None` (accept
+/// The `Host` values a browser sends for a loopback server: the address
+/// it listens on (the one its printed URL names: `127.0.0.2` as well as
+/// `127.0.0.1`), `localhost` and the usual loopback names; `None` (accept
 /// any) when serving on another address.
 fn allowed_hosts(local: SocketAddr) -> Option<Vec<String>> {
     if !local.ip().is_loopback() {
         return None;
     }
     let port = local.port();
-    let names = ["127.0.0.1", "localhost", "[::1]"];
+    let own = SocketAddr::new(local.ip(), 80).to_string();
+    let own = own.strip_suffix(":80").expect("an address and port 80");
+    let mut names = vec!["127.0.0.1", "localhost", "[::1]"];
+    if !names.contains(&own) {
+        names.push(own);
+    }
     let mut hosts: Vec<String> = names.iter().map(|name| format!("{name}:{port}")).collect();
     if port == 80 {
         hosts.extend(names.iter().map(|name| name.to_string()));

@@ -7,8 +7,10 @@
 
 use super::api::{Command, Status};
 use super::http::{Method, Request, Response};
-use super::simulation_thread::{Message, Reply, SceneAssets, Shared, Ticket};
-use std::sync::mpsc::{self, Sender};
+use super::image;
+use super::simulation_thread::{Message, Reply, SceneAssets, Shared};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{self, RecvTimeoutError, Sender};
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -21,9 +23,14 @@ const CONTENT_SECURITY_POLICY: &str = "default-src 'none'; script-src 'self'; \
      style-src 'self'; img-src 'self' data:; connect-src 'self'; base-uri 'none'; \
      form-action 'none'; frame-ancestors 'none'";
 
-/// How long a command may wait for the simulation thread (a refactorization
-/// of a large `Q` takes a moment).
-const COMMAND_TIMEOUT: Duration = Duration::from_secs(10);
+/// How long a command waits for the simulation thread's answer before the
+/// page is told (`202`) that it waits for the work in progress (a long
+/// step, a precomputation) and will be applied after it.
+const ANSWER_WITHIN: Duration = Duration::from_millis(400);
+
+/// Commands that may wait for the simulation thread at once; one more is
+/// refused (`503`, not applied), but a cancel, which always goes through.
+const MAX_QUEUED: usize = 32;
 
 /// Everything a request can be answered from.
 pub struct Routes {
@@ -53,19 +60,20 @@ impl Routes {
                 Response::new(200, "text/javascript; charset=utf-8", SCRIPT)
             }
             "/viewer.css" if read_only => Response::new(200, "text/css; charset=utf-8", STYLE),
-            "/texture.png" if read_only => match self.scene_assets().texture {
+            "/texture.png" if read_only => match self.scene_assets().1 {
                 Some(png) => Response::new(200, "image/png", png.to_vec()),
                 None => Response::error(404, "this scene has no texture"),
             },
             "/api/scene" if read_only => {
-                let json = self.scene_assets().json;
+                let json = self.scene_assets().0;
                 Response::new(200, "application/json", json.as_bytes().to_vec())
             }
             "/api/status" if read_only => json_status(&self.status()),
             "/api/frame" if read_only => self.frame(request.query.as_deref()),
+            "/api/image" if read_only => image::respond(&self.shared, request.query.as_deref()),
             "/api/command" if request.method == Method::Post => self.command(request),
             "/" | "/index.html" | "/viewer.js" | "/viewer.css" | "/texture.png" | "/api/scene"
-            | "/api/status" | "/api/frame" => {
+            | "/api/status" | "/api/frame" | "/api/image" => {
                 Response::error(405, "use GET").with_header("Allow", "GET, HEAD")
             }
             "/api/command" => Response::error(405, "use POST").with_header("Allow", "POST"),
@@ -80,25 +88,21 @@ impl Routes {
         }
     }
 
+    /// The published status, with the work in progress as it is now.
     fn status(&self) -> Status {
-        self.shared
-            .status
-            .lock()
-            .expect("no thread panics holding it")
-            .clone()
+        let mut status = Shared::lock(&self.shared.status).clone();
+        if let Some(busy) = Shared::lock(&self.shared.busy).clone() {
+            status.busy_ms = Some(1e3 * busy.since.elapsed().as_secs_f64());
+            status.busy = Some(busy.what);
+        }
+        status.queued = self.shared.queued.load(Ordering::SeqCst);
+        status
     }
 
     /// The scene's JSON and texture (shared, not copied).
-    fn scene_assets(&self) -> SceneAssets {
-        let assets = self
-            .shared
-            .scene
-            .lock()
-            .expect("no thread panics holding it");
-        SceneAssets {
-            json: Arc::clone(&assets.json),
-            texture: assets.texture.clone(),
-        }
+    fn scene_assets(&self) -> (Arc<str>, Option<Arc<[u8]>>) {
+        let assets: std::sync::MutexGuard<'_, SceneAssets> = Shared::lock(&self.shared.scene);
+        (Arc::clone(&assets.json), assets.texture.clone())
     }
 
     /// The latest frame, or `204` when it is still serial `since`. Counts
@@ -128,7 +132,13 @@ impl Routes {
         Response::new(200, "application/octet-stream", frame.bytes().to_vec())
     }
 
-    /// Parses a command, hands it to the simulation thread, waits for it.
+    /// Parses a command and hands it to the simulation thread; answers
+    /// with its result, or, when the thread is still busy after
+    /// [`ANSWER_WITHIN`], that it is accepted (`202`, the status as it is
+    /// now, and the header `X-Command: applying` when it is the work in
+    /// progress, `waiting` when it waits for it: it is applied after it,
+    /// and a refusal then shows in the status's note). A cancel sets the
+    /// flag the step in progress looks at first.
     fn command(&self, request: &Request) -> Response {
         let media_type = request.header("content-type").unwrap_or("");
         let media_type = media_type.split(';').next().unwrap_or("").trim();
@@ -142,27 +152,40 @@ impl Routes {
             Ok(command) => command,
             Err(why) => return json_error(400, &why),
         };
+        let cancel = command == (Command::Cancel {});
+        if cancel {
+            self.shared.cancel.store(true, Ordering::SeqCst);
+        }
+        let waiting = self.shared.queued.load(Ordering::SeqCst);
+        if waiting >= MAX_QUEUED && !cancel {
+            let why = format!(
+                "{waiting} commands already wait for the simulation ({}); not applied",
+                self.status().busy.unwrap_or_else(|| "busy".into())
+            );
+            return json_error(503, &why);
+        }
+        self.shared.queued.fetch_add(1, Ordering::SeqCst);
         let (reply_to, reply) = mpsc::channel::<Reply>();
-        let ticket = Arc::new(Ticket::default());
-        let message = Message::Command(command, reply_to, Arc::clone(&ticket));
+        let taken = Arc::new(AtomicBool::new(false));
+        let message = Message::Command(command, reply_to, Arc::clone(&taken));
         if self.commands.send(message).is_err() {
+            self.shared.queued.fetch_sub(1, Ordering::SeqCst);
             return json_error(503, "the simulation has stopped");
         }
-        match reply.recv_timeout(COMMAND_TIMEOUT) {
+        match reply.recv_timeout(ANSWER_WITHIN) {
             Ok(Ok(())) => json_status(&self.status()),
             Ok(Err(why)) => json_error(409, &why),
-            Err(_) if ticket.abandon() => json_error(
-                503,
-                "the simulation is busy with a step; the command was not applied (send it again)",
-            ),
-            // Taken: it is being applied (a long step, a large scene):
-            // "accepted", with the status as it is now; the status will
-            // show its result.
-            Err(_) => {
-                let mut accepted = json_status(&self.status());
+            Err(RecvTimeoutError::Timeout) => {
+                // Being applied (a step, a precomputation), or waiting its turn.
+                let state = match taken.load(Ordering::SeqCst) {
+                    true => "applying",
+                    false => "waiting",
+                };
+                let mut accepted = json_status(&self.status()).with_header("X-Command", state);
                 accepted.status = 202;
                 accepted
             }
+            Err(RecvTimeoutError::Disconnected) => json_error(503, "the simulation has stopped"),
         }
     }
 }

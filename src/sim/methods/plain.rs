@@ -52,7 +52,10 @@ pub(crate) fn solve<B: LinearAlgebra>(
     }
     for iteration in 1..=control.iterations {
         context.global.iterate_in_place(p);
-        monitor.after(iteration, context, p, Gradient::Unknown, None); // no rule: only observed
+        // No rule: only observed, or cancelled.
+        if let Some(stop) = monitor.after(iteration, context, p, Gradient::Unknown, None) {
+            return Outcome::new(iteration, stop);
+        }
     }
     Outcome::new(control.iterations, Stop::Iterations)
 }

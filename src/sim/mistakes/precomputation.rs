@@ -83,6 +83,7 @@ pub fn precomputation(
         Q,
         prefactorization,
         iterations: ITERATIONS,
+        stop: None,
     })
 }
 

@@ -1,0 +1,341 @@
+//! The page's commands, applied by the simulation thread between steps
+//! (see [`Command`]): every one acts on both simulations when comparing,
+//! but the method, the solver and the iteration budget, which are the
+//! first's.
+
+use super::api::Command;
+use super::simulation_thread::{
+    scene_name, Reply, SceneAssets, Shared, Shown, SimulationThread, MAX_ITERATIONS,
+};
+use super::solver::{self, Backend, Run};
+use crate::app::error::AppError;
+use masssprings::mesh::bounding_box::BoundingBox;
+use masssprings::mesh::Scene;
+use masssprings::sim::simulation::SimulationOptions;
+use masssprings::sim::{Solver, Start, StepControl, StepMethod};
+use std::sync::atomic::Ordering;
+use std::sync::Arc;
+use std::time::Instant;
+
+impl SimulationThread {
+    /// Applies one command of the page.
+    pub(super) fn apply(&mut self, command: Command) -> Reply {
+        match command {
+            Command::Step {} => {
+                self.set_animating(false);
+                self.step_once()
+            }
+            Command::ToggleAnimation {} => {
+                self.set_animating(!self.animating);
+                Ok(())
+            }
+            Command::ToggleSprings {} => {
+                self.show_springs = !self.show_springs;
+                Ok(())
+            }
+            Command::Reset {} => self.reset(),
+            Command::ToggleWind {} => {
+                let wind = !self.main.run.options().wind;
+                self.all_mut().for_each(|shown| shown.run.set_wind(wind));
+                Ok(())
+            }
+            Command::DragStart { vertex, target } => self.start_drag(vertex, target),
+            Command::DragTo { target } => self.drag_to(target),
+            Command::DragEnd {} => self.timed_refactor(|run| run.end_drag()),
+            Command::SetParameters {
+                k,
+                delta_t,
+                mass_scale,
+                iterations,
+            } => self.set_parameters([k, delta_t, mass_scale], iterations),
+            Command::LoadScene { scene } => self.load_scene(scene),
+            other => self.apply_solving(other),
+        }
+    }
+
+    /// The commands about how steps are solved, and cancelling one.
+    fn apply_solving(&mut self, command: Command) -> Reply {
+        match command {
+            Command::SetMethod {
+                method,
+                tolerance,
+                energy_tolerance,
+                at_least_plain,
+                start,
+            } => self.set_method(
+                &method,
+                [tolerance, energy_tolerance],
+                at_least_plain,
+                start.as_deref(),
+            ),
+            Command::SetSolver { solver, backend } => self.set_solver(&solver, backend.as_deref()),
+            Command::Compare { with, backend } => self.compare(with.as_deref(), backend.as_deref()),
+            Command::Cancel {} => {
+                // The steps of commands sent before this one were stopped
+                // by the flag; the next ones run.
+                self.shared.cancel.store(false, Ordering::SeqCst);
+                self.set_animating(false);
+                Ok(())
+            }
+            _ => unreachable!("apply handles the others"),
+        }
+    }
+
+    fn reset(&mut self) -> Reply {
+        for shown in self.all_mut() {
+            shown.run.reset()?;
+        }
+        self.error = None;
+        self.note = None;
+        self.publish_frame();
+        self.clear_history();
+        Ok(())
+    }
+
+    /// Another method, tolerances (the relative gradient's and the
+    /// energy's), floor (`--at-least-plain`) or start for later steps of
+    /// the first simulation; its budget and history window stay, and so
+    /// does how the method runs (L-BFGS's plain start) while it stays.
+    fn set_method(
+        &mut self,
+        method: &str,
+        [tolerance, energy_tolerance]: [Option<f64>; 2],
+        at_least_plain: Option<f64>,
+        start: Option<&str>,
+    ) -> Reply {
+        let method: StepMethod = method.parse()?;
+        let current = self.main.run.options().step;
+        let start: Start = match start {
+            Some(name) => name.parse()?,
+            None => current.start,
+        };
+        let step = StepControl {
+            method,
+            tolerance,
+            energy_tolerance,
+            at_least_plain,
+            start,
+            plain_first: current.plain_first && method == current.method,
+            ..current
+        };
+        step.check_rules()?;
+        self.main
+            .run
+            .set_step(step)
+            .map_err(|why| format!("{why}; to change them, solve by another solver first"))
+    }
+
+    /// The backend of `name` (`None`: the command line's).
+    fn backend(&self, name: Option<&str>) -> Result<Backend, String> {
+        name.map_or(Ok(self.default_backend), Backend::parse)
+    }
+
+    /// Solves later steps of the first simulation by solver `name` on
+    /// `backend`: precomputed again, from where it is.
+    fn set_solver(&mut self, name: &str, backend: Option<&str>) -> Reply {
+        let backend = self.backend(backend)?;
+        name.parse::<Solver>()?;
+        let options = solver::options_named(*self.main.run.options(), name)?;
+        let run = self.built_from(&self.main, name, backend, options)?;
+        self.main = Shown::new(run, backend);
+        self.refactor = None; // a new precomputation, not a refactorization
+        self.publish_frame();
+        Ok(())
+    }
+
+    /// Starts comparing with a second simulation solved by `with` on
+    /// `backend`, from where the first is, or stops (`None`).
+    fn compare(&mut self, with: Option<&str>, backend: Option<&str>) -> Reply {
+        let Some(name) = with else {
+            self.second = None;
+            self.reshape_frame();
+            return Ok(());
+        };
+        let backend = self.backend(backend)?;
+        let options = solver::options_named(*self.main.run.options(), name)?;
+        let run = self.built_from(&self.main, name, backend, options)?;
+        self.second = Some(Shown::new(run, backend));
+        self.reshape_frame();
+        let mut status = Shared::lock(&self.shared.status);
+        status.compare = None; // a fresh history
+        Ok(())
+    }
+
+    /// A simulation of the scene solved by `options` on `backend` (named
+    /// `name` while it is precomputed), going on from where `from` is.
+    fn built_from(
+        &self,
+        from: &Shown,
+        name: &str,
+        backend: Backend,
+        options: SimulationOptions,
+    ) -> Result<Box<dyn Run>, String> {
+        let path = &self.scenes[self.scene_index];
+        self.busy(format!("precomputing for {name} ({})", backend.name()));
+        let built = solver::build(&self.scene, path, backend, options, &self.shared.cancel);
+        self.done();
+        let mut run = built?;
+        solver::carry_over(from.run.as_ref(), run.as_mut())?;
+        Ok(run)
+    }
+
+    /// The frame, sized for the simulations shown, with their positions.
+    pub(super) fn reshape_frame(&self) {
+        let sets = 1 + usize::from(self.second.is_some());
+        Shared::lock(&self.shared.frame).reshape(self.scene.vertices.len(), sets);
+        self.publish_frame();
+    }
+
+    /// `change` applied to every simulation (rebuilding and refactoring
+    /// `Q`), timed for the overlay.
+    fn timed_refactor(&mut self, change: impl Fn(&mut dyn Run) -> Result<(), String>) -> Reply {
+        let started = Instant::now();
+        for shown in self.all_mut() {
+            change(shown.run.as_mut())?;
+        }
+        self.refactor = Some(started.elapsed());
+        Ok(())
+    }
+
+    /// New k, Δt and mass scale for every simulation (refactoring `Q` only
+    /// when one of them changed), and the first's iteration budget.
+    fn set_parameters(&mut self, [k, delta_t, mass_scale]: [f64; 3], iterations: usize) -> Reply {
+        check_parameters([k, delta_t, mass_scale], iterations)?;
+        let run = &self.main.run;
+        let current = (run.k(), run.options().delta_t, run.mass_scale());
+        if current != (k, delta_t, mass_scale) {
+            self.timed_refactor(|run| run.set_parameters(k, delta_t, mass_scale))?;
+        }
+        let step = StepControl {
+            iterations,
+            ..self.main.run.options().step
+        };
+        self.main.run.set_step(step)
+    }
+
+    /// Starts dragging a free vertex (a pinned one stays where it is).
+    fn start_drag(&mut self, vertex: usize, target: [f64; 3]) -> Reply {
+        self.check_target(target)?;
+        if vertex >= self.main.run.rest_positions().len() {
+            return Err(format!("vertex {vertex} does not exist"));
+        }
+        if self.main.run.pinned().contains(&vertex) {
+            return Err(format!("vertex {vertex} is pinned"));
+        }
+        self.timed_refactor(|run| run.start_drag(vertex, target))
+    }
+
+    /// Moves the dragged vertex's target.
+    fn drag_to(&mut self, target: [f64; 3]) -> Reply {
+        self.check_target(target)?;
+        if self.main.run.dragged().is_none() {
+            return Err("no vertex is being dragged".into());
+        }
+        for shown in self.all_mut() {
+            shown.run.drag_to(target)?;
+        }
+        Ok(())
+    }
+
+    /// A drag target must be finite and near the scene.
+    fn check_target(&self, target: [f64; 3]) -> Reply {
+        let distance = (0..3)
+            .map(|axis| (target[axis] - self.center[axis]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        if distance.is_finite() && distance <= self.reach {
+            Ok(())
+        } else {
+            Err("the drag target is too far from the scene".into())
+        }
+    }
+
+    /// Switches to scene `index`: loads it, precomputes every simulation
+    /// shown, and starts paused at rest with the scene's own k, Δt and
+    /// masses (solvers, iterations and wind carry over). On failure the
+    /// current scene stays.
+    fn load_scene(&mut self, index: usize) -> Reply {
+        let path = self
+            .scenes
+            .get(index)
+            .ok_or_else(|| format!("there is no scene {index}"))?
+            .clone();
+        let scene = crate::app::file_plan::load_scene(&path).map_err(|e| match e {
+            AppError::Usage(why) | AppError::Failed(why) => why,
+        })?;
+        self.busy(format!("precomputing {}", scene_name(&path)));
+        let built = self.build_all(&scene, &path);
+        self.done();
+        let (main, second) = built?;
+        self.main = main;
+        self.second = second;
+        self.scene_index = index;
+        self.show_scene(scene);
+        Ok(())
+    }
+
+    /// Every simulation shown, made again for `scene`, at rest.
+    fn build_all(
+        &self,
+        scene: &Scene,
+        path: &std::path::Path,
+    ) -> Result<(Shown, Option<Shown>), String> {
+        let build = |shown: &Shown| -> Result<Shown, String> {
+            let current = shown.run.options();
+            let options = SimulationOptions {
+                // the user's choices carry over; Chebyshev's ρ is the old scene's
+                step: StepControl {
+                    rho: None,
+                    ..current.step
+                },
+                ..*current
+            };
+            let run = solver::build(scene, path, shown.backend, options, &self.shared.cancel)?;
+            Ok(Shown::new(run, shown.backend))
+        };
+        let second = self.second.as_ref().map(build).transpose()?;
+        Ok((build(&self.main)?, second))
+    }
+
+    /// Shows `scene`, just loaded: its assets, bounds, frame and status.
+    fn show_scene(&mut self, scene: Scene) {
+        self.refactor = None; // a new precomputation, not a refactorization
+        let bounds = BoundingBox::of(&scene.vertices);
+        self.center = bounds.centre();
+        self.reach = 10.0 * bounds.diagonal().max(1.0);
+        self.show_springs = scene.faces.first().is_none_or(|face| face.len() < 3);
+        self.error = None;
+        self.set_animating(false);
+        *Shared::lock(&self.shared.scene) = SceneAssets::of(&scene, self.main.backend.name());
+        self.scene = Arc::new(scene);
+        self.reshape_frame();
+        self.clear_history();
+        let mut status = Shared::lock(&self.shared.status);
+        status.scene.clone_from(&self.scene.name);
+        status.n = self.scene.vertices.len();
+        status.springs = self.scene.springs.len();
+        status.scene_serial = status.scene_serial.wrapping_add(1);
+    }
+}
+
+/// Refuses parameters out of the sliders' ranges, saying which.
+fn check_parameters([k, delta_t, mass_scale]: [f64; 3], iterations: usize) -> Reply {
+    let in_range = |x: f64, low: f64, high: f64| x.is_finite() && (low..=high).contains(&x);
+    if !in_range(k, 1e-6, 1e12) {
+        return Err(format!("k = {k}: expected a stiffness from 1e-6 to 1e12"));
+    }
+    if !in_range(delta_t, 1e-4, 1.0) {
+        return Err(format!("Δt = {delta_t}: expected from 0.0001 to 1 s"));
+    }
+    if !in_range(mass_scale, 1e-3, 1e3) {
+        return Err(format!(
+            "mass scale {mass_scale}: expected from 0.001 to 1000"
+        ));
+    }
+    if !(1..=MAX_ITERATIONS).contains(&iterations) {
+        return Err(format!(
+            "{iterations} iterations: expected from 1 to {MAX_ITERATIONS}"
+        ));
+    }
+    Ok(())
+}

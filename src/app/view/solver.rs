@@ -1,0 +1,244 @@
+//! The simulations the viewer shows, whatever their backend.
+//!
+//! The page can switch between the three ways of solving a step this crate
+//! is about (`Solver`: the assignment, the handout's code, the
+//! assignment's accuracy fast), the handout's code on dense or sparse
+//! matrices, and run a second simulation beside the first. The backend is
+//! a type parameter of [`Simulation`], so the simulation thread holds each
+//! one as a [`Run`], the few things it asks of a simulation, and
+//! [`build`] makes one on the [`Backend`] a choice needs, with the command
+//! line's checks (the dense path's memory first).
+//!
+//! How a name becomes options is `SimulationOptions::solved_by`, the one
+//! rule `--textbook` and `--accuracy` use too; nothing here repeats it.
+
+use crate::app::error::AppError;
+use crate::app::limits::precompute;
+use masssprings::mesh::Scene;
+use masssprings::sim::simulation::SimulationOptions;
+use masssprings::sim::{
+    Dense, LinearAlgebra, Simulation, SimulationError, Solver, Sparse, StepControl, StepMethod,
+    StepReport,
+};
+use std::path::Path;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+
+/// What the simulation thread asks of a simulation (each method is
+/// `Simulation`'s own, see there).
+pub trait Run: Send {
+    fn step(&mut self) -> Result<StepReport, SimulationError>;
+    fn positions(&self) -> &[[f64; 3]];
+    fn previous_positions(&self) -> &[[f64; 3]];
+    fn rest_positions(&self) -> &[[f64; 3]];
+    fn pinned(&self) -> &[usize];
+    fn steps(&self) -> usize;
+    fn time(&self) -> f64;
+    fn options(&self) -> &SimulationOptions;
+    fn k(&self) -> f64;
+    fn mass_scale(&self) -> f64;
+    fn mechanical_energy(&self) -> f64;
+    fn set_wind(&mut self, wind: bool);
+    fn set_parameters(&mut self, k: f64, delta_t: f64, mass_scale: f64) -> Result<(), String>;
+    fn set_step(&mut self, step: StepControl) -> Result<(), String>;
+    fn set_state(&mut self, previous: &[[f64; 3]], current: &[[f64; 3]], steps: usize);
+    fn set_cancel(&mut self, flag: Arc<AtomicBool>);
+    fn reset(&mut self) -> Result<(), String>;
+    fn start_drag(&mut self, vertex: usize, target: [f64; 3]) -> Result<(), String>;
+    fn drag_to(&mut self, target: [f64; 3]) -> Result<(), String>;
+    fn end_drag(&mut self) -> Result<(), String>;
+    fn dragged(&self) -> Option<usize>;
+}
+
+impl<B: LinearAlgebra> Run for Simulation<B>
+where
+    Simulation<B>: Send,
+{
+    fn step(&mut self) -> Result<StepReport, SimulationError> {
+        Simulation::step(self)
+    }
+    fn positions(&self) -> &[[f64; 3]] {
+        Simulation::positions(self)
+    }
+    fn previous_positions(&self) -> &[[f64; 3]] {
+        Simulation::previous_positions(self)
+    }
+    fn rest_positions(&self) -> &[[f64; 3]] {
+        Simulation::rest_positions(self)
+    }
+    fn pinned(&self) -> &[usize] {
+        Simulation::pinned(self)
+    }
+    fn steps(&self) -> usize {
+        Simulation::steps(self)
+    }
+    fn time(&self) -> f64 {
+        Simulation::time(self)
+    }
+    fn options(&self) -> &SimulationOptions {
+        Simulation::options(self)
+    }
+    fn k(&self) -> f64 {
+        Simulation::k(self)
+    }
+    fn mass_scale(&self) -> f64 {
+        Simulation::mass_scale(self)
+    }
+    fn mechanical_energy(&self) -> f64 {
+        Simulation::mechanical_energy(self)
+    }
+    fn set_wind(&mut self, wind: bool) {
+        Simulation::set_wind(self, wind);
+    }
+    fn set_parameters(&mut self, k: f64, delta_t: f64, mass_scale: f64) -> Result<(), String> {
+        Simulation::set_parameters(self, k, delta_t, mass_scale).map_err(|e| e.to_string())
+    }
+    fn set_step(&mut self, step: StepControl) -> Result<(), String> {
+        Simulation::set_step(self, step).map_err(|e| e.to_string())
+    }
+    fn set_state(&mut self, previous: &[[f64; 3]], current: &[[f64; 3]], steps: usize) {
+        Simulation::set_state(self, previous, current, steps)
+            .expect("a state of the same scene, finite");
+    }
+    fn set_cancel(&mut self, flag: Arc<AtomicBool>) {
+        Simulation::set_cancel(self, Some(flag));
+    }
+    fn reset(&mut self) -> Result<(), String> {
+        Simulation::reset(self).map_err(|e| e.to_string())
+    }
+    fn start_drag(&mut self, vertex: usize, target: [f64; 3]) -> Result<(), String> {
+        Simulation::start_drag(self, vertex, target).map_err(|e| e.to_string())
+    }
+    fn drag_to(&mut self, target: [f64; 3]) -> Result<(), String> {
+        Simulation::drag_to(self, target).map_err(|e| e.to_string())
+    }
+    fn end_drag(&mut self) -> Result<(), String> {
+        Simulation::end_drag(self).map_err(|e| e.to_string())
+    }
+    fn dragged(&self) -> Option<usize> {
+        Simulation::dragged(self)
+    }
+}
+
+/// The matrices a simulation runs on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Backend {
+    Sparse,
+    Dense,
+}
+
+impl Backend {
+    /// `"sparse"` or `"dense"`, as the status says it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Backend::Sparse => Sparse::NAME,
+            Backend::Dense => Dense::NAME,
+        }
+    }
+
+    /// The backend named `name`.
+    pub fn parse(name: &str) -> Result<Backend, String> {
+        match name {
+            "sparse" => Ok(Backend::Sparse),
+            "dense" => Ok(Backend::Dense),
+            _ => Err(format!(
+                "unknown backend '{name}' (expected sparse or dense)"
+            )),
+        }
+    }
+}
+
+/// The simulation of `scene` (read from `path`) on `backend`, starting at
+/// rest with `options`, refused as the command line refuses it (the dense
+/// path's memory, `Q`'s overflow, a textbook run with other rules); steps
+/// stop when `cancel` is set.
+pub fn build(
+    scene: &Scene,
+    path: &Path,
+    backend: Backend,
+    options: SimulationOptions,
+    cancel: &Arc<AtomicBool>,
+) -> Result<Box<dyn Run>, String> {
+    let why = |error: AppError| match error {
+        AppError::Usage(why) | AppError::Failed(why) => why,
+    };
+    let mut run: Box<dyn Run> = match backend {
+        Backend::Sparse => Box::new(precompute::<Sparse>(scene, path, options).map_err(why)?),
+        Backend::Dense => Box::new(precompute::<Dense>(scene, path, options).map_err(why)?),
+    };
+    run.set_cancel(Arc::clone(cancel));
+    Ok(run)
+}
+
+/// Gives `to` (the same scene, just built) the state of `from`: its
+/// positions, step count, wind, stiffness, time step and masses, so that
+/// both go on from the same start.
+pub fn carry_over(from: &dyn Run, to: &mut dyn Run) -> Result<(), String> {
+    let (k, delta_t, mass_scale) = (from.k(), from.options().delta_t, from.mass_scale());
+    if (to.k(), to.options().delta_t, to.mass_scale()) != (k, delta_t, mass_scale) {
+        to.set_parameters(k, delta_t, mass_scale)?;
+    }
+    to.set_wind(from.options().wind);
+    to.set_state(from.previous_positions(), from.positions(), from.steps());
+    Ok(())
+}
+
+/// Which path runs a step of `options` on `backend`, and its functions,
+/// for the status panel.
+pub fn functions(options: &SimulationOptions, backend: Backend) -> String {
+    let factor = match backend {
+        Backend::Dense => "dense Cholesky",
+        Backend::Sparse if options.textbook => "simplicial sparse Cholesky",
+        Backend::Sparse => "supernodal sparse Cholesky",
+    };
+    if options.textbook {
+        let name = backend.name();
+        return format!(
+            "the handout's code as written: sim/textbook.rs, \
+             fast_mass_springs_step_{name} ({factor})"
+        );
+    }
+    let step = &options.step;
+    let method = match step.method {
+        StepMethod::Lbfgs if step.plain_first => "plain_then_lbfgs",
+        method => method.name(),
+    };
+    format!("fast path: sim/step.rs solve_step → sim/methods/{method}.rs ({factor})")
+}
+
+/// The names a page may ask for: the solvers, and what `compare` takes
+/// besides ([`CONVERGED`]).
+pub fn solver_names() -> Vec<&'static str> {
+    Solver::ALL.map(Solver::name).to_vec()
+}
+
+/// The comparison's name for a step solved far: L-BFGS until an
+/// iteration takes off at most a thousandth of the step's decrease, at
+/// most 200 iterations (`--method lbfgs --energy-tolerance 1e-3
+/// --iterations 200`).
+pub const CONVERGED: &str = "converged";
+
+/// The options of `name` (a solver, or [`CONVERGED`]) on top of `base`.
+pub fn options_named(base: SimulationOptions, name: &str) -> Result<SimulationOptions, String> {
+    if name == CONVERGED {
+        let assignment = base.solved_by(Solver::Assignment);
+        let step = StepControl {
+            method: StepMethod::Lbfgs,
+            energy_tolerance: Some(1e-3),
+            iterations: 200,
+            ..assignment.step
+        };
+        return Ok(SimulationOptions { step, ..assignment });
+    }
+    Ok(base.solved_by(name.parse::<Solver>()?))
+}
+
+/// The name of `options` for the status: a solver's, [`CONVERGED`], or
+/// `None` (the expert's own method and rules).
+pub fn name_of(options: &SimulationOptions) -> Option<&'static str> {
+    if let Some(solver) = options.solver() {
+        return Some(solver.name());
+    }
+    let converged = options_named(*options, CONVERGED).ok()?;
+    (converged == *options).then_some(CONVERGED)
+}
