@@ -7,7 +7,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use masssprings::linalg::matrix_market::parse;
+use masssprings::matrix_market::parse;
 
 #[allow(dead_code)]
 #[path = "../../src/app/trace/compare/entries.rs"]

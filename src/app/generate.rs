@@ -4,10 +4,10 @@
 //! Each file is written all or nothing: into a temporary file in `DIR`,
 //! renamed into place once complete (`masssprings::files::write_file`).
 
+use super::draw::encode::write_png;
+use super::error::AppError;
 use super::flags::whole;
 use super::limits::check_grid;
-use super::render::encode::write_png;
-use super::AppError;
 use masssprings::files::{remove_stale_temporaries, write_file};
 use masssprings::mesh::procedural::{self, GeneratedScene};
 use std::fs;
@@ -50,7 +50,7 @@ pub fn run(args: GenerateArgs) -> Result<(), AppError> {
         What::Examples => procedural::examples(),
     };
     let folder = args.out;
-    super::check_output_folder(&folder, "generate writes scene files into a folder")?;
+    super::file_plan::check_output_folder(&folder, "generate writes scene files into a folder")?;
     fs::create_dir_all(&folder)
         .map_err(|e| AppError::Failed(format!("{}: {e}", folder.display())))?;
     remove_stale_temporaries(&folder)?;

@@ -22,7 +22,7 @@
 //! The options are not in the frames: give `--resume` the flags of the run
 //! it continues.
 
-use super::AppError;
+use super::error::AppError;
 use masssprings::files::read_text;
 use masssprings::mesh::obj::parse_obj;
 use masssprings::mesh::Scene;

@@ -16,17 +16,18 @@
 //! `--resume DIR` continues the run whose frames are in `DIR` from its last
 //! two (`super::resume`), numbering the new frames on.
 
+use super::draw::texture::{read_png_file, Texture};
+use super::error::AppError;
+use super::file_plan::load_scene;
 use super::flags::{whole, JsonFlag, SimulationFlags};
 use super::limits::precompute;
 use super::progress::{duration, Progress};
-use super::render::texture::{read_png_file, Texture};
 use super::resume::{self, earlier_frames, frame_header, frame_name, is_frame_name, Resumed};
 use super::timing::BoundedSample;
-use super::{load_scene, AppError};
 use masssprings::files::{remove_stale_temporaries, same_file, write_file, FilePlan};
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::{Accuracy, Dense, LinearAlgebra, Sparse};
+use masssprings::sim::{Accuracy, Dense, LinearAlgebra, Simulation, Sparse};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -187,80 +188,128 @@ fn simulate<B: LinearAlgebra>(
     let mut simulation = precompute::<B>(&scene, scene_path, options)?;
     let precompute_s = started.elapsed().as_secs_f64();
     keep_only(&mut scene, Keep::Frames); // the simulation holds its own copies
-    let scene = &scene;
     let resumed_from = resumed.as_ref().map(|state| state.step);
     if let Some(state) = resumed {
         simulation.set_state(&state.u_prev, &state.u_cur, state.step)?;
     }
-    let material = match &run.out {
-        Some(folder) if resumed_from.is_some() => {
-            // the run's own folder: its frames stay, and they number on
-            remove_stale_temporaries(folder)?;
-            write_material(folder, scene, texture)?
-        }
-        Some(folder) => {
-            prepare_out_folder(folder)?;
-            let material = write_material(folder, scene, texture)?;
-            write_frame(
-                folder,
-                0,
-                scene,
-                simulation.positions(),
-                run,
-                material.as_deref(),
-            )?;
-            material
-        }
-        None => None,
-    };
-    let mut step_times = BoundedSample::new();
-    let (mut iterations, mut gradients) = (BoundedSample::new(), BoundedSample::new());
-    let (mut iterations_max, mut stops) = (0, std::collections::BTreeMap::new());
-    let mut progress = Progress::new(run.steps, run.progress);
+    let material = start_frames(run, &scene, texture, &simulation, resumed_from.is_some())?;
     let first = resumed_from.unwrap_or(0);
+    let tally = run_steps(&mut simulation, &scene, run, first, material.as_deref())?;
+    let times = [precompute_s, started.elapsed().as_secs_f64()];
+    let summary = summarize(tally, &options, B::NAME, [n, springs, run.steps], times);
+    Ok(Summary {
+        resumed_from,
+        ..summary
+    })
+}
+
+/// Readies `--out` for the frames: a new run's folder is prepared and gets
+/// the material and frame 0; a resumed run's own folder keeps its frames
+/// (they number on) and gets the material again. Returns the material's
+/// name, if any.
+fn start_frames<B: LinearAlgebra>(
+    run: &Run,
+    scene: &Scene,
+    texture: Option<(Vec<u8>, PathBuf)>,
+    simulation: &Simulation<B>,
+    resumed: bool,
+) -> Result<Option<String>, AppError> {
+    let Some(folder) = &run.out else {
+        return Ok(None);
+    };
+    if resumed {
+        remove_stale_temporaries(folder)?;
+        return write_material(folder, scene, texture);
+    }
+    prepare_out_folder(folder)?;
+    let material = write_material(folder, scene, texture)?;
+    let positions = simulation.positions();
+    write_frame(folder, 0, scene, positions, run, material.as_deref())?;
+    Ok(material)
+}
+
+/// What the steps report, gathered for the summary.
+struct Tally {
+    step_times: BoundedSample,
+    iterations: BoundedSample,
+    gradients: BoundedSample,
+    iterations_max: usize,
+    stops: std::collections::BTreeMap<String, usize>,
+}
+
+/// Steps `run.steps` times on from step `first`, writing every
+/// `run.every`-th frame and showing progress.
+fn run_steps<B: LinearAlgebra>(
+    simulation: &mut Simulation<B>,
+    scene: &Scene,
+    run: &Run,
+    first: usize,
+    material: Option<&str>,
+) -> Result<Tally, AppError> {
+    let mut tally = Tally {
+        step_times: BoundedSample::new(),
+        iterations: BoundedSample::new(),
+        gradients: BoundedSample::new(),
+        iterations_max: 0,
+        stops: std::collections::BTreeMap::new(),
+    };
+    let mut progress = Progress::new(run.steps, run.progress);
     for done in 1..=run.steps {
         let step = first + done;
         let t = Instant::now();
         let report = simulation
             .step()
             .map_err(|e| AppError::Failed(format!("step {step}: {e}")))?;
-        step_times.push(t.elapsed().as_secs_f64());
-        iterations.push(report.iterations as f64);
-        iterations_max = iterations_max.max(report.iterations);
-        *stops.entry(format!("{:?}", report.stop)).or_insert(0) += 1;
+        tally.step_times.push(t.elapsed().as_secs_f64());
+        tally.iterations.push(report.iterations as f64);
+        tally.iterations_max = tally.iterations_max.max(report.iterations);
+        *tally.stops.entry(format!("{:?}", report.stop)).or_insert(0) += 1;
         if let Some(gradient) = report.relative_gradient {
-            gradients.push(gradient);
+            tally.gradients.push(gradient);
         }
         if let Some(folder) = &run.out {
             if step.is_multiple_of(run.every) {
                 let positions = simulation.positions();
-                write_frame(folder, step, scene, positions, run, material.as_deref())?;
+                write_frame(folder, step, scene, positions, run, material)?;
             }
         }
         progress.step_done(done);
     }
     progress.finish();
-    Ok(Summary {
+    Ok(tally)
+}
+
+/// The summary of a run (not resumed): `[n, springs, steps]` and the
+/// seconds of `[precomputation, whole run]`.
+fn summarize(
+    mut tally: Tally,
+    options: &SimulationOptions,
+    backend: &'static str,
+    [n, springs, steps]: [usize; 3],
+    [precompute_s, total_s]: [f64; 2],
+) -> Summary {
+    let step = &options.step;
+    Summary {
         n,
         springs,
-        steps: run.steps,
+        steps,
         precompute_s,
-        step_median_s: step_times.median(),
-        total_s: started.elapsed().as_secs_f64(),
-        backend: B::NAME,
-        method: options.step.method.name(),
-        tolerance: options.step.tolerance,
-        energy_tolerance: options.step.energy_tolerance,
-        at_least_plain: options.step.at_least_plain,
-        start: options.step.start.name(),
-        accuracy: Accuracy::of(&options.step).map(Accuracy::name),
-        iterations_median: iterations.median(),
-        iterations_max,
-        stops,
-        relative_gradient_median: Some(gradients.median()).filter(|m| !m.is_nan()),
+        step_median_s: tally.step_times.median(),
+        total_s,
+        backend,
+        method: step.method.name(),
+        tolerance: step.tolerance,
+        energy_tolerance: step.energy_tolerance,
+        at_least_plain: step.at_least_plain,
+        start: step.start.name(),
+        accuracy: Accuracy::of(step).map(Accuracy::name),
+        iterations_median: tally.iterations.median(),
+        iterations_max: tally.iterations_max,
+        stops: tally.stops,
+        relative_gradient_median: Some(tally.gradients.median()).filter(|m| !m.is_nan()),
         path: if options.textbook { "textbook" } else { "fast" },
-        resumed_from,
-    })
+        resumed_from: None,
+    }
 }
 
 /// What of a scene is still needed.
@@ -292,9 +341,9 @@ fn keep_only(scene: &mut Scene, keep: Keep) {
 /// folder would be one of the scene's files, or one another.
 fn check_files(scene_path: &Path, scene: &Scene, out: Option<&Path>) -> Result<(), AppError> {
     let mut plan = FilePlan::default();
-    super::plan_scene_inputs(&mut plan, scene_path, scene);
+    super::file_plan::plan_scene_inputs(&mut plan, scene_path, scene);
     if let Some(folder) = out {
-        super::check_output_folder(folder, "simulate writes a folder of frames")?;
+        super::file_plan::check_output_folder(folder, "simulate writes a folder of frames")?;
         plan.writes_into(
             "--out",
             folder,

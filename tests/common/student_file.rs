@@ -11,8 +11,8 @@ use super::entries::{conform, dense_difference, sparse_difference, to_sparse, Ro
 use super::factor::{above_diagonal, permutation_of, product_difference};
 use super::springs::{match_springs, mismatch, springs_of, Row};
 use masssprings::linalg::dense::DenseMatrix;
-use masssprings::linalg::matrix_market::MatrixMarket;
 use masssprings::linalg::sparse::{CscMatrix, TripletMatrix};
+use masssprings::matrix_market::MatrixMarket;
 
 /// Our small scene: 4 vertices, vertex 0 pinned.
 pub const N: usize = 4;

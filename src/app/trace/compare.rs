@@ -36,13 +36,13 @@ pub use factor::inverse;
 
 use super::quantities::{quantities, Axis, Check, Quantity};
 use super::{read_manifest, Manifest, MANIFEST};
-use crate::app::AppError;
+use crate::app::error::AppError;
 use entries::{
     conform, dense_difference, sparse_difference, to_dense, to_sparse, Largest, RowKind,
 };
 use masssprings::linalg::dense::DenseMatrix;
-use masssprings::linalg::matrix_market::{read, MatrixMarket};
 use masssprings::linalg::sparse::CscMatrix;
+use masssprings::matrix_market::{read, MatrixMarket};
 use masssprings::sim::ITERATIONS;
 use place::{Context, Place};
 use std::borrow::Cow;

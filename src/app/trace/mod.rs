@@ -24,11 +24,12 @@ mod compute;
 mod quantities;
 mod readme;
 
+use super::error::AppError;
+use super::file_plan::load_scene;
 use super::flags::{file_name_given, whole, OrderingFlag};
-use super::{load_scene, AppError};
 use compute::{labelled, trace, TraceOptions, Value};
 use masssprings::files::{remove_stale_temporaries, write_file};
-use masssprings::linalg::matrix_market::{write_array, write_coordinate, Symmetry};
+use masssprings::matrix_market::{write_array, write_coordinate, Symmetry};
 use masssprings::mesh::Scene;
 use masssprings::sim::ITERATIONS;
 use quantities::Quantity;

@@ -20,8 +20,8 @@
 //! (`masssprings::memory`) before it allocates.
 
 use masssprings::linalg::dense::DenseMatrix;
-use masssprings::linalg::matrix_market::{MatrixMarket, SparseFile, Symmetry};
 use masssprings::linalg::sparse::{CscMatrix, TripletMatrix};
+use masssprings::matrix_market::{MatrixMarket, SparseFile, Symmetry};
 use masssprings::memory;
 
 /// The largest difference of a quantity and where it is.

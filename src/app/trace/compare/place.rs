@@ -16,8 +16,8 @@ use super::entries::{to_sparse, Difference, RowKind, ScaleOf};
 use super::factor::permutation_of;
 use super::springs::{spring_name, springs_of, Matching, Row};
 use crate::app::trace::quantities::{Axis, Check, Spec};
-use masssprings::linalg::matrix_market::MatrixMarket;
 use masssprings::linalg::sparse::CscMatrix;
+use masssprings::matrix_market::MatrixMarket;
 
 /// Where the largest difference of a quantity is.
 #[derive(Debug, Clone)]
