@@ -518,7 +518,12 @@ fn swapped_u_prev_and_u_cur_are_named_first_at_the_default_step() {
     let (success, report, _) = compare(&first, &theirs);
     assert!(success, "{report}");
     let readme = std::fs::read_to_string(first.join("README.md")).unwrap();
-    assert!(readme.contains("cannot show"), "{readme}");
+    let warning =
+        "This trace is of step 1: the mistakes marked \"cannot\" in its column pass unseen";
+    assert!(readme.contains(warning), "{readme}");
+    let swapped =
+        "| `U_prev` and `U_cur` swapped: `y = M (2 U_prev − U_cur)/Δt² + f_ext` | `y` | cannot";
+    assert!(readme.contains(swapped), "{readme}");
 }
 
 #[test]

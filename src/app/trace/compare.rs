@@ -142,15 +142,14 @@ fn conclude(
         println!("\nall {given} quantities given agree");
         return Ok(());
     };
+    let file = quantity.file_name();
     let at = match place {
         Some(place) => context.describe(quantity.spec, &place),
-        None => reason,
+        None => reason
+            .strip_prefix(&format!("{file}: "))
+            .map_or(reason.clone(), str::to_string),
     };
-    println!(
-        "\nfirst wrong quantity: {} ({}): {at}",
-        quantity.name(),
-        quantity.file_name()
-    );
+    println!("\nfirst wrong quantity: {} ({file}): {at}", quantity.name());
     Err(AppError::Failed(format!(
         "{wrong} of the {given} quantities given differ; the first is {}",
         quantity.name()
@@ -270,7 +269,7 @@ fn entries(
     let dense = matches!(*our, MatrixMarket::Dense(_));
     let shape = entries::shape(&our);
     let their = conform(their, shape, dense, spec.symbol == "M")
-        .map_err(|e| format!("{e} ({}){}", spec.shape, order_hint(spring_rows, context)))?;
+        .map_err(|e| format!("{e} ({}){}", spec.shape, shape_hint(spring_rows, context)))?;
     let largest = match (&*our, &their) {
         (MatrixMarket::Dense(a), MatrixMarket::Dense(b)) => {
             dense_difference(a, b, reference, &kinds)
@@ -322,6 +321,14 @@ fn order_hint(spring_rows: bool, context: &Context) -> &'static str {
     match spring_rows && context.matching().is_none() {
         true => "; compared in our spring order: give your A.mtx to compare in yours",
         false => "",
+    }
+}
+
+/// For a spring quantity of another shape: what its rows must be.
+fn shape_hint(spring_rows: bool, context: &Context) -> &'static str {
+    match (spring_rows, context.matching()) {
+        (true, Some(_)) => "; ours in your spring order: a row per spring of your A",
+        _ => order_hint(spring_rows, context),
     }
 }
 
