@@ -662,7 +662,8 @@ fn mutated_matrix_market_files_give_a_matrix_or_an_error_with_file_and_line() {
 
 /// Student file seeds for `trace --compare`: an `A` of the small scene of
 /// `student_file` in another order and orientation, its `r`, a `y`, `M`'s
-/// diagonal, a `P` and an `L`, written by our writers.
+/// diagonal, a `P` and an `L`, written by our writers, and what the fuzz
+/// target found (an array of 5555555555555 rows and no column).
 fn student_file_seeds() -> Vec<Vec<u8>> {
     let n = student_file::N;
     let mut a = TripletMatrix::new(student_file::SPRINGS.len(), n);
@@ -678,7 +679,7 @@ fn student_file_seeds() -> Vec<Vec<u8>> {
         l.push(k, k, 2.0 + k as f64).unwrap();
         l.push(n - 1, k, 0.5).unwrap();
     }
-    let mut seeds = Vec::new();
+    let mut seeds = vec![std::fs::read(corpus_path("array-5555555555555-by-0.mtx")).unwrap()];
     for sparse in [a.to_csc(), p.to_csc(), l.to_csc()] {
         let mut text = Vec::new();
         write_coordinate(&mut text, &sparse, Symmetry::General, "").unwrap();

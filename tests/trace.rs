@@ -776,7 +776,8 @@ fn a_second_trace_removes_the_iterations_of_the_first() {
 
 /// Runs `trace --compare ours theirs` with a memory limit of `limit_gb`
 /// and, when `address_space_kb`, an address-space limit (`ulimit -v`)
-/// that an allocation past it would abort on: (exit code, stdout, stderr).
+/// that an allocation past it would abort on, stopped after 120 s (exit
+/// code 124): (exit code, stdout, stderr).
 fn compare_limited(
     ours: &Path,
     theirs: &Path,
@@ -789,7 +790,7 @@ fn compare_limited(
     let output = std::process::Command::new("sh")
         .args([
             "-c",
-            &format!("{ulimit}exec \"$0\" trace --compare \"$1\" \"$2\""),
+            &format!("{ulimit}exec timeout 120 \"$0\" trace --compare \"$1\" \"$2\""),
         ])
         .args([binary, ours, theirs])
         .env(masssprings::memory::LIMIT_VARIABLE, limit_gb)
@@ -859,4 +860,37 @@ fn a_student_l_whose_product_is_dense_is_checked_in_bounded_memory() {
     assert_eq!(code, Some(1), "{report}\n{error}");
     assert_eq!(failing(&report), ["L"], "{report}");
     assert!(line(&report, "L").contains("L Lᵀ ≠ P Q Pᵀ"), "{report}");
+}
+
+#[test]
+fn an_array_of_5555555555555_rows_and_no_column_is_refused_at_once() {
+    // 56 bytes that hold no value (found by the fuzz target trace_compare):
+    // made sparse, its rows alone would cost 178 TB, and looping over them
+    // would never end
+    let ours = trace("net", &[], "no-columns");
+    let theirs = empty_beside(&ours);
+    let corpus = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/hostile");
+    for name in ["A.mtx", "P.mtx", "L.mtx", "r.mtx"] {
+        std::fs::copy(
+            corpus.join("array-5555555555555-by-0.mtx"),
+            theirs.join(name),
+        )
+        .unwrap();
+    }
+    let started = std::time::Instant::now();
+    let (code, report, _) = compare_limited(&ours, &theirs, "4", None);
+    assert!(started.elapsed() < std::time::Duration::from_secs(20));
+    assert_eq!(code, Some(1), "{report}");
+    assert_eq!(failing(&report), ["A", "r", "P", "L"], "{report}");
+    for name in ["A", "P", "L"] {
+        let line = line(&report, name);
+        assert!(
+            line.contains("a 5555555555555 × 0 array with 0 nonzeros made sparse would need"),
+            "{line}"
+        );
+    }
+    assert!(
+        line(&report, "r").contains("shape 5555555555555 × 0, ours 144 × 1"),
+        "{report}"
+    );
 }

@@ -21,7 +21,7 @@
 
 use masssprings::linalg::dense::DenseMatrix;
 use masssprings::linalg::sparse::{CscMatrix, TripletMatrix};
-use masssprings::matrix_market::{MatrixMarket, SparseFile, Symmetry};
+use masssprings::matrix_market::{coordinate_bytes, MatrixMarket, SparseFile, Symmetry};
 use masssprings::memory;
 
 /// The largest difference of a quantity and where it is.
@@ -171,7 +171,10 @@ pub fn to_dense(a: &MatrixMarket) -> Result<DenseMatrix, String> {
 }
 
 /// A file's matrix as a sparse one (a dense file's zeros dropped), once
-/// its triplets and columns (40 bytes an entry) are known to fit.
+/// it is known to fit: its nonzeros and, for the counting sorts that build
+/// it, its rows and columns, as the reader counts a coordinate file's. (An
+/// array of 5555555555555 × 0 holds no value, and its rows alone would
+/// cost 178 TB.)
 ///
 /// # Errors
 /// The memory rule's refusal.
@@ -182,8 +185,7 @@ pub fn to_sparse(a: &MatrixMarket) -> Result<CscMatrix, String> {
     };
     let entries = a.as_slice().iter().filter(|v| **v != 0.0).count();
     memory::check(
-        memory::bytes_for(entries as u64, 40)
-            .saturating_add(memory::bytes_for(a.ncols() as u64, 8)),
+        coordinate_bytes(a.nrows(), a.ncols(), entries),
         || {
             format!(
                 "a {} × {} array with {entries} nonzeros made sparse",
