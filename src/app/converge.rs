@@ -22,6 +22,8 @@
 
 mod accuracy;
 mod convergence_plot;
+mod motion;
+mod oracle;
 mod steps_plot;
 
 use super::draw::plot::Scale;
@@ -78,6 +80,11 @@ pub(super) struct Request {
     /// `--accuracy A` (with `--steps`): the accuracy's settings against the
     /// assignment's, over whole animations.
     accuracy: Option<Accuracy>,
+    /// `--oracle FILE.png` (with `--accuracy`): the accuracy's cost against
+    /// an oracle's, instead of the comparison.
+    oracle: Option<PathBuf>,
+    /// `--motion FILE.png` (with `--accuracy`): how much three runs move.
+    motion: Option<PathBuf>,
 }
 
 /// Plain iterations whose energies are the yardsticks.
@@ -126,6 +133,17 @@ pub struct ConvergeArgs {
     /// The time step in seconds, 1e-4 to 1 (default 1/30, the assignment's).
     #[arg(long, value_name = "DT", value_parser = between(1e-4, 1.0))]
     delta_t: Option<f64>,
+    /// With --accuracy: along the accuracy's own run and plain-50's, each step's time against the least any stopping rule could spend (an oracle that knows plain-50's energy), drawn into FILE.png with the rows in FILE.csv.
+    #[arg(long, value_name = "FILE.png", requires = "accuracy")]
+    oracle: Option<PathBuf>,
+    /// With --accuracy: the kinetic energy and the centroid's speed after each step of three runs from rest, plain-50, the accuracy's and one solved to convergence, drawn into FILE.png.
+    #[arg(
+        long,
+        value_name = "FILE.png",
+        requires = "accuracy",
+        conflicts_with = "oracle"
+    )]
+    motion: Option<PathBuf>,
     #[command(flatten)]
     rules: StepRules,
     #[command(flatten)]
@@ -141,6 +159,13 @@ pub fn run(args: ConvergeArgs) -> Result<(), AppError> {
         if let Some(path) = path {
             plan.output(flag, path);
         }
+    }
+    if let Some(path) = &request.motion {
+        plan.output("--motion", path);
+    }
+    if let Some(path) = &request.oracle {
+        plan.output("--oracle", path);
+        plan.output("--oracle's table", &path.with_extension("csv"));
     }
     plan.output("the table", Path::new("-")).check()?;
     check_records(&request)?;
@@ -210,6 +235,8 @@ pub(super) fn parse(args: ConvergeArgs) -> Request {
         canonical,
         over_steps: args.steps,
         accuracy,
+        oracle: args.oracle,
+        motion: args.motion,
     }
 }
 
@@ -419,6 +446,12 @@ fn curves_for_plot(curves: &[Curve]) -> Vec<convergence_plot::PlotCurve> {
 /// (the accuracy the assignment settles for); prints, per method, the
 /// median over the steps and its ratio to plain-50's median.
 fn run_over_steps(request: &Request, scene: &Scene, steps: usize) -> Result<(), AppError> {
+    if let (Some(_), Some(path)) = (request.accuracy, &request.oracle) {
+        return oracle::run(request, scene, steps, path);
+    }
+    if let (Some(_), Some(path)) = (request.accuracy, &request.motion) {
+        return motion::run(request, scene, steps, path);
+    }
     if let Some(accuracy) = request.accuracy {
         return accuracy::run(request, scene, steps, accuracy);
     }

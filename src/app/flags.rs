@@ -74,7 +74,7 @@ pub struct StepMethodFlags {
 /// command that steps a simulation.
 #[derive(Args, Debug, Clone)]
 pub struct StepRules {
-    /// Solve every step to a named accuracy, as fast as we know how: assignment (at least as low in energy as the assignment's 50 plain iterations: plain iterations while they converge fast, then L-BFGS with --energy-tolerance 0.15 above the energy plain-50 can reach at most, at most 20 iterations unless --iterations says otherwise; docs/convergence.md, section 6). Instead of --method and the stopping rules.
+    /// Solve every step to a named accuracy, as fast as we know how: assignment (at least as low in energy as the assignment's 50 plain iterations from the same state: at least three plain iterations, then L-BFGS from the lower of the plain iterate and the inertial prediction until the energy is past what plain-50 can reach and has stopped falling steeply, at most 20 L-BFGS iterations unless --iterations says otherwise; docs/convergence.md, section 6). Instead of choosing a method and stopping rules.
     #[arg(long, value_name = "A", value_parser = choice::<Accuracy>(&Accuracy::ALL.map(Accuracy::name)), conflicts_with_all = ["tolerance", "energy_tolerance", "at_least_plain"])]
     pub accuracy: Option<Accuracy>,
     /// Stop a step once its relative gradient is at most T (between 0 and 1; default: run every iteration).
