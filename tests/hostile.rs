@@ -9,10 +9,23 @@
 //! the line. FIFOs and links are made in temporary folders. (The PNG texture
 //! and the HTTP request parser live in the binary; their mutation tests are
 //! unit tests in `src/app/draw/texture.rs` and `src/app/view/http.rs`.)
+//! A student's file as `trace --compare` reads it goes through the
+//! binary's comparison files, included here as they are.
 #[path = "common/cli.rs"]
 mod cli;
+#[allow(dead_code)]
+#[path = "../src/app/trace/compare/entries.rs"]
+mod entries;
+#[allow(dead_code)]
+#[path = "../src/app/trace/compare/factor.rs"]
+mod factor;
 #[path = "common/mutate.rs"]
 mod mutate;
+#[allow(dead_code)]
+#[path = "../src/app/trace/compare/springs.rs"]
+mod springs;
+#[path = "common/student_file.rs"]
+mod student_file;
 
 use cli::{data, temp_folder};
 use masssprings::files::FileError;
@@ -644,6 +657,61 @@ fn mutated_matrix_market_files_give_a_matrix_or_an_error_with_file_and_line() {
             assert_names_file_and_line(&error, &path, &input);
         }
     }
+    assert!(started.elapsed() < Duration::from_secs(30));
+}
+
+/// Student file seeds for `trace --compare`: an `A` of the small scene of
+/// `student_file` in another order and orientation, its `r`, a `y`, `M`'s
+/// diagonal, a `P` and an `L`, written by our writers, and what the fuzz
+/// target found (an array of 5555555555555 rows and no column).
+fn student_file_seeds() -> Vec<Vec<u8>> {
+    let n = student_file::N;
+    let mut a = TripletMatrix::new(student_file::SPRINGS.len(), n);
+    for (e, [i, j]) in student_file::SPRINGS.iter().rev().enumerate() {
+        let (plus, minus) = if e % 2 == 0 { (*j, *i) } else { (*i, *j) };
+        a.push(e, plus, 1.0).unwrap();
+        a.push(e, minus, -1.0).unwrap();
+    }
+    let mut p = TripletMatrix::new(n, n);
+    let mut l = TripletMatrix::new(n, n);
+    for (k, old) in [3, 1, 0, 2].into_iter().enumerate() {
+        p.push(k, old, 1.0).unwrap();
+        l.push(k, k, 2.0 + k as f64).unwrap();
+        l.push(n - 1, k, 0.5).unwrap();
+    }
+    let mut seeds = vec![std::fs::read(corpus_path("array-5555555555555-by-0.mtx")).unwrap()];
+    for sparse in [a.to_csc(), p.to_csc(), l.to_csc()] {
+        let mut text = Vec::new();
+        write_coordinate(&mut text, &sparse, Symmetry::General, "").unwrap();
+        seeds.push(text);
+    }
+    let dense = masssprings::linalg::dense::DenseMatrix::from_row_major;
+    for (rows, cols) in [(student_file::SPRINGS.len(), 1), (n, 3), (n, 1), (1, n)] {
+        let values = (0..rows * cols).map(|v| 0.25 * v as f64 - 1.0).collect();
+        let mut text = Vec::new();
+        write_array(&mut text, &dense(rows, cols, values).unwrap(), "").unwrap();
+        seeds.push(text);
+    }
+    seeds
+}
+
+#[test]
+fn mutated_student_files_are_compared_or_refused_by_trace_compare() {
+    small_own_limit();
+    let seeds = student_file_seeds();
+    let mut rng = Rng::new(37);
+    let mut tally = student_file::Tally::default();
+    let started = Instant::now();
+    for case in 0..20_000 {
+        let input = mutate(&seeds[case % seeds.len()], &mut rng);
+        let Ok(file) = matrix_market::parse(&String::from_utf8_lossy(&input)) else {
+            continue;
+        };
+        let one = student_file::compare_everything(&file);
+        tally.compared += one.compared;
+        tally.refused += one.refused;
+    }
+    assert!(tally.compared > 3000 && tally.refused > 3000, "{tally:?}");
     assert!(started.elapsed() < Duration::from_secs(30));
 }
 

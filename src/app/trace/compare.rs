@@ -3,36 +3,49 @@
 //! per quantity in the handout's order:
 //!
 //! ```text
-//! quantity  result    difference  tolerance  where
-//! A         DIFFERS   2           exact      row 18, column 5: spring 17 = (4, 9), vertex 4; ours -1, yours 1
-//! r         agrees    1.1e-16     1e-12      row 35: spring 34 = (12, 13)
+//! quantity  result     relative   tolerance  where
+//! A         note                  exact      another spring order (allowed): 12362 of your 12442 springs in other rows, 6280 reversed; …
+//! y         DIFFERS    1.43e-1    1e-8       vertex 3121, x (file row 3122, column 1): ours -0.359, yours 1.202, relative to the row's largest |ours|, 10.9
+//! d_1       agrees     2.58e-16   1e-8       your spring 718 = (173, 212), our spring 715 = (173, 212), y (file row 719, column 2): …
 //! ```
 //!
-//! The difference is the largest `|ours − yours| / s` of the quantity,
-//! with `s` the largest of `|ours|`, `|yours|` and the largest `|ours|` in
-//! the row (see [`Check`]); the place is given 1-based as in the files,
-//! and named by what the row and column stand for, 0-based as in `V`, `E`
-//! and `b`. A student's file may be sparse where ours is dense and the
-//! reverse; a vector may be a row or a column; `M` may be its diagonal.
-//! `P` may be any permutation, and `L` is checked as `L Lᵀ = P Q Pᵀ` (see
-//! [`factor`](super::compare::factor)).
+//! "relative" is the largest `|ours − yours| / s` of the quantity, with
+//! `s` the largest of `|ours|`, `|yours|` and what the entry is held to
+//! (its row's largest `|ours|`, `b`'s terms, `√(Q'ₖₖ Q'ₗₗ)` for `L`),
+//! named under "where" (see [`entries`]). Vertices, springs and pins are
+//! counted from 0 as in the handout and Eigen, the file's row and column
+//! from 1 beside them. At a vertex quantity the place shown is the
+//! largest difference at a free vertex, unless only a pin differs.
+//!
+//! The handout's freedoms are accepted: the springs in any order and
+//! orientation ([`springs`]: `r` and `d` are compared through the matching
+//! of the student's `A`), any ordering `P` ([`factor`]: `L` is checked as
+//! `L Lᵀ = P Q Pᵀ`), sparse or dense files, a vector as a row or a column,
+//! `M` as its diagonal.
 //!
 //! The first `DIFFERS` line is the first quantity to fix: everything after
 //! it is computed from it and may differ because of it.
 
+mod entries;
 mod factor;
 mod place;
+mod springs;
 mod sum;
 
 pub use factor::inverse;
 
-use super::quantities::{quantities, Check, Quantity};
-use super::read_manifest;
+use super::quantities::{quantities, Axis, Check, Quantity};
+use super::{read_manifest, Manifest, MANIFEST};
 use crate::app::error::AppError;
+use entries::{
+    conform, dense_difference, sparse_difference, to_dense, to_sparse, Largest, RowKind,
+};
 use masssprings::linalg::dense::DenseMatrix;
-use masssprings::linalg::sparse::{CscMatrix, TripletMatrix};
-use masssprings::matrix_market::{read, MatrixMarket, SparseFile, Symmetry};
+use masssprings::linalg::sparse::CscMatrix;
+use masssprings::matrix_market::{read, MatrixMarket};
+use masssprings::sim::ITERATIONS;
 use place::{Context, Place};
+use std::borrow::Cow;
 use std::path::Path;
 
 /// What a comparison found for one quantity.
@@ -45,23 +58,13 @@ enum Outcome {
     /// Outside the tolerance (at `Place`), or the file could not be
     /// compared at all (the reason).
     Differs(Option<Place>, String),
-    /// Allowed, but worth saying (a different ordering `P`).
+    /// Allowed, but worth saying (another ordering `P`, another spring order).
     Note(String),
-}
-
-/// The largest difference of a quantity and where it is.
-#[derive(Debug, Clone, Copy)]
-pub struct Difference {
-    /// `|ours − yours| / s`.
-    pub relative: f64,
-    pub row: usize,
-    pub col: usize,
-    pub ours: f64,
-    pub yours: f64,
 }
 
 pub fn run(ours: &Path, theirs: &Path) -> Result<(), AppError> {
     let manifest = read_manifest(ours)?;
+    check_manifest(&manifest, ours)?;
     if !theirs.is_dir() {
         return Err(AppError::Failed(format!(
             "{}: not a folder; --compare DIR OTHER compares two folders of files",
@@ -69,22 +72,18 @@ pub fn run(ours: &Path, theirs: &Path) -> Result<(), AppError> {
         )));
     }
     let all = quantities(manifest.iterations);
-    let [a, q, p] = ["A.mtx", "Q.mtx", "P.mtx"].map(|name| read_ours(ours, name));
-    let mut context = Context::new(&a?, manifest.k, &q?, &p?)
+    let [a, q, p, c] = ["A.mtx", "Q.mtx", "P.mtx", "C.mtx"].map(|name| read_ours(ours, name));
+    let mut context = Context::new(manifest.k, [&a?, &q?, &p?, &c?])
         .map_err(|e| AppError::Failed(format!("{}: {e}", ours.display())))?;
     println!(
-        "comparing {} with {} ({}, step {}, {} iteration(s), {} ordering)\n\
-         rows and columns count from 1 as in the files; vertices, springs and pins from 0 as in V, E and b\n",
+        "comparing {} with {} ({}, step {}, {} iteration(s), {} ordering)\n\n{}",
         theirs.display(),
         ours.display(),
         manifest.scene,
         manifest.step,
         manifest.iterations,
-        manifest.ordering
-    );
-    println!(
-        "{:<9} {:<9} {:<11} {:<10} where",
-        "quantity", "result", "difference", "tolerance"
+        manifest.ordering,
+        LEGEND
     );
     let (mut given, mut first_wrong, mut wrong) = (0, None, 0);
     for quantity in &all {
@@ -99,6 +98,30 @@ pub fn run(ours: &Path, theirs: &Path) -> Result<(), AppError> {
     print_ignored(theirs, &all, manifest.iterations);
     conclude(theirs, given, wrong, first_wrong, &context)
 }
+
+/// Refuses a manifest whose iterations `trace` cannot have written,
+/// before anything is allocated for them (a list of files per iteration).
+fn check_manifest(manifest: &Manifest, ours: &Path) -> Result<(), AppError> {
+    if (1..=ITERATIONS).contains(&manifest.iterations) && manifest.step >= 1 {
+        return Ok(());
+    }
+    Err(AppError::Failed(format!(
+        "{}: iterations {} and step {}: trace writes 1 to {ITERATIONS} iterations of a step from 1 \
+         (run masssprings trace again to write it)",
+        ours.join(MANIFEST).display(),
+        manifest.iterations,
+        manifest.step
+    )))
+}
+
+/// What the columns of the table are.
+const LEGEND: &str = "\
+relative:  the largest |ours − yours| of the quantity divided by the scale named under \"where\"
+           (|ours|, |yours|, or what the entry is held to); tolerance is the largest that agrees
+where:     vertices, springs and pins count from 0 as in V, E and b (and Eigen); the file's row
+           and column count from 1; at vertices the place shown is a free one unless only a pin differs
+
+quantity  result     relative   tolerance  where";
 
 /// The closing line, and the exit status: an error when anything differs
 /// or nothing was given.
@@ -119,22 +142,23 @@ fn conclude(
         println!("\nall {given} quantities given agree");
         return Ok(());
     };
+    let file = quantity.file_name();
     let at = match place {
-        Some(place) => format!("at {}", context.describe(quantity.spec, &place)),
-        None => reason,
+        Some(place) => context.describe(quantity.spec, &place),
+        None => reason
+            .strip_prefix(&format!("{file}: "))
+            .map_or(reason.clone(), str::to_string),
     };
-    println!(
-        "\nfirst wrong quantity: {} ({}), {at}",
-        quantity.name(),
-        quantity.file_name()
-    );
+    println!("\nfirst wrong quantity: {} ({file}): {at}", quantity.name());
     Err(AppError::Failed(format!(
         "{wrong} of the {given} quantities given differ; the first is {}",
         quantity.name()
     )))
 }
 
-/// One quantity: ours against the student's, when given.
+/// One quantity: ours against the student's, when given. A file that
+/// cannot be compared (unreadable, another shape, too large to convert)
+/// differs, with the reason and the file's name.
 fn compare_one(
     quantity: &Quantity,
     ours: &Path,
@@ -142,7 +166,6 @@ fn compare_one(
     context: &mut Context,
 ) -> Result<Outcome, AppError> {
     let file = quantity.file_name();
-    let our = read_ours(ours, &file)?;
     let path = theirs.join(&file);
     if !path.exists() {
         return Ok(Outcome::NotGiven);
@@ -151,18 +174,27 @@ fn compare_one(
         Ok(their) => their,
         Err(error) => return Ok(Outcome::Differs(None, format!("unreadable: {error}"))),
     };
-    Ok(match quantity.spec.check {
-        Check::Entries { tolerance } => entries(quantity, &our, their, tolerance, None),
-        Check::Sum { tolerance } => {
-            let d = format!("d_{}.mtx", quantity.iteration.expect("b is per iteration"));
-            let (d, y) = (read_ours(ours, &d)?, read_ours(ours, "y.mtx")?);
-            let terms = sum::term_sizes(&to_dense(&our), &d, &y, context)
-                .map_err(|e| AppError::Failed(format!("{}: {e}", ours.display())))?;
-            entries(quantity, &our, their, tolerance, Some(&terms))
+    let outcome = match quantity.spec.check {
+        Check::Incidence => incidence(their, context),
+        Check::Entries { tolerance } => {
+            let our = read_ours(ours, &file)?;
+            entries(quantity, &our, their, tolerance, None, context)
         }
-        Check::Ordering => factor::ordering(their, context),
-        Check::Factor { tolerance } => factor::factor(their, context, tolerance),
-    })
+        Check::Sum { tolerance } => {
+            let iteration = quantity.iteration.expect("b is per iteration");
+            let (b, d) = (
+                read_ours(ours, &file)?,
+                read_ours(ours, &format!("d_{iteration}.mtx"))?,
+            );
+            let y = read_ours(ours, "y.mtx")?;
+            let terms = sum::term_sizes(&b, &d, &y, context)
+                .map_err(|e| AppError::Failed(format!("{}: {e}", ours.display())))?;
+            entries(quantity, &b, their, tolerance, Some(&terms), context)
+        }
+        Check::Ordering => ordering(their, context),
+        Check::Factor { tolerance } => factor(their, context, tolerance),
+    };
+    Ok(outcome.unwrap_or_else(|reason| Outcome::Differs(None, format!("{file}: {reason}"))))
 }
 
 /// Our file `name` in `ours`, which `trace` wrote.
@@ -171,153 +203,232 @@ fn read_ours(ours: &Path, name: &str) -> Result<MatrixMarket, AppError> {
         .map_err(|e| AppError::Failed(format!("{e} (run masssprings trace again to write it)")))
 }
 
-/// Entry by entry, after bringing the student's file to our shape and
-/// kind, each entry scaled as [`Largest::consider`] says, with its row's
-/// largest `|ours|` or, for a dense quantity, `scale`'s entry.
+/// The student's `A`: a spring per row, the same springs as ours in any
+/// order and orientation. Its matching is kept for `r` and `d`.
+fn incidence(their: MatrixMarket, context: &mut Context) -> Result<Outcome, String> {
+    let a = to_sparse(&their)?;
+    let (m, n) = (context.our_springs.len(), context.a.ncols());
+    if a.ncols() != n {
+        return Err(format!(
+            "shape {} × {}, ours {m} × {n} (a column per vertex)",
+            a.nrows(),
+            a.ncols()
+        ));
+    }
+    let theirs = springs::springs_of(&a)?;
+    let matching = springs::match_springs(&context.our_springs, &theirs)?;
+    let outcome = match springs::mismatch(&context.our_springs, &theirs, &matching) {
+        Some(reason) => Outcome::Differs(None, reason),
+        None if matching.is_identity() => Outcome::Agrees(
+            None,
+            "the same springs in the same order and orientation".into(),
+        ),
+        None => {
+            let (moved, reversed) = matching.moved_and_reversed();
+            Outcome::Note(format!(
+                "another spring order (allowed): {moved} of your {m} springs in other rows, \
+                 {reversed} reversed; r and d are compared through it"
+            ))
+        }
+    };
+    if matching.theirs_of.iter().any(Option::is_some) {
+        context.their_springs = Some((theirs, matching));
+    }
+    Ok(outcome)
+}
+
+/// Entry by entry, after bringing ours to the student's spring order (for
+/// `r` and `d`) and the student's file to our shape and kind, each entry
+/// held to its row's largest `|ours|` or, when given, `reference`'s entry.
 fn entries(
     quantity: &Quantity,
     our: &MatrixMarket,
     their: MatrixMarket,
     tolerance: f64,
-    scale: Option<&DenseMatrix>,
-) -> Outcome {
-    let their = match conform(quantity, our, their) {
-        Ok(their) => their,
-        Err(reason) => return Outcome::Differs(None, reason),
+    reference: Option<&DenseMatrix>,
+    context: &Context,
+) -> Result<Outcome, String> {
+    let spec = quantity.spec;
+    let spring_rows = matches!(spec.rows, Axis::Spring | Axis::SpringVector);
+    let (our, kinds, remark) = match context.matching().filter(|_| spring_rows) {
+        Some(matching) => {
+            let oriented = spec.rows == Axis::SpringVector;
+            let (our, kinds) = in_their_order(&to_dense(our)?, matching, oriented);
+            (
+                Cow::Owned(MatrixMarket::Dense(our)),
+                Cow::Owned(kinds),
+                matched_remark(matching),
+            )
+        }
+        None => (
+            Cow::Borrowed(our),
+            Cow::Borrowed(context.kinds(spec.rows)),
+            String::new(),
+        ),
     };
-    let largest = match (our, &their) {
-        (MatrixMarket::Dense(a), MatrixMarket::Dense(b)) => dense_difference(a, b, scale),
-        _ => sparse_difference(&to_sparse(our), &to_sparse(&their)),
+    let dense = matches!(*our, MatrixMarket::Dense(_));
+    let shape = entries::shape(&our);
+    let their = conform(their, shape, dense, spec.symbol == "M")
+        .map_err(|e| format!("{e} ({}){}", spec.shape, shape_hint(spring_rows, context)))?;
+    let largest = match (&*our, &their) {
+        (MatrixMarket::Dense(a), MatrixMarket::Dense(b)) => {
+            dense_difference(a, b, reference, &kinds)
+        }
+        (our, their) => sparse_difference(&to_sparse(our)?, &to_sparse(their)?, &kinds),
     };
-    match largest {
-        Some(d) if d.relative > tolerance => Outcome::Differs(Some(Place::Entry(d)), String::new()),
-        largest => Outcome::Agrees(largest.map(Place::Entry), String::new()),
+    let mut outcome = verdict(largest, tolerance, remark);
+    if let Outcome::Differs(_, reason) = &mut outcome {
+        reason.push_str(order_hint(spring_rows, context));
+    }
+    Ok(outcome)
+}
+
+/// Ours in the student's spring order: row `e′` is our row of their
+/// spring `e′`, negated when `oriented` and the spring is reversed; rows
+/// of springs that are not ours are skipped.
+fn in_their_order(
+    our: &DenseMatrix,
+    matching: &springs::Matching,
+    oriented: bool,
+) -> (DenseMatrix, Vec<RowKind>) {
+    let mut ordered = DenseMatrix::zeros(matching.ours_of.len(), our.ncols());
+    let mut kinds = vec![RowKind::Skipped; matching.ours_of.len()];
+    for (e, matched) in matching.ours_of.iter().enumerate() {
+        let Some((ours, reversed)) = *matched else {
+            continue;
+        };
+        let sign = if oriented && reversed { -1.0 } else { 1.0 };
+        for (to, from) in ordered.row_mut(e).iter_mut().zip(our.row(ours)) {
+            *to = sign * from;
+        }
+        kinds[e] = RowKind::Free;
+    }
+    (ordered, kinds)
+}
+
+/// Says when springs were compared through a matching that is not all of
+/// them.
+fn matched_remark(matching: &springs::Matching) -> String {
+    let matched = matching.ours_of.iter().filter(|m| m.is_some()).count();
+    match matching.is_permutation() {
+        true => String::new(),
+        false => format!("over the {matched} springs your A shares with ours"),
     }
 }
 
-/// The student's matrix in our shape and kind (dense or sparse): a
-/// vector transposed, `M`'s diagonal made a matrix; a different shape is
-/// the reason it differs.
-fn conform(
-    quantity: &Quantity,
-    our: &MatrixMarket,
-    their: MatrixMarket,
-) -> Result<MatrixMarket, String> {
-    let (rows, cols) = shape(our);
-    let (their_rows, their_cols) = shape(&their);
-    let vector = their_rows.min(their_cols) == 1;
-    let their = if vector && (their_rows, their_cols) == (cols, rows) {
-        let values = to_dense(&their).as_slice().to_vec(); // a vector's values, in order
-        MatrixMarket::Dense(DenseMatrix::from_row_major(rows, cols, values).expect("a vector"))
-    } else if quantity.spec.symbol == "M" && vector && their_rows.max(their_cols) == rows {
-        sparse_file(CscMatrix::from_diagonal(to_dense(&their).as_slice()))
-    } else {
-        their
-    };
-    let (their_rows, their_cols) = shape(&their);
-    if (their_rows, their_cols) != (rows, cols) {
-        return Err(format!(
-            "shape {their_rows} × {their_cols}, ours {rows} × {cols} ({})",
-            quantity.spec.shape
-        ));
+/// For a spring quantity compared in our order: how to compare in yours.
+fn order_hint(spring_rows: bool, context: &Context) -> &'static str {
+    match spring_rows && context.matching().is_none() {
+        true => "; compared in our spring order: give your A.mtx to compare in yours",
+        false => "",
     }
-    Ok(match our {
-        MatrixMarket::Dense(_) => MatrixMarket::Dense(to_dense(&their)),
-        MatrixMarket::Sparse(_) => their,
+}
+
+/// For a spring quantity of another shape: what its rows must be.
+fn shape_hint(spring_rows: bool, context: &Context) -> &'static str {
+    match (spring_rows, context.matching()) {
+        (true, Some(_)) => "; ours in your spring order: a row per spring of your A",
+        _ => order_hint(spring_rows, context),
+    }
+}
+
+/// Agrees or differs, by the largest difference anywhere; the place shown
+/// is a free row's unless only a pin is outside the tolerance.
+fn verdict(largest: Largest, tolerance: f64, mut remark: String) -> Outcome {
+    let shown = largest.shown(tolerance);
+    if let (Some(shown), Some(pinned)) = (shown, largest.pinned) {
+        if shown != pinned && pinned.relative > shown.relative {
+            let within = match pinned.within(tolerance) {
+                true => ", within the tolerance",
+                false => " too",
+            };
+            let pins = format!("at the pins up to {:.2e}{within}", pinned.relative);
+            remark = match remark.is_empty() {
+                true => pins,
+                false => format!("{remark}; {pins}"),
+            };
+        }
+    }
+    let place = shown.map(Place::Entry);
+    match largest.overall() {
+        Some(d) if !d.within(tolerance) => Outcome::Differs(place, remark),
+        _ => Outcome::Agrees(place, remark),
+    }
+}
+
+/// The student's matrix, sparse, if it is `n × n`; else why not.
+fn square(their: &MatrixMarket, n: usize) -> Result<CscMatrix, String> {
+    let a = to_sparse(their)?;
+    match (a.nrows(), a.ncols()) == (n, n) {
+        true => Ok(a),
+        false => Err(format!(
+            "shape {} × {}, ours {n} × {n}",
+            a.nrows(),
+            a.ncols()
+        )),
+    }
+}
+
+/// The student's `P`: any permutation (another one than ours is noted).
+fn ordering(their: MatrixMarket, context: &mut Context) -> Result<Outcome, String> {
+    let p = square(&their, context.our_perm.len())?;
+    let perm = match factor::permutation_of(&p) {
+        Ok(perm) => perm,
+        Err(reason) => return Err(format!("not a permutation matrix: {reason}")),
+    };
+    let same = perm == context.our_perm;
+    context.their_perm = Some(perm);
+    Ok(match same {
+        true => Outcome::Agrees(None, "the same ordering as ours".into()),
+        false => Outcome::Note("another ordering than ours (allowed); L is checked with it".into()),
     })
 }
 
-/// Rows and columns of a file's matrix.
-fn shape(a: &MatrixMarket) -> (usize, usize) {
-    match a {
-        MatrixMarket::Sparse(file) => (file.matrix.nrows(), file.matrix.ncols()),
-        MatrixMarket::Dense(a) => (a.nrows(), a.ncols()),
+/// The student's `L`: lower triangular, and `L Lᵀ = P Q Pᵀ` with their
+/// `P` (or its transpose), or without one, ours or the natural order.
+fn factor(their: MatrixMarket, context: &Context, tolerance: f64) -> Result<Outcome, String> {
+    let l = square(&their, context.our_perm.len())?;
+    if let Some((i, j, v)) = factor::above_diagonal(&l) {
+        return Err(format!(
+            "not lower triangular: entry ({}, {}) = {v}",
+            i + 1,
+            j + 1
+        ));
     }
+    let mut first = None;
+    for (label, perm) in orderings(context) {
+        let kinds: Vec<RowKind> = perm.iter().map(|&v| context.vertex_kinds[v]).collect();
+        let largest = factor::product_difference(&l, &context.q, &perm, &kinds)?;
+        let shown = largest
+            .shown(tolerance)
+            .map(|d| Place::Product(d, perm.clone()));
+        if largest.overall().is_none_or(|d| d.within(tolerance)) {
+            return Ok(Outcome::Agrees(shown, label));
+        }
+        first.get_or_insert((shown, label));
+    }
+    let (place, label) = first.expect("at least one ordering is tried");
+    Ok(Outcome::Differs(place, format!("L Lᵀ ≠ P Q Pᵀ {label}")))
 }
 
-/// The largest scaled difference of two dense matrices of one shape,
-/// each entry scaled by its row's largest `|ours|`, or by `scale`'s entry.
-fn dense_difference(
-    ours: &DenseMatrix,
-    yours: &DenseMatrix,
-    scale: Option<&DenseMatrix>,
-) -> Option<Difference> {
-    let mut largest = Largest::default();
-    for i in 0..ours.nrows() {
-        let row_scale = ours.row(i).iter().fold(0.0_f64, |s, v| s.max(v.abs()));
-        for (j, (&a, &b)) in ours.row(i).iter().zip(yours.row(i)).enumerate() {
-            largest.consider(i, j, a, b, scale.map_or(row_scale, |s| s[(i, j)]));
-        }
-    }
-    largest.0
-}
-
-/// The largest scaled difference of two sparse matrices of one shape,
-/// over the union of their patterns.
-fn sparse_difference(ours: &CscMatrix, yours: &CscMatrix) -> Option<Difference> {
-    let mut scale = vec![0.0_f64; ours.nrows()];
-    for (&i, &v) in ours.row_idx().iter().zip(ours.values()) {
-        scale[i] = scale[i].max(v.abs());
-    }
-    let mut largest = Largest::default();
-    union_entries(ours, yours, |i, j, a, b| {
-        largest.consider(i, j, a, b, scale[i])
-    });
-    largest.0
-}
-
-/// Calls `f(i, j, ours, yours)` for every position stored in either
-/// matrix (a missing entry is 0), column by column.
-pub fn union_entries(
-    ours: &CscMatrix,
-    yours: &CscMatrix,
-    mut f: impl FnMut(usize, usize, f64, f64),
-) {
-    let mut values = vec![[0.0; 2]; ours.nrows()];
-    let mut seen = vec![false; ours.nrows()];
-    let mut touched = Vec::new();
-    for j in 0..ours.ncols() {
-        for (side, matrix) in [ours, yours].into_iter().enumerate() {
-            let (rows, column) = matrix.column(j);
-            for (&i, &v) in rows.iter().zip(column) {
-                values[i][side] += v;
-                if !std::mem::replace(&mut seen[i], true) {
-                    touched.push(i);
-                }
-            }
-        }
-        for i in touched.drain(..) {
-            f(i, j, values[i][0], values[i][1]);
-            values[i] = [0.0; 2];
-            seen[i] = false;
-        }
-    }
-}
-
-/// The largest scaled difference seen so far.
-#[derive(Default)]
-pub struct Largest(pub Option<Difference>);
-
-impl Largest {
-    /// Takes `(i, j)` into account, `ours` and `yours` scaled by the
-    /// largest of `|ours|`, `|yours|` and `row_scale`.
-    pub fn consider(&mut self, row: usize, col: usize, ours: f64, yours: f64, row_scale: f64) {
-        let s = ours.abs().max(yours.abs()).max(row_scale);
-        let difference = (ours - yours).abs();
-        let relative = if difference == 0.0 {
-            0.0
-        } else {
-            difference / s
-        };
-        if self.0.is_none_or(|d| relative > d.relative) {
-            self.0 = Some(Difference {
-                relative,
-                row,
-                col,
-                ours,
-                yours,
-            });
-        }
+/// The orderings to try `L` with, labelled: the student's `P` and its
+/// transpose, or ours and the natural one.
+fn orderings(context: &Context) -> Vec<(String, Vec<usize>)> {
+    match &context.their_perm {
+        Some(perm) => vec![
+            ("with your P".into(), perm.clone()),
+            ("with the transpose of your P".into(), inverse(perm)),
+        ],
+        None => vec![
+            (
+                "with our P (no P.mtx given)".into(),
+                context.our_perm.clone(),
+            ),
+            (
+                "in the natural order (no P.mtx given)".into(),
+                (0..context.our_perm.len()).collect(),
+            ),
+        ],
     }
 }
 
@@ -329,9 +440,8 @@ fn print_line(quantity: &Quantity, outcome: &Outcome, context: &Context) {
         {
             format!("{tolerance:e}")
         }
-        Check::Entries { .. } => "exact".into(),
         Check::Ordering => "any".into(),
-        Check::Factor { .. } | Check::Sum { .. } => "exact".into(),
+        _ => "exact".into(),
     };
     let (result, place, remark) = match outcome {
         Outcome::NotGiven => ("not given", None, ""),
@@ -340,28 +450,24 @@ fn print_line(quantity: &Quantity, outcome: &Outcome, context: &Context) {
         Outcome::Note(remark) => ("note", None, remark.as_str()),
     };
     let place = place.filter(|p| p.relative() > 0.0); // no place for no difference
+    let numeric = !matches!(quantity.spec.check, Check::Ordering | Check::Incidence);
     let difference = match (place, outcome) {
         (Some(place), _) => format!("{:.2e}", place.relative()),
-        (None, Outcome::Agrees(..)) if quantity.spec.check != Check::Ordering => "0".into(),
+        (None, Outcome::Agrees(..)) if numeric => "0".into(),
         _ => String::new(),
     };
-    let mut at = place
-        .map(|p| context.describe(quantity.spec, p))
-        .unwrap_or_default();
-    if !remark.is_empty() {
-        at = if at.is_empty() {
-            remark.to_string()
-        } else {
-            format!("{at} ({remark})")
-        };
-    }
-    let tolerance = if matches!(outcome, Outcome::NotGiven) {
-        String::new()
-    } else {
-        tolerance
+    let at = place.map(|p| context.describe(quantity.spec, p));
+    let at = match (at, remark.is_empty()) {
+        (Some(at), false) => format!("{at} ({remark})"),
+        (Some(at), true) => at,
+        (None, _) => remark.to_string(),
+    };
+    let tolerance = match outcome {
+        Outcome::NotGiven => "",
+        _ => tolerance.as_str(),
     };
     let line = format!(
-        "{:<9} {result:<9} {difference:<11} {tolerance:<10} {at}",
+        "{:<9} {result:<10} {difference:<10} {tolerance:<10} {at}",
         quantity.name()
     );
     println!("{}", line.trim_end());
@@ -384,35 +490,4 @@ fn print_ignored(theirs: &Path, all: &[Quantity], iterations: usize) {
             ignored.join(", ")
         );
     }
-}
-
-/// A file's matrix as a sparse one (a dense file's zeros dropped).
-pub fn to_sparse(a: &MatrixMarket) -> CscMatrix {
-    match a {
-        MatrixMarket::Sparse(file) => file.matrix.clone(),
-        MatrixMarket::Dense(a) => {
-            let mut triplets = TripletMatrix::new(a.nrows(), a.ncols());
-            for i in 0..a.nrows() {
-                for (j, &v) in a.row(i).iter().enumerate().filter(|(_, v)| **v != 0.0) {
-                    triplets.push(i, j, v).expect("inside the matrix");
-                }
-            }
-            triplets.to_csc()
-        }
-    }
-}
-
-/// A file's matrix as a dense one.
-fn to_dense(a: &MatrixMarket) -> DenseMatrix {
-    match a {
-        MatrixMarket::Sparse(file) => file.matrix.to_dense(),
-        MatrixMarket::Dense(a) => a.clone(),
-    }
-}
-
-fn sparse_file(matrix: CscMatrix) -> MatrixMarket {
-    MatrixMarket::Sparse(SparseFile {
-        matrix,
-        symmetry: Symmetry::General,
-    })
 }

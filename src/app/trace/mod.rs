@@ -62,8 +62,9 @@ pub struct TraceArgs {
     /// The folder to write.
     #[arg(short, long, value_name = "DIR", required_unless_present = "compare", value_parser = file_name_given)]
     out: Option<PathBuf>,
-    /// The step to trace, from 1.
-    #[arg(long, value_name = "K", default_value = "1", value_parser = whole(1, usize::MAX))]
+    /// The step to trace, from 1 (3: the first whose U_prev, U_cur and V all
+    /// differ, so that no term of the step hides; DIR/README.md says why).
+    #[arg(long, value_name = "K", default_value = "3", value_parser = whole(1, usize::MAX))]
     step: usize,
     /// Iterations of step K to write, 1 to 50.
     #[arg(long, value_name = "N", default_value = "2", value_parser = whole(1, ITERATIONS))]

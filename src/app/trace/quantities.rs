@@ -12,8 +12,11 @@
 /// difference.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Axis {
-    /// A spring `e = (i, j)`: rows of `A`, `r`, `d`.
+    /// A spring `e = (i, j)`: rows of `A` and `r`.
     Spring,
+    /// A spring's vector, which changes sign with the spring's
+    /// orientation: rows of `d` (`dᵢⱼ = −dⱼᵢ`).
+    SpringVector,
     /// A vertex: rows of `U`, `y`, `b`, `p`; rows and columns of `M`, `Q`.
     Vertex,
     /// A pinned vertex, in the order of the scene's list `b`: rows of `C`.
@@ -30,6 +33,10 @@ pub enum Axis {
 /// How a student's file is compared with ours.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Check {
+    /// `A`: the same springs as ours, in any order and orientation (the
+    /// handout leaves both free), each matched to ours by its two
+    /// vertices; `r` and `d` are then compared through that matching.
+    Incidence,
     /// Entry by entry: `|ours − yours| ≤ tolerance · s`, with `s` the
     /// largest of `|ours|`, `|yours|` and the largest `|ours|` in the row
     /// (`tolerance` 0: the same numbers exactly).
@@ -84,8 +91,13 @@ pub static SPECS: [Spec; 13] = [
         function: "sim::signed_incidence::signed_incidence_matrix_sparse",
         rows: Axis::Spring,
         columns: Axis::Vertex,
-        check: Check::Entries { tolerance: 0.0 },
-        why: "unique and exact (±1): any difference is a mistake, usually a spring's sign or column",
+        check: Check::Incidence,
+        why: "unique up to the order of the springs and the orientation of each, which the \
+              handout leaves free (\"an arbitrary (but fixed) ordering of the edges\"; \"we'll \
+              pick an orientation for edge anyway\"): each of your rows must be a spring, +1 at \
+              one end and −1 at the other, and your springs ours, each once, matched by their two \
+              vertices; r and d are compared through that matching, d negated where your spring \
+              runs the other way",
         per_iteration: false,
     },
     Spec {
@@ -202,7 +214,7 @@ pub static SPECS: [Spec; 13] = [
         equation: "dᵢⱼ = rᵢⱼ (pᵢ − pⱼ)/‖pᵢ − pⱼ‖, from the previous iteration's p (first: p = U_cur)",
         shape: "m × 3",
         function: "sim::local_step::project_springs",
-        rows: Axis::Spring,
+        rows: Axis::SpringVector,
         columns: Axis::Coordinate,
         check: Check::Entries {
             tolerance: AFTER_SOLVE,

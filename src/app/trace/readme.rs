@@ -28,6 +28,7 @@ pub fn readme(manifest: &Manifest, values: &[(Quantity, Value)]) -> String {
     gallery(&mut text);
     table(&mut text, values);
     tolerances(&mut text);
+    what_a_step_shows(&mut text, manifest);
     how_to_compare(&mut text, manifest);
     text
 }
@@ -64,7 +65,9 @@ fn header(text: &mut String, m: &Manifest) {
          `array real general` (column by column). Rows and columns are in the handout's \
          order: vertices as the rows of `V` (the OBJ's `v` lines), springs as the rows of `E` \
          (libigl's `edges` order), pins as the scene's list `b`; `P` and `L` are in the \
-         factor's order (`L Lᵀ = P Q Pᵀ`).\n\n",
+         factor's order (`L Lᵀ = P Q Pᵀ`). The handout leaves the order of the springs and the \
+         orientation of each to you: yours may differ from ours, and `--compare` matches them \
+         by their two vertices.\n\n",
         scene = m.scene,
         step = m.step,
         iterations = m.iterations,
@@ -109,6 +112,7 @@ fn table(text: &mut String, values: &[(Quantity, Value)]) {
 /// The comparison rule of a check, in a few words.
 fn rule(check: Check) -> String {
     match check {
+        Check::Incidence => "the same springs, in any order and orientation".into(),
         Check::Entries { tolerance: 0.0 } => "exactly".into(),
         Check::Entries { tolerance } => format!("entries, {tolerance:e} relative"),
         Check::Ordering => "any permutation (reported)".into(),
@@ -143,6 +147,89 @@ fn tolerances(text: &mut String) {
     );
 }
 
+/// Mistakes of a student's step, the first quantity each makes wrong when
+/// the step starts from our `U_prev` and `U_cur`, and whether step 1,
+/// step 2 and step 3 or later show it (found by planting each in a
+/// solution of the handout and comparing it with the trace of the flag at
+/// each step).
+const MISTAKES: [[&str; 5]; 6] = [
+    [
+        "`U_prev` and `U_cur` swapped: `y = M (2 U_prev − U_cur)/Δt² + f_ext`",
+        "`y`",
+        "cannot: `U_prev = U_cur = V`",
+        "shows",
+        "shows",
+    ],
+    [
+        "the velocity forgotten: `y = M U_cur/Δt² + f_ext`",
+        "`y`",
+        "cannot: `2 U_cur − U_prev = U_cur`",
+        "shows",
+        "shows",
+    ],
+    [
+        "`U_prev` never advanced by your loop over steps (it stays `V`)",
+        "`U_prev` (written by your own steps from rest)",
+        "cannot",
+        "cannot: `U_prev = V` at step 2",
+        "shows",
+    ],
+    [
+        "`d` not scaled to the rest length: `d = pᵢ − pⱼ`",
+        "`d_1` (step 1: `d_2`)",
+        "from `d_2` only: at rest `‖Vᵢ − Vⱼ‖ = rᵢⱼ`",
+        "shows",
+        "shows",
+    ],
+    [
+        "the pins held where they are, `w CᵀC U_cur`, not at `V`",
+        "`b_1`",
+        "cannot: `U_cur = V`",
+        "shows",
+        "shows",
+    ],
+    [
+        "a wrong mass, spring, pin or `Q`; a spring in `d` not in the orientation of its row of `A`",
+        "`M`, `A`, `C`, `Q`, `d_1`",
+        "shows",
+        "shows",
+        "shows",
+    ],
+];
+
+/// Which mistakes each step can and cannot show, and why `trace` traces
+/// step 3 unless told otherwise.
+fn what_a_step_shows(text: &mut String, m: &Manifest) {
+    text.push_str(
+        "## What this step can and cannot show\n\n\
+         Every term of the step shows in the files only when it changes something. At step 1 \
+         `U_prev = U_cur = V` and every spring is at its rest length, so a step that confuses \
+         `U_prev` with `U_cur`, forgets the velocity or scales `d` wrongly gives the same `y` and \
+         `d_1` as the handout's. At step 2 `U_prev` is still `V`. Step 3 is the first at which \
+         `V`, `U_prev` and `U_cur` all differ and the springs are stretched, which is why \
+         `trace` traces it unless `--step` says otherwise; it is also early enough that two \
+         correct solutions started from rest still agree to the tolerances above.\n\n\
+         | mistake | first file it makes wrong (from our `U_prev`, `U_cur`) | step 1 | step 2 | step 3 and later |\n\
+         |---|---|---|---|---|\n",
+    );
+    for row in MISTAKES {
+        let _ = writeln!(text, "| {} |", row.join(" | "));
+    }
+    let _ = write!(
+        text,
+        "\nThis trace is of step {step}{warning}. Started from our `U_prev.mtx` and `U_cur.mtx`, \
+         your step is compared term by term but your loop over steps is not exercised; the \
+         `U_prev` and `U_cur` your own steps from rest reach are worth comparing too, and there \
+         a mistake of the step shows first (it made your earlier steps wrong).\n\n",
+        step = m.step,
+        warning = match m.step {
+            1 => ": the mistakes marked \"cannot\" in its column pass unseen; trace step 3 too",
+            2 => ": a loop that never advances `U_prev` passes unseen; trace step 3 too",
+            _ => "",
+        },
+    );
+}
+
 fn how_to_compare(text: &mut String, m: &Manifest) {
     let _ = write!(
         text,
@@ -153,8 +240,10 @@ fn how_to_compare(text: &mut String, m: &Manifest) {
          masssprings trace --compare DIR YOURS\n\
          ```\n\n\
          It goes through the quantities in the order above and prints, for each, whether it \
-         agrees, its largest difference and where (row, column, and the vertex or spring); \
-         the first `DIFFERS` line is the first piece of code to look at, and the exit code \
+         agrees, its largest difference relative to the scale it names, and where: the \
+         vertex, spring or pin counted from 0 as in the handout and Eigen (your spring and ours \
+         beside it when your order differs), with the file's row and column counted from 1. \
+         The first `DIFFERS` line is the first piece of code to look at, and the exit code \
          is 1 when any quantity differs.\n\n\
          From C++ with Eigen (`#include <unsupported/Eigen/SparseExtra>`): \
          `Eigen::saveMarket(A, \"A.mtx\")` for a sparse matrix; \

@@ -1,85 +1,70 @@
 //! `P` and `L`, which depend on the ordering: any permutation `P` is a
 //! valid ordering, and `L` is unique once `P` is chosen. So `P` is only
-//! checked to be a permutation (a different one is reported, not failed),
-//! and `L` is checked through what it must satisfy,
+//! checked to be a permutation, and `L` through what it must satisfy,
 //!
 //! ```text
 //! L Lᵀ = P Q Pᵀ        entry (k, l) within tolerance · √(Q'ₖₖ Q'ₗₗ),  Q' = P Q Pᵀ
 //! ```
 //!
-//! with the student's `P` (as written, or transposed: `P` and `Pᵀ` are
-//! easily confused, and the check says which one fitted), or, without
-//! one, ours or none (the natural order). The scale `√(Q'ₖₖ Q'ₗₗ)` bounds
-//! `(|L| |Lᵀ|)ₖₗ`, the size of the rounding a Cholesky factorization
-//! leaves in `L Lᵀ` (Higham 2002, Thm. 10.3), so the tolerance is a few
-//! hundred units in the last place whatever the pins' `w`.
+//! The scale `√(Q'ₖₖ Q'ₗₗ)` bounds `(|L| |Lᵀ|)ₖₗ`, the size of the rounding a
+//! Cholesky factorization leaves in `L Lᵀ` (Higham 2002, Thm. 10.3), so
+//! the tolerance is a few hundred units in the last place whatever the
+//! pins' `w`.
+//!
+//! `L Lᵀ` is never built: a student's `L` may hold any pattern (a 900 KB
+//! file whose `L` has a full column and a full row makes `L Lᵀ` dense, an
+//! `n × n` matrix of gigabytes). Its lower triangle is formed one column
+//! at a time into a dense column of `n`, compared with `Q'`'s and cleared:
+//!
+//! ```text
+//! (L Lᵀ)ᵢⱼ = Σₖ Lᵢₖ Lⱼₖ    for i ≥ j, over the k of row j of L
+//! ```
+//!
+//! so the memory is `L`'s rows (a transposed copy, checked against the
+//! limit) and two columns of `n`, and the time `Σₖ cₖ²` (`cₖ` the entries
+//! of column `k`), the flops of the factorization that made `L`.
+//!
+//! This file uses the library only, so that the fuzz target
+//! `trace_compare` includes it as it is.
 
-use super::place::{permutation_of, Context, Place};
-use super::{to_sparse, union_entries, Largest, Outcome};
+use super::entries::{kind_of, Largest, RowKind};
 use masssprings::linalg::sparse::{CscMatrix, Permutation, TripletMatrix};
-use masssprings::matrix_market::MatrixMarket;
+use masssprings::memory;
 
-/// The student's matrix, sparse, if it is `n × n`; else why it differs.
-fn square(their: &MatrixMarket, n: usize) -> Result<CscMatrix, Outcome> {
-    let a = to_sparse(their);
-    match (a.nrows(), a.ncols()) == (n, n) {
-        true => Ok(a),
-        false => Err(Outcome::Differs(
-            None,
-            format!("shape {} × {}, ours {n} × {n}", a.nrows(), a.ncols()),
-        )),
+/// `perm` of a permutation matrix `P` (a 1 at `(new, perm[new])`), or why
+/// `p` is not one.
+pub fn permutation_of(p: &CscMatrix) -> Result<Vec<usize>, String> {
+    let n = p.ncols();
+    if p.nrows() != n {
+        return Err(format!("shape {} × {n}, not square", p.nrows()));
     }
+    let mut perm = vec![usize::MAX; n];
+    for j in 0..n {
+        let (rows, values) = p.column(j);
+        let mut ones = rows.iter().zip(values).filter(|(_, &v)| v != 0.0);
+        let (Some((&r, &v)), None) = (ones.next(), ones.next()) else {
+            let count = values.iter().filter(|&&v| v != 0.0).count();
+            return Err(format!("column {} has {count} nonzeros, not one", j + 1));
+        };
+        if v != 1.0 {
+            return Err(format!("column {} holds a value other than 1", j + 1));
+        }
+        if perm[r] != usize::MAX {
+            return Err(format!("row {} has two ones", r + 1));
+        }
+        perm[r] = j;
+    }
+    Ok(perm)
 }
 
-/// The student's `P` against ours.
-pub fn ordering(their: MatrixMarket, context: &mut Context) -> Outcome {
-    let p = match square(&their, context.our_perm.len()) {
-        Ok(p) => p,
-        Err(differs) => return differs,
-    };
-    match permutation_of(&p) {
-        Err(reason) => Outcome::Differs(None, format!("not a permutation matrix: {reason}")),
-        Ok(perm) => {
-            let same = perm == context.our_perm;
-            context.their_perm = Some(perm);
-            match same {
-                true => Outcome::Agrees(None, "the same ordering as ours".into()),
-                false => Outcome::Note(
-                    "another ordering than ours (allowed); L is checked with it".into(),
-                ),
-            }
-        }
-    }
-}
-
-/// The student's `L`: lower triangular, and `L Lᵀ = P Q Pᵀ`.
-pub fn factor(their: MatrixMarket, context: &Context, tolerance: f64) -> Outcome {
-    let l = match square(&their, context.our_perm.len()) {
-        Ok(l) => l,
-        Err(differs) => return differs,
-    };
-    if let Some((i, j, v)) = above_diagonal(&l) {
-        return Outcome::Differs(
-            None,
-            format!("not lower triangular: entry ({}, {}) = {v}", i + 1, j + 1),
-        );
-    }
-    let llt = l.mul(&l.transpose()).expect("square matrices of one size");
-    let mut first = None;
-    for (label, perm) in orderings(context) {
-        let largest = product_difference(&llt, &context.q, &perm);
-        let place = largest.map(|d| Place::Product(d, perm.clone()));
-        if largest.is_none_or(|d| d.relative <= tolerance) {
-            return Outcome::Agrees(place, label);
-        }
-        first.get_or_insert((place, label));
-    }
-    let (place, label) = first.expect("at least one ordering is tried");
-    Outcome::Differs(place, format!("L Lᵀ ≠ P Q Pᵀ {label}"))
+/// `inverse[old] = new` of a permutation `perm[new] = old`.
+pub fn inverse(perm: &[usize]) -> Vec<usize> {
+    let permutation = Permutation::from_perm(perm.to_vec()).expect("checked to be a permutation");
+    permutation.inverse().to_vec()
 }
 
 /// The first entry above the diagonal that is not zero.
-fn above_diagonal(l: &CscMatrix) -> Option<(usize, usize, f64)> {
+pub fn above_diagonal(l: &CscMatrix) -> Option<(usize, usize, f64)> {
     (0..l.ncols()).find_map(|j| {
         let (rows, values) = l.column(j);
         rows.iter()
@@ -89,53 +74,74 @@ fn above_diagonal(l: &CscMatrix) -> Option<(usize, usize, f64)> {
     })
 }
 
-/// The orderings to try `L` with, labelled: the student's `P` and its
-/// transpose, or ours and the natural one.
-fn orderings(context: &Context) -> Vec<(String, Vec<usize>)> {
-    match &context.their_perm {
-        Some(perm) => {
-            let inverse = inverse(perm);
-            vec![
-                ("with your P".into(), perm.clone()),
-                ("with the transpose of your P".into(), inverse),
-            ]
-        }
-        None => vec![
-            (
-                "with our P (no P.mtx given)".into(),
-                context.our_perm.clone(),
-            ),
-            (
-                "in the natural order (no P.mtx given)".into(),
-                (0..context.our_perm.len()).collect(),
-            ),
-        ],
-    }
-}
-
-/// The largest entry of `L Lᵀ − P Q Pᵀ`, scaled by `√(Q'ₖₖ Q'ₗₗ)`.
-fn product_difference(llt: &CscMatrix, q: &CscMatrix, perm: &[usize]) -> Option<super::Difference> {
-    let inverse = inverse(perm);
+/// The lower triangle of `Q' = P Q Pᵀ`: `Q'ₖₗ = Q[perm[k], perm[l]]`.
+fn permuted_lower(q: &CscMatrix, perm: &[usize]) -> CscMatrix {
+    let new_of = inverse(perm);
     let mut triplets = TripletMatrix::with_capacity(q.nrows(), q.ncols(), q.nnz());
     for j in 0..q.ncols() {
         let (rows, values) = q.column(j);
         for (&i, &v) in rows.iter().zip(values) {
-            triplets
-                .push(inverse[i], inverse[j], v)
-                .expect("inside the matrix");
+            if new_of[i] >= new_of[j] {
+                triplets
+                    .push(new_of[i], new_of[j], v)
+                    .expect("inside the matrix");
+            }
         }
     }
-    let pqp = triplets.to_csc();
-    let diagonal = pqp.diagonal();
-    let mut largest = Largest::default();
-    union_entries(&pqp, llt, |k, l, ours, yours| {
-        largest.consider(k, l, ours, yours, (diagonal[k] * diagonal[l]).abs().sqrt());
-    });
-    largest.0
+    triplets.to_csc()
 }
 
-/// `inverse[old] = new` of a permutation `perm[new] = old`.
-pub fn inverse(perm: &[usize]) -> Vec<usize> {
-    let permutation = Permutation::from_perm(perm.to_vec()).expect("checked to be a permutation");
-    permutation.inverse().to_vec()
+/// The largest entries of `L Lᵀ − P Q Pᵀ` in the lower triangle, each
+/// scaled by `√(Q'ₖₖ Q'ₗₗ)` (`ours` is `P Q Pᵀ`, `yours` `L Lᵀ`), with
+/// `kinds` the rows' kinds in the factor's order. `L` is `n × n` and lower
+/// triangular, `Q` `n × n`, `perm` a permutation of `n`.
+///
+/// # Errors
+/// The memory rule's refusal of `L`'s transposed copy.
+pub fn product_difference(
+    l: &CscMatrix,
+    q: &CscMatrix,
+    perm: &[usize],
+    kinds: &[RowKind],
+) -> Result<Largest, String> {
+    let n = q.ncols();
+    let copy = memory::bytes_for(l.nnz() as u64, 16).saturating_add(memory::bytes_for(n as u64, 8));
+    memory::check(
+        copy,
+        || format!("the rows of an L of {} entries", l.nnz()),
+        "",
+    )
+    .map_err(|e| e.to_string())?;
+    let rows_of_l = l.transpose(); // column j of Lᵀ: row j of L
+    let pqp = permuted_lower(q, perm);
+    let diagonal = pqp.diagonal();
+    let mut values = vec![[0.0_f64; 2]; n]; // column j of [P Q Pᵀ, L Lᵀ]
+    let mut seen = vec![false; n];
+    let mut touched = Vec::new();
+    let mut largest = Largest::default();
+    for j in 0..n {
+        let mut add = |i: usize, side: usize, v: f64| {
+            values[i][side] += v;
+            if !std::mem::replace(&mut seen[i], true) {
+                touched.push(i);
+            }
+        };
+        let (rows, column) = pqp.column(j);
+        rows.iter().zip(column).for_each(|(&i, &v)| add(i, 0, v));
+        let (ks, row_j) = rows_of_l.column(j);
+        for (&k, &l_jk) in ks.iter().zip(row_j) {
+            let (rows, column) = l.column(k);
+            let below = rows.partition_point(|&i| i < j); // (L Lᵀ)ᵢⱼ for i ≥ j only
+            for (&i, &l_ik) in rows[below..].iter().zip(&column[below..]) {
+                add(i, 1, l_ik * l_jk);
+            }
+        }
+        for i in touched.drain(..) {
+            let [ours, yours] = std::mem::take(&mut values[i]);
+            let scale = (diagonal[i] * diagonal[j]).abs().sqrt();
+            largest.consider(kind_of(kinds, i), (i, j), ours, yours, scale);
+            seen[i] = false;
+        }
+    }
+    Ok(largest)
 }

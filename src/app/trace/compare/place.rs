@@ -1,16 +1,28 @@
-//! Where a difference is, in words: the row and column of the file
-//! (1-based) and what they stand for (0-based, as in `V`, `E` and `b`), and
-//! what `--compare` knows of our trace to say so and to check `L`.
+//! Where a difference is, in words a student reads without the manual:
+//! what the row and column stand for, counted from 0 as the handout and
+//! Eigen count vertices, springs and pins, with the file's own 1-based row
+//! and column beside them, and what the difference was divided by:
+//!
+//! ```text
+//! vertex 6, y (file row 7, column 2): ours -9.8, yours -9.7, relative to |ours|
+//! your spring 40 = (9, 4), our spring 17 = (4, 9) reversed: ours negated, y (file row 41, column 2): …
+//! ```
+//!
+//! And what `--compare` knows of our trace to say so: the springs, the
+//! pins, `Q` and our ordering, and the student's springs and ordering once
+//! read.
 
-use super::{to_sparse, Difference};
-use crate::app::trace::quantities::{Axis, Spec};
+use super::entries::{to_sparse, Difference, RowKind, ScaleOf};
+use super::factor::permutation_of;
+use super::springs::{spring_name, springs_of, Matching, Row};
+use crate::app::trace::quantities::{Axis, Check, Spec};
 use masssprings::linalg::sparse::CscMatrix;
 use masssprings::matrix_market::MatrixMarket;
 
 /// Where the largest difference of a quantity is.
 #[derive(Debug, Clone)]
 pub enum Place {
-    /// An entry of the quantity.
+    /// An entry of the quantity (in the student's rows).
     Entry(Difference),
     /// An entry of `L Lᵀ − P Q Pᵀ` (in the factor's order), with the
     /// permutation `perm` of `P` it was formed with (`ours` is `P Q Pᵀ`,
@@ -27,17 +39,21 @@ impl Place {
     }
 }
 
-/// What `--compare` reads of our trace before it compares: the springs
-/// (from `A`), `Q` and our ordering, and the student's ordering once read.
+/// What `--compare` reads of our trace before it compares, and learns of
+/// the student's as it goes.
 #[derive(Debug)]
 pub struct Context {
-    /// Spring `e` as `(i, j)`, read off row `e` of `A` (`None` for a
-    /// spring from a vertex to itself, an empty row).
-    springs: Vec<Option<[usize; 2]>>,
+    /// Our springs, read off the rows of our `A`.
+    pub our_springs: Vec<Row>,
+    /// The student's springs and which of ours each is, once their `A`
+    /// was read and shares at least one spring with ours.
+    pub their_springs: Option<(Vec<Row>, Matching)>,
     /// Our `A`, and the stiffness `k`.
     pub a: CscMatrix,
     pub k: f64,
     pub q: CscMatrix,
+    /// Each vertex: pinned (a column of `C`) or free.
+    pub vertex_kinds: Vec<RowKind>,
     /// Our `perm` (`perm[new] = old`).
     pub our_perm: Vec<usize>,
     /// The student's, once their `P.mtx` was read and is a permutation.
@@ -45,80 +61,95 @@ pub struct Context {
 }
 
 impl Context {
-    /// From our `A`, `Q` and `P`.
-    pub fn new(
-        a: &MatrixMarket,
-        k: f64,
-        q: &MatrixMarket,
-        p: &MatrixMarket,
-    ) -> Result<Self, String> {
-        let a = to_sparse(a);
-        let mut ends = vec![[None, None]; a.nrows()];
-        for j in 0..a.ncols() {
-            let (rows, values) = a.column(j);
-            for (&e, &v) in rows.iter().zip(values) {
-                ends[e][usize::from(v < 0.0)] = Some(j); // +1 at i, −1 at j
-            }
-        }
-        let springs = ends.into_iter().map(|[i, j]| Some([i?, j?])).collect();
-        let (q, our_perm) = (to_sparse(q), permutation_of(&to_sparse(p))?);
+    /// From our `A`, `Q`, `P` and `C`.
+    ///
+    /// # Errors
+    /// When they do not fit one another (a trace folder edited by hand).
+    pub fn new(k: f64, [a, q, p, c]: [&MatrixMarket; 4]) -> Result<Self, String> {
+        let [a, q, p, c] = [a, q, p, c].map(to_sparse);
+        let (a, q, p, c) = (a?, q?, p?, c?);
+        let our_perm = permutation_of(&p)?;
         let n = our_perm.len();
-        if (q.nrows(), q.ncols(), a.ncols()) != (n, n, n) {
+        if (q.nrows(), q.ncols(), a.ncols(), c.ncols()) != (n, n, n, n) {
             return Err(format!(
-                "A ({} × {}), Q ({} × {}) and P ({n} × {n}) do not fit one another",
+                "A ({} × {}), Q ({} × {}), P ({n} × {n}) and C ({} × {}) do not fit one another",
                 a.nrows(),
                 a.ncols(),
                 q.nrows(),
-                q.ncols()
+                q.ncols(),
+                c.nrows(),
+                c.ncols()
             ));
         }
+        let mut vertex_kinds = vec![RowKind::Free; n];
+        for vertex in 0..n {
+            if !c.column(vertex).0.is_empty() {
+                vertex_kinds[vertex] = RowKind::Pinned;
+            }
+        }
         Ok(Context {
-            springs,
+            our_springs: springs_of(&a)?,
+            their_springs: None,
             a,
             k,
             q,
+            vertex_kinds,
             our_perm,
             their_perm: None,
         })
     }
 
-    /// `row 18, column 5: spring 17 = (4, 9), vertex 4; ours -1, yours 1`.
+    /// The kinds of the rows of a quantity whose rows are `axis`, in our
+    /// order: pinned or free vertices, or all free.
+    pub fn kinds(&self, axis: Axis) -> &[RowKind] {
+        match axis {
+            Axis::Vertex => &self.vertex_kinds,
+            _ => &[],
+        }
+    }
+
+    /// The student's spring matching, when their `A` gave one.
+    pub fn matching(&self) -> Option<&Matching> {
+        self.their_springs.as_ref().map(|(_, matching)| matching)
+    }
+
+    /// `vertex 6, y (file row 7, column 2): ours -9.8, yours -9.7, relative to |ours|`.
     pub fn describe(&self, spec: &Spec, place: &Place) -> String {
         match place {
             Place::Entry(d) => {
                 let names = [self.name(spec.rows, d.row), self.name(spec.columns, d.col)];
                 let names: Vec<String> = names.into_iter().flatten().collect();
                 let position = match spec.columns {
-                    Axis::Single => format!("row {}", d.row + 1),
-                    _ => format!("row {}, column {}", d.row + 1, d.col + 1),
+                    Axis::Single => format!("file row {}", d.row + 1),
+                    _ => format!("file row {}, column {}", d.row + 1, d.col + 1),
                 };
-                format!(
-                    "{position}: {}; ours {}, yours {}",
-                    names.join(", "),
-                    number(d.ours),
-                    number(d.yours)
-                )
+                format!("{} ({position}): {}", names.join(", "), values(d, spec.check))
             }
             Place::Product(d, perm) => format!(
-                "row {}, column {} of L Lᵀ − P Q Pᵀ: vertices {}, {}; P Q Pᵀ {}, L Lᵀ {}",
-                d.row + 1,
-                d.col + 1,
+                "factor positions {}, {} = vertices {}, {} (file row {}, column {} of L Lᵀ − P Q Pᵀ): \
+                 P Q Pᵀ {}, L Lᵀ {}, relative to {}",
+                d.row,
+                d.col,
                 perm[d.row],
                 perm[d.col],
+                d.row + 1,
+                d.col + 1,
                 number(d.ours),
-                number(d.yours)
+                number(d.yours),
+                scale(d, spec.check)
             ),
         }
     }
 
-    /// What index `k` (0-based) of `axis` stands for.
+    /// What index `k` (0-based) of `axis` stands for; for springs, the
+    /// student's spring `k` and ours beside it when their order is not ours.
     fn name(&self, axis: Axis, k: usize) -> Option<String> {
         Some(match axis {
-            Axis::Spring => match self.springs.get(k).copied().flatten() {
-                Some([i, j]) => format!("spring {k} = ({i}, {j})"),
-                None => format!("spring {k}"),
+            Axis::Spring | Axis::SpringVector => self.spring(k, axis == Axis::SpringVector),
+            Axis::Vertex => match self.vertex_kinds.get(k) {
+                Some(RowKind::Pinned) => format!("vertex {k} (pinned)"),
+                _ => format!("vertex {k}"),
             },
-            Axis::Vertex => format!("vertex {k}"),
             Axis::Pin => format!("pin {k}"),
             Axis::Coordinate => ["x", "y", "z"]
                 .get(k)
@@ -130,40 +161,51 @@ impl Context {
             Axis::Single => return None,
         })
     }
-}
 
-/// `perm` of a permutation matrix `P` (a 1 at `(new, perm[new])`), or why
-/// `p` is not one.
-pub fn permutation_of(p: &CscMatrix) -> Result<Vec<usize>, String> {
-    let n = p.ncols();
-    if p.nrows() != n {
-        return Err(format!("shape {} × {n}, not square", p.nrows()));
-    }
-    let mut perm = vec![usize::MAX; n];
-    for j in 0..n {
-        let (rows, values) = p.column(j);
-        let ones: Vec<usize> = rows
-            .iter()
-            .zip(values)
-            .filter(|(_, &v)| v != 0.0)
-            .map(|(&r, _)| r)
-            .collect();
-        match ones[..] {
-            [r] if values.iter().all(|&v| v == 0.0 || v == 1.0) && perm[r] == usize::MAX => {
-                perm[r] = j
+    /// The student's spring `e` (a row of their file), and ours beside it.
+    fn spring(&self, e: usize, oriented: bool) -> String {
+        let Some((theirs, matching)) = &self.their_springs else {
+            return spring_name(e, self.our_springs.get(e));
+        };
+        match matching.ours_of.get(e).copied().flatten() {
+            Some((ours, false)) if ours == e => spring_name(e, theirs.get(e)),
+            Some((ours, reversed)) => {
+                let flip = match (reversed, oriented) {
+                    (true, true) => " reversed: ours negated",
+                    (true, false) => " reversed",
+                    (false, _) => "",
+                };
+                let our = spring_name(ours, self.our_springs.get(ours));
+                format!("your {}, our {our}{flip}", spring_name(e, theirs.get(e)))
             }
-            [r] if perm[r] != usize::MAX => return Err(format!("row {} has two ones", r + 1)),
-            [_] => return Err(format!("column {} holds a value other than 1", j + 1)),
-            _ => {
-                return Err(format!(
-                    "column {} has {} nonzeros, not one",
-                    j + 1,
-                    ones.len()
-                ))
-            }
+            None => format!("your {}", spring_name(e, theirs.get(e))),
         }
     }
-    Ok(perm)
+}
+
+/// `ours -9.8, yours -9.7, relative to |ours|`.
+fn values(d: &Difference, check: Check) -> String {
+    format!(
+        "ours {}, yours {}, relative to {}",
+        number(d.ours),
+        number(d.yours),
+        scale(d, check)
+    )
+}
+
+/// What the difference was divided by, in words.
+fn scale(d: &Difference, check: Check) -> String {
+    match (d.scale_of, check) {
+        (ScaleOf::Ours, _) => "|ours|".into(),
+        (ScaleOf::Yours, _) => "|yours|".into(),
+        (ScaleOf::Reference, Check::Sum { .. }) => {
+            format!("the size of b's terms there, {}", number(d.scale))
+        }
+        (ScaleOf::Reference, Check::Factor { .. }) => {
+            format!("√(Q'ₖₖ Q'ₗₗ) = {}", number(d.scale))
+        }
+        (ScaleOf::Reference, _) => format!("the row's largest |ours|, {}", number(d.scale)),
+    }
 }
 
 /// A value as a person reads it: plain when moderate, else scientific.

@@ -12,8 +12,8 @@
 //! so scaled by its own row a wrong spring term would hide there. The
 //! pins' term is read off our own files as `b − k Aᵀd − y`.
 
+use super::entries::to_dense;
 use super::place::Context;
-use super::to_dense;
 use masssprings::linalg::dense::DenseMatrix;
 use masssprings::matrix_market::MatrixMarket;
 
@@ -23,12 +23,12 @@ use masssprings::matrix_market::MatrixMarket;
 /// When our files do not fit one another (`d` not `m × 3`, `y` not the
 /// shape of `b`): a trace folder edited by hand.
 pub fn term_sizes(
-    b: &DenseMatrix,
+    b: &MatrixMarket,
     d: &MatrixMarket,
     y: &MatrixMarket,
     context: &Context,
 ) -> Result<DenseMatrix, String> {
-    let (d, y) = (to_dense(d), to_dense(y));
+    let (b, d, y) = (to_dense(b)?, to_dense(d)?, to_dense(y)?);
     let (a, k) = (&context.a, context.k);
     let shapes = [
         (b.nrows(), b.ncols()),
