@@ -5,8 +5,9 @@
 //! the tree and the number of supernodes.
 
 use super::flags::{size, Size};
+use super::limits::{check_picture, picture_bytes};
 use super::render::encode::write_png;
-use super::render::sparsity::{depths, elimination_tree};
+use super::render::sparsity::{depths, elimination_tree, TREE_SUPERSAMPLING};
 use super::spy::{file_name, load_lower, PatternArgs};
 use super::AppError;
 use masssprings::files::{write_file, FilePlan};
@@ -37,6 +38,9 @@ pub fn run(args: EtreeArgs) -> Result<(), AppError> {
     } = args.pattern;
     let ordering = ordering.ordering;
     let Size { width, height } = args.size;
+    check_picture(picture_bytes(width, height, TREE_SUPERSAMPLING), || {
+        format!("an elimination tree of {width}×{height} pixels")
+    })?;
     let mut plan = FilePlan::default();
     let lower = load_lower(&path, &mut plan)?;
     plan.output("-o", &out).check()?;

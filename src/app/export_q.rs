@@ -4,7 +4,6 @@
 //! `masssprings analyze Q.mtx` (and any other sparse solver) can be tried
 //! on any scene.
 
-use super::flags::file_name_given;
 use super::spy::scene_q;
 use super::{plan_scene_inputs, report, AppError};
 use masssprings::files::{write_file, FilePlan};
@@ -24,7 +23,7 @@ pub struct ExportQArgs {
     #[arg(value_name = "SCENE.json")]
     scene: PathBuf,
     /// The file to write.
-    #[arg(short, long, value_name = "Q.mtx", required = true, value_parser = file_name_given)]
+    #[arg(short, long, value_name = "Q.mtx", required = true)]
     out: PathBuf,
 }
 

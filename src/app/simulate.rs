@@ -473,31 +473,8 @@ fn without_negative_zero(x: f64, digits: usize) -> f64 {
     }
 }
 
-fn print_summary(scene_path: &Path, s: &Summary) {
-    println!("scene            {}", scene_path.display());
-    println!("vertices         {}", s.n);
-    println!("springs          {}", s.springs);
-    println!("backend          {}", s.backend);
-    println!("precomputation   {:.6} s", s.precompute_s);
-    println!("steps            {}", s.steps);
-    if let Some(step) = s.resumed_from {
-        println!("resumed from     step {step}");
-    }
-    println!("step (median)    {:.6} s", s.step_median_s);
-    let tolerance = s.tolerance.map_or("none".into(), |t| format!("{t:e}"));
-    let energy_tolerance = s
-        .energy_tolerance
-        .map_or(String::new(), |t| format!(", energy tolerance {t:e}"));
-    let at_least_plain = s
-        .at_least_plain
-        .map_or(String::new(), |n| format!(", at least plain-{n}"));
-    println!(
-        "method           {} (tolerance {tolerance}{energy_tolerance}{at_least_plain}, start {})",
-        s.method, s.start
-    );
-    if let Some(accuracy) = s.accuracy {
-        println!("accuracy         {accuracy}");
-    }
+/// The iterations of the steps and where they stopped.
+fn print_iterations(s: &Summary) {
     let stops: Vec<String> = s
         .stops
         .iter()
@@ -512,6 +489,40 @@ fn print_summary(scene_path: &Path, s: &Summary) {
     match s.relative_gradient_median {
         Some(median) => println!("rel. gradient    {median:.3e} at the end of a step (median)"),
         None => println!("rel. gradient    not measured (no stopping rule asked for it)"),
+    }
+}
+
+fn print_summary(scene_path: &Path, s: &Summary) {
+    println!("scene            {}", scene_path.display());
+    println!("vertices         {}", s.n);
+    println!("springs          {}", s.springs);
+    println!("backend          {}", s.backend);
+    println!("precomputation   {:.6} s", s.precompute_s);
+    println!("steps            {}", s.steps);
+    if let Some(step) = s.resumed_from {
+        println!("resumed from     step {step}");
+    }
+    if s.steps == 0 {
+        println!("step (median)    none: no step was run");
+    } else {
+        println!("step (median)    {:.6} s", s.step_median_s);
+    }
+    let tolerance = s.tolerance.map_or("none".into(), |t| format!("{t:e}"));
+    let energy_tolerance = s
+        .energy_tolerance
+        .map_or(String::new(), |t| format!(", energy tolerance {t:e}"));
+    let at_least_plain = s
+        .at_least_plain
+        .map_or(String::new(), |n| format!(", at least plain-{n}"));
+    println!(
+        "method           {} (tolerance {tolerance}{energy_tolerance}{at_least_plain}, start {})",
+        s.method, s.start
+    );
+    if let Some(accuracy) = s.accuracy {
+        println!("accuracy         {accuracy}");
+    }
+    if s.steps > 0 {
+        print_iterations(s);
     }
     println!("path             {}", s.path);
     println!("total            {}", duration(s.total_s));

@@ -6,7 +6,8 @@
 //! `nnz(L) / nnz(lower triangle of Q)`.
 
 use super::analyze::read_symmetric_lower;
-use super::flags::{file_name_given, size, OrderingFlag, Size};
+use super::flags::{size, OrderingFlag, Size};
+use super::limits::{check_picture, picture_bytes};
 use super::render::encode::write_png;
 use super::render::sparsity::{spy, Mark};
 use super::{plan_scene_inputs, report, AppError};
@@ -37,7 +38,7 @@ pub struct PatternArgs {
     #[arg(value_name = "MATRIX.mtx|SCENE.json")]
     pub matrix: PathBuf,
     /// The picture to write.
-    #[arg(short, long, value_name = "OUT.png", required = true, value_parser = file_name_given)]
+    #[arg(short, long, value_name = "OUT.png", required = true)]
     pub out: PathBuf,
     #[command(flatten)]
     pub ordering: OrderingFlag,
@@ -76,6 +77,11 @@ pub fn run(args: SpyArgs) -> Result<(), AppError> {
             "--size {size}x{height}: spy draws a square matrix; give --size {size}x{size} or --size {size}"
         )));
     }
+    let full = size + 2 * MARGIN + 2;
+    let marks = (size as u64).saturating_mul(size as u64);
+    check_picture(picture_bytes(full, full, 1).saturating_add(marks), || {
+        format!("a spy plot of {size}×{size} pixels")
+    })?;
     let picture = Picture {
         label: file_name(&path),
         ordering: ordering.ordering,

@@ -39,8 +39,8 @@ mod vector;
 #[path = "../../../tests/common/mod.rs"]
 mod tests_common;
 
-use super::flags::{file_name_given, size, whole, JsonFlag, SimulationFlags, Size};
-use super::limits::{check_frames, precompute};
+use super::flags::{size, whole, JsonFlag, SimulationFlags, Size};
+use super::limits::{check_frames, check_picture, picture_bytes, precompute};
 use super::progress::Progress;
 use super::timing::median;
 use super::{load_scene, AppError};
@@ -113,7 +113,7 @@ pub struct RenderArgs {
     #[arg(value_name = "SCENE.json")]
     scene: PathBuf,
     /// The picture: .gif (an animation) or .png (the last step).
-    #[arg(short, long, value_name = "OUT", required = true, value_parser = file_name_given)]
+    #[arg(short, long, value_name = "OUT", required = true)]
     out: PathBuf,
     /// Time steps to simulate.
     #[arg(long, value_name = "N", default_value = "100", value_parser = whole(0, usize::MAX))]
@@ -145,11 +145,7 @@ pub fn run(args: RenderArgs) -> Result<(), AppError> {
     let mut plan = FilePlan::default();
     super::plan_scene_inputs(&mut plan, &request.scene, &scene);
     plan.output("-o", &request.out).check()?;
-    check_frames(
-        request.kept_frames(),
-        frame_bytes(scene.vertices.len(), request.width, request.height),
-        "draw fewer frames (fewer --steps, a larger --every, or a .png of the last step)",
-    )?;
+    check_memory(&request, scene.vertices.len())?;
     let texture = match &scene.texture {
         Some(path) if !scene.face_texture_coords.is_empty() => {
             Some(Texture::read_png(path).map_err(AppError::Failed)?)
@@ -259,13 +255,38 @@ fn parse(args: RenderArgs) -> Result<Request, AppError> {
 
 impl Request {
     /// The frames kept for the whole run: step 0 and every `every`-th step
-    /// (GIF), or the last step (PNG).
-    fn kept_frames(&self) -> u64 {
+    /// (GIF), or the last step (PNG); `None` past 64 bits.
+    fn kept_frames(&self) -> Option<u64> {
         match self.format {
-            Format::Gif => (self.steps / self.every) as u64 + 1,
-            Format::Png => 1,
+            Format::Gif => ((self.steps / self.every) as u64).checked_add(1),
+            Format::Png => Some(1),
         }
     }
+}
+
+/// Refuses, before any work, a run whose kept frames (of `n` vertices each)
+/// or whose drawing canvas would not fit in memory.
+fn check_memory(request: &Request, n: usize) -> Result<(), AppError> {
+    let kept = request.kept_frames().ok_or_else(|| {
+        AppError::Failed(format!(
+            "--steps {} --every {}: {} frames to keep (step 0 and every {}-th step), more \
+             than 64 bits count; draw fewer frames",
+            request.steps,
+            request.every,
+            (request.steps / request.every) as u128 + 1,
+            request.every
+        ))
+    })?;
+    check_frames(
+        kept,
+        frame_bytes(n, request.width, request.height),
+        "draw fewer frames (fewer --steps, a larger --every, or a .png of the last step)",
+    )?;
+    let (width, height) = (request.width, request.height);
+    check_picture(picture_bytes(width, height, SUPERSAMPLING), || {
+        format!("drawing a {width}×{height} frame")
+    })?;
+    Ok(())
 }
 
 /// The bytes one kept frame costs: its positions (24 bytes a vertex) and its

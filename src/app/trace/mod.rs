@@ -24,7 +24,7 @@ mod compute;
 mod quantities;
 mod readme;
 
-use super::flags::{file_name_given, whole, OrderingFlag};
+use super::flags::{whole, OrderingFlag};
 use super::{load_scene, AppError};
 use compute::{labelled, trace, TraceOptions, Value};
 use masssprings::files::{remove_stale_temporaries, write_file};
@@ -51,7 +51,7 @@ pub struct TraceArgs {
     #[arg(value_name = "SCENE.json", required_unless_present = "compare")]
     scene: Option<PathBuf>,
     /// The folder to write.
-    #[arg(short, long, value_name = "DIR", required_unless_present = "compare", value_parser = file_name_given)]
+    #[arg(short, long, value_name = "DIR", required_unless_present = "compare")]
     out: Option<PathBuf>,
     /// The step to trace, from 1.
     #[arg(long, value_name = "K", default_value = "1", value_parser = whole(1, usize::MAX))]
