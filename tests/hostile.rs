@@ -515,19 +515,25 @@ fn an_out_folder_with_frames_of_another_run_is_refused_unless_forced() {
         std::fs::read(folder.join("frame-000005.obj")).unwrap(),
         before
     );
-    // A killed run's temporary (its process is gone) and --force: the old
-    // frames and the temporary go, the new frames come.
+    // A file named as temporaries used to be, whose "process" is gone, is
+    // a user's file now; --force replaces the old frames (once the new run
+    // is complete) and leaves it.
     let dead = Command::new("true").spawn().unwrap();
     let dead_pid = dead.id();
     let mut dead = dead;
     dead.wait().unwrap();
-    let stale = format!(".frame-000009.obj.{dead_pid}-0.tmp");
-    std::fs::write(folder.join(&stale), "half a frame").unwrap();
+    let users = format!(".frame-000009.obj.{dead_pid}-0.tmp");
+    std::fs::write(folder.join(&users), "a user's file").unwrap();
     let forced = run(&["simulate", &scene, "--steps", "2", "--out", out, "--force"]);
     assert!(forced.status.success(), "{}", stderr(&forced));
     assert_eq!(
         names_in(&folder),
-        ["frame-000000.obj", "frame-000001.obj", "frame-000002.obj"]
+        [
+            users.as_str(),
+            "frame-000000.obj",
+            "frame-000001.obj",
+            "frame-000002.obj"
+        ]
     );
 }
 

@@ -1,12 +1,14 @@
 //! `masssprings simulate SCENE.json`: run the simulation headless, write
 //! OBJ frames, report timings.
 //!
-//! `--out DIR` refuses a folder that already holds frames (`frame-*.obj`,
-//! from another run: mixing the two would be wrong without a warning)
-//! unless `--force` is given, which removes those frames first. Each frame
-//! is written all or nothing; the temporaries of a run that was killed are
-//! removed by the next run into the same folder. Nothing is written before
-//! the precomputation succeeds. Memory does not grow with `--steps`: the
+//! `--out DIR` is held by one run at a time, and refuses a folder that
+//! already holds frames (`frame-*.obj`, from another run: mixing the two
+//! would be wrong without a warning) unless `--force` is given, whose new
+//! frames replace those once the run is complete (`super::frame_folder`).
+//! Each frame is written all or nothing, with the run's record on its
+//! second line (`super::frames`); the temporaries of a run that was killed
+//! are removed by the next run into the same folder. No frame is written
+//! before the precomputation succeeds. Memory does not grow with `--steps`: the
 //! median step time comes from a bounded sample. Nor does the scene stay in
 //! memory beside the simulation: its faces are dropped before the
 //! precomputation when no frames are written, and its vertices, springs
@@ -17,14 +19,17 @@
 //! two (`super::resume`), numbering the new frames on.
 
 use super::flags::{whole, JsonFlag, SimulationFlags};
+use super::frame_folder::{Extras, FrameFolder, Use};
+use super::frames::{frame_name, header as frame_header, is_frame_name, RunRecord};
 use super::limits::precompute;
 use super::progress::{duration, Progress};
 use super::render::texture::{read_png_file, Texture};
-use super::resume::{self, earlier_frames, frame_header, frame_name, is_frame_name, Resumed};
+use super::resume::{self, Resumed};
 use super::timing::BoundedSample;
 use super::{load_scene, AppError};
-use masssprings::files::{remove_stale_temporaries, same_file, write_file, FilePlan};
+use masssprings::files::{same_file, write_file, FilePlan};
 use masssprings::mesh::Scene;
+use masssprings::sim::methods::Carried;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Accuracy, Dense, LinearAlgebra, Sparse};
 use std::io::{self, Write};
@@ -73,9 +78,11 @@ struct Run {
     /// Digits after the decimal point in frame files; `None`: the shortest
     /// form that reads back to the same `f64`.
     precision: Option<usize>,
-    /// Remove the frames already in `out` instead of refusing.
+    /// Replace the frames already in `out` instead of refusing.
     force: bool,
     progress: bool,
+    /// What the frames' second line records (`super::frames`).
+    record: RunRecord,
 }
 
 /// Run a scene headless, write OBJ frames, report timings.
@@ -113,7 +120,7 @@ struct FrameOutput {
     /// Write OBJ frames into DIR.
     #[arg(short, long, value_name = "DIR")]
     out: Option<PathBuf>,
-    /// Remove the frames of an earlier run in --out first (otherwise such a folder is refused).
+    /// Replace the frames of an earlier run in --out once the new run is complete, and files in the way not written by simulate (otherwise such a folder is refused).
     #[arg(long, requires = "out")]
     force: bool,
     /// Write every K-th step.
@@ -126,6 +133,19 @@ struct FrameOutput {
 
 pub fn run(args: SimulateArgs) -> Result<(), AppError> {
     let scene_path = args.scene;
+    let scene = load_scene(&scene_path)?;
+    let mut options = SimulationOptions {
+        wind: args.wind,
+        ..SimulationOptions::default()
+    };
+    args.simulation.apply(&mut options);
+    let dense = args.simulation.backend.dense;
+    let physics = (
+        scene.vertices.len(),
+        scene.k,
+        &scene.masses[..],
+        &scene.pinned[..],
+    );
     let run = Run {
         steps: args.steps,
         every: args.frames.every,
@@ -133,28 +153,46 @@ pub fn run(args: SimulateArgs) -> Result<(), AppError> {
         precision: args.frames.precision,
         force: args.frames.force,
         progress: !args.json.json,
+        record: RunRecord::new(physics, &options, dense),
     };
-    let scene = load_scene(&scene_path)?;
     check_files(&scene_path, &scene, run.out.as_deref())?;
-    let resumed = match &args.resume {
-        Some(folder) => Some(resume::last_state(folder, &scene)?),
+    let frames = match &run.out {
+        Some(folder) => Some(open_frame_folder(
+            folder,
+            &scene,
+            &run,
+            args.resume.is_some(),
+        )?),
         None => None,
     };
-    if let (Some(folder), None) = (&run.out, &resumed) {
-        if !run.force {
-            refuse_earlier_frames(folder)?;
+    let resumed = match &args.resume {
+        Some(folder) => {
+            let state = resume::last_state(folder, &scene, &run.record)?;
+            resume::last_step(folder, state.step, run.steps)?;
+            Some(state)
         }
-    }
-    let mut options = SimulationOptions {
-        wind: args.wind,
-        ..SimulationOptions::default()
+        None => None,
     };
-    args.simulation.apply(&mut options);
-    let summary = if args.simulation.backend.dense {
-        simulate::<Dense>(scene, &scene_path, options, &run, resumed)?
+    let summary = if dense {
+        simulate::<Dense>(
+            scene,
+            &scene_path,
+            options,
+            &run,
+            (frames.as_ref(), resumed),
+        )?
     } else {
-        simulate::<Sparse>(scene, &scene_path, options, &run, resumed)?
+        simulate::<Sparse>(
+            scene,
+            &scene_path,
+            options,
+            &run,
+            (frames.as_ref(), resumed),
+        )?
     };
+    if let Some(frames) = frames {
+        frames.commit()?;
+    }
     if args.json.json {
         println!(
             "{}",
@@ -166,14 +204,37 @@ pub fn run(args: SimulateArgs) -> Result<(), AppError> {
     Ok(())
 }
 
-/// Precompute, then step (on from `resumed`, if given), writing frames and
-/// reporting progress.
+/// Locks the frames' folder and checks what is in it ([`FrameFolder`]).
+fn open_frame_folder(
+    folder: &Path,
+    scene: &Scene,
+    run: &Run,
+    resume: bool,
+) -> Result<FrameFolder, AppError> {
+    let how = if resume {
+        Use::Resume
+    } else {
+        Use::Fresh { force: run.force }
+    };
+    let textured = texture_copy(folder, scene);
+    let extras = Extras {
+        material: textured.as_ref().map(|_| {
+            let path = folder.join(format!("{}.mtl", scene.name));
+            (path, material_header(&scene.name))
+        }),
+        texture: textured,
+    };
+    FrameFolder::open(folder, how, &extras)
+}
+
+/// Precompute, then step (on from `resumed`, if given), writing frames
+/// into `frames` and reporting progress.
 fn simulate<B: LinearAlgebra>(
     mut scene: Scene,
     scene_path: &Path,
     options: SimulationOptions,
     run: &Run,
-    resumed: Option<Resumed>,
+    (frames, resumed): (Option<&FrameFolder>, Option<Resumed>),
 ) -> Result<Summary, AppError> {
     let (n, springs) = (scene.vertices.len(), scene.springs.len());
     if run.out.is_none() {
@@ -191,24 +252,16 @@ fn simulate<B: LinearAlgebra>(
     let resumed_from = resumed.as_ref().map(|state| state.step);
     if let Some(state) = resumed {
         simulation.set_state(&state.u_prev, &state.u_cur, state.step)?;
+        simulation.carry(state.carried);
     }
-    let material = match &run.out {
-        Some(folder) if resumed_from.is_some() => {
-            // the run's own folder: its frames stay, and they number on
-            remove_stale_temporaries(folder)?;
-            write_material(folder, scene, texture)?
-        }
-        Some(folder) => {
-            prepare_out_folder(folder)?;
-            let material = write_material(folder, scene, texture)?;
-            write_frame(
-                folder,
-                0,
-                scene,
-                simulation.positions(),
-                run,
-                material.as_deref(),
-            )?;
+    let material = match frames {
+        Some(frames) => {
+            let material = write_material(frames.folder(), scene, texture)?;
+            if resumed_from.is_none() {
+                let positions = simulation.positions();
+                let frame = (0, positions, simulation.carried());
+                write_frame(frames.frames(), frame, scene, run, material.as_deref())?;
+            }
             material
         }
         None => None,
@@ -231,10 +284,10 @@ fn simulate<B: LinearAlgebra>(
         if let Some(gradient) = report.relative_gradient {
             gradients.push(gradient);
         }
-        if let Some(folder) = &run.out {
+        if let Some(frames) = frames {
             if step.is_multiple_of(run.every) {
-                let positions = simulation.positions();
-                write_frame(folder, step, scene, positions, run, material.as_deref())?;
+                let frame = (step, simulation.positions(), simulation.carried());
+                write_frame(frames.frames(), frame, scene, run, material.as_deref())?;
             }
         }
         progress.step_done(done);
@@ -358,7 +411,7 @@ fn write_material(
     let texture_name = copy.file_name().unwrap_or_default().to_owned();
     let name = scene.name.clone();
     write_file(&folder.join(format!("{name}.mtl")), |out| {
-        writeln!(out, "# {name} — masssprings frames")?;
+        writeln!(out, "{}", material_header(&name))?;
         writeln!(out, "newmtl {name}")?;
         writeln!(out, "Kd 1 1 1")?;
         writeln!(out, "map_Kd {}", texture_name.to_string_lossy())
@@ -366,55 +419,34 @@ fn write_material(
     Ok(Some(name))
 }
 
-/// Refuses an `--out` folder holding frames of another run (before any
-/// work is done).
-fn refuse_earlier_frames(folder: &Path) -> Result<(), AppError> {
-    let frames = earlier_frames(folder)?;
-    match frames.first() {
-        None => Ok(()),
-        Some(first) => Err(AppError::Failed(format!(
-            "--out {}: the folder already holds {} frame(s) of another run ({}, ...); \
-             give --force to remove them first, or choose another folder",
-            folder.display(),
-            frames.len(),
-            first.file_name().unwrap_or_default().to_string_lossy()
-        ))),
-    }
+/// The first line of the frames' material `NAME.mtl`.
+fn material_header(name: &str) -> String {
+    format!("# {name} — masssprings frames")
 }
 
-/// Creates the `--out` folder, removes the temporaries of killed runs and
-/// the frames of an earlier run (with `--force`; without it they were
-/// refused already).
-fn prepare_out_folder(folder: &Path) -> Result<(), AppError> {
-    let failed = |e: &dyn std::fmt::Display| AppError::Failed(format!("{}: {e}", folder.display()));
-    std::fs::create_dir_all(folder).map_err(|e| failed(&e))?;
-    remove_stale_temporaries(folder)?;
-    for frame in earlier_frames(folder)? {
-        std::fs::remove_file(&frame).map_err(|e| failed(&e))?;
-    }
-    Ok(())
-}
-
-/// `folder/frame-NNNNNN.obj`: the positions and the scene's faces, written
-/// all or nothing.
+/// `folder/frame-NNNNNN.obj` of `step`: the header, the run's record with
+/// what the methods `carried` after the step, the positions and the
+/// scene's faces, written all or nothing.
 fn write_frame(
     folder: &Path,
-    step: usize,
+    (step, positions, carried): (usize, &[[f64; 3]], Carried),
     scene: &Scene,
-    positions: &[[f64; 3]],
     run: &Run,
     material: Option<&str>,
 ) -> Result<(), AppError> {
     let path = folder.join(frame_name(step));
     let header = frame_header(&scene.name, step, run.precision);
+    let mut record = run.record.clone();
+    record.carried = carried;
     write_file(&path, |out| {
         writeln!(out, "{header}")?;
+        writeln!(out, "{}", record.line())?;
         write_obj(out, scene, positions, run.precision, material)
     })?;
     Ok(())
 }
 
-/// An OBJ (after its first line, [`frame_header`]) with `v` lines for
+/// An OBJ (after its first two lines, [`frame_header`] and the record) with `v` lines for
 /// `positions` (with `precision` digits after the point, or the shortest
 /// decimal form that reads back to the same `f64`), the scene's `vt` lines,
 /// the material, and the faces (with texture indices when the scene has
