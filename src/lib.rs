@@ -8,8 +8,13 @@
 //!
 //! * [`linalg`]: dense matrices and Cholesky; sparse triplets → CSC, the CSC
 //!   operations, AMD ordering, symbolic analysis, numeric Cholesky
-//!   (simplicial and supernodal), triangular solves, Matrix Market I/O. It
-//!   knows nothing about springs.
+//!   (simplicial and supernodal), triangular solves. It imports nothing
+//!   from the rest of the crate: it knows nothing about springs, files or
+//!   limits, and could be lifted out.
+//! * [`files`], [`memory`]: the rules every reader and writer follows (size
+//!   caps, errors naming file and line, writing all or nothing, the memory
+//!   limit); [`matrix_market`]: Matrix Market files read into and written
+//!   from `linalg`'s matrices under those rules.
 //! * [`mesh`]: scenes: the assignment's JSON + OBJ files read into rest
 //!   positions, springs, masses and pins; procedural scenes. It knows
 //!   nothing about solvers.
@@ -19,6 +24,7 @@
 
 pub mod files;
 pub mod linalg;
+pub mod matrix_market;
 pub mod memory;
 pub mod mesh;
 pub mod sim;

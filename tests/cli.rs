@@ -7,8 +7,8 @@ use cli::{blow_up_scene, data, masssprings, stderr, stdout, temp_folder};
 
 use common::grid_matrix;
 use masssprings::files::write_file;
-use masssprings::linalg::matrix_market::{write_coordinate, Symmetry};
 use masssprings::linalg::sparse::{Ordering, Relaxation, SymbolicCholesky};
+use masssprings::matrix_market::{write_coordinate, Symmetry};
 use std::path::Path;
 use std::process::Output;
 

@@ -8,7 +8,7 @@
 //! value or to an error that names the file and, for a problem on a line,
 //! the line. FIFOs and links are made in temporary folders. (The PNG texture
 //! and the HTTP request parser live in the binary; their mutation tests are
-//! unit tests in `src/app/render/texture.rs` and `src/app/view/http.rs`.)
+//! unit tests in `src/app/draw/texture.rs` and `src/app/view/http.rs`.)
 #[path = "common/cli.rs"]
 mod cli;
 #[path = "common/mutate.rs"]
@@ -16,8 +16,8 @@ mod mutate;
 
 use cli::{assert_fails, copy_scene, data, names_in, temp_folder};
 use masssprings::files::FileError;
-use masssprings::linalg::matrix_market::{self, write_array, write_coordinate, Symmetry};
 use masssprings::linalg::sparse::TripletMatrix;
+use masssprings::matrix_market::{self, write_array, write_coordinate, Symmetry};
 use masssprings::mesh::load_scene;
 use mutate::{mutate, Rng};
 use std::path::{Path, PathBuf};

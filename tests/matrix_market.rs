@@ -6,11 +6,11 @@ mod common;
 use common::*;
 use masssprings::files::write_file;
 use masssprings::linalg::dense::DenseMatrix;
-use masssprings::linalg::matrix_market::{
+use masssprings::linalg::sparse::{CscMatrix, TripletMatrix};
+use masssprings::matrix_market::{
     parse, read, write_array, write_coordinate, MatrixMarket, MatrixMarketError, SparseFile,
     Symmetry,
 };
-use masssprings::linalg::sparse::{CscMatrix, TripletMatrix};
 use proptest::prelude::*;
 use std::io::{self, Write};
 use std::path::PathBuf;

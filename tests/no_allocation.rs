@@ -127,7 +127,7 @@ fn no_method_allocates_after_its_first_step() {
 fn solves_and_refactorizations_allocate_nothing() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/skirt.json");
     let scene = load_scene(&path).unwrap();
-    let system = masssprings::sim::precomputation::fast_mass_springs_precomputation::<Sparse>(
+    let system = masssprings::sim::precomputation::MassSpringSystem::<Sparse>::new(
         &scene.vertices,
         &scene.springs,
         scene.k,

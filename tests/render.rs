@@ -3,7 +3,7 @@
 //!
 //! The rasterizer's own pieces (edge functions, barycentric weights, the
 //! z-buffer, the camera's framing, two-sided lighting, the palette) are
-//! tested beside their code in `src/app/render/`, since the renderer
+//! tested beside their code in `src/app/draw/`, since the renderer
 //! belongs to the command line, not to the library.
 #![cfg(feature = "app")]
 

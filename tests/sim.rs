@@ -5,7 +5,7 @@ mod common;
 use common::*;
 use masssprings::linalg::LinalgError;
 use masssprings::sim::local_step::project_springs;
-use masssprings::sim::precomputation::{fast_mass_springs_precomputation, MassSpringSystem};
+use masssprings::sim::precomputation::MassSpringSystem;
 use masssprings::sim::signed_incidence::{
     incidence_mul_points, incidence_transpose_mul_points, signed_incidence_matrix_dense,
     signed_incidence_matrix_sparse,
@@ -105,7 +105,7 @@ proptest! {
         assert_close(&dense_to_nalgebra(&dense.Q), &oracle, 1e-14);
         assert_close(&csc_to_nalgebra(&sparse.Q), &oracle, 1e-14);
         // the fast path's Q is the same matrix
-        let fast = fast_mass_springs_precomputation::<Sparse>(&net.v, &net.springs, net.k, &net.masses, &net.pinned, DELTA_T).unwrap();
+        let fast = MassSpringSystem::<Sparse>::new(&net.v, &net.springs, net.k, &net.masses, &net.pinned, DELTA_T).unwrap();
         assert_close(&csc_to_nalgebra(&fast.Q), &oracle, 1e-14);
         // the pins' constant right-hand side, w CᵀC V, on both paths
         let pin_rhs = c.transpose() * &c * points_to_nalgebra(&net.v) * PIN_WEIGHT;
@@ -136,7 +136,7 @@ proptest! {
     #[test]
     fn each_local_global_iteration_lowers_the_step_energy(net in network(8)) {
         let n = net.v.len();
-        let mut system = fast_mass_springs_precomputation::<Sparse>(&net.v, &net.springs, net.k, &net.masses, &net.pinned, DELTA_T).unwrap();
+        let mut system = MassSpringSystem::<Sparse>::new(&net.v, &net.springs, net.k, &net.masses, &net.pinned, DELTA_T).unwrap();
         let f_ext = gravity(n);
         let (u_prev, u_cur) = (net.v.clone(), net.v.clone());
         let mut previous = f64::INFINITY;
@@ -177,8 +177,7 @@ fn a_network_at_rest_without_forces_stays_at_rest() {
         fast_mass_springs_precomputation_sparse(&v, &springs, 100.0, &[1.0; 3], &[0], DELTA_T)
             .unwrap();
     let mut system =
-        fast_mass_springs_precomputation::<Sparse>(&v, &springs, 100.0, &[1.0; 3], &[0], DELTA_T)
-            .unwrap();
+        MassSpringSystem::<Sparse>::new(&v, &springs, 100.0, &[1.0; 3], &[0], DELTA_T).unwrap();
     let (mut textbook, mut fast) = (vec![[0.0; 3]; 3], vec![[0.0; 3]; 3]);
     let still = [[0.0; 3]; 3];
     fast_mass_springs_step_sparse(&handout, &still, &v, &v, &mut textbook);
@@ -242,8 +241,7 @@ fn pinned_vertices_stay_within_a_micrometre_of_rest() {
 fn non_finite_forces_are_reported_not_propagated() {
     let v = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
     let mut system =
-        fast_mass_springs_precomputation::<Sparse>(&v, &[[0, 1]], 500.0, &[1.0; 2], &[0], DELTA_T)
-            .unwrap();
+        MassSpringSystem::<Sparse>::new(&v, &[[0, 1]], 500.0, &[1.0; 2], &[0], DELTA_T).unwrap();
     let mut u_next = vec![[0.0; 3]; 2];
     let forces = [[0.0; 3], [f64::NAN, 0.0, 0.0]];
     let error = fast_step(&mut system, 50, [&forces, &v, &v], &mut u_next).unwrap_err();
@@ -258,10 +256,8 @@ fn a_q_that_is_not_positive_definite_is_reported() {
     // a negative stiffness makes Q indefinite
     let v = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
     for result in [
-        fast_mass_springs_precomputation::<Sparse>(&v, &[[0, 1]], -1e6, &[1.0; 2], &[], DELTA_T)
-            .map(|_| ()),
-        fast_mass_springs_precomputation::<Dense>(&v, &[[0, 1]], -1e6, &[1.0; 2], &[], DELTA_T)
-            .map(|_| ()),
+        MassSpringSystem::<Sparse>::new(&v, &[[0, 1]], -1e6, &[1.0; 2], &[], DELTA_T).map(|_| ()),
+        MassSpringSystem::<Dense>::new(&v, &[[0, 1]], -1e6, &[1.0; 2], &[], DELTA_T).map(|_| ()),
     ] {
         assert!(
             matches!(
@@ -289,9 +285,8 @@ fn inconsistent_inputs_are_rejected() {
         (&nan, &[[0, 1]], &[1.0; 2], &[]), // a NaN coordinate
     ];
     for (positions, springs, masses, pins) in cases {
-        let result = fast_mass_springs_precomputation::<Sparse>(
-            positions, springs, 1.0, masses, pins, DELTA_T,
-        );
+        let result =
+            MassSpringSystem::<Sparse>::new(positions, springs, 1.0, masses, pins, DELTA_T);
         assert!(
             matches!(result, Err(SimulationError::InvalidInput(_))),
             "{springs:?} {masses:?} {pins:?}"
@@ -304,18 +299,10 @@ fn changing_pins_refactors_to_the_same_system_as_precomputing_afresh() {
     let (v, springs) = cloth(6);
     let masses = vec![0.05; v.len()];
     let mut moved =
-        fast_mass_springs_precomputation::<Sparse>(&v, &springs, 1e3, &masses, &[0], DELTA_T)
-            .unwrap();
+        MassSpringSystem::<Sparse>::new(&v, &springs, 1e3, &masses, &[0], DELTA_T).unwrap();
     moved.set_pins(&[0, 5, 30], &[v[0], v[5], v[30]]).unwrap();
-    let fresh = fast_mass_springs_precomputation::<Sparse>(
-        &v,
-        &springs,
-        1e3,
-        &masses,
-        &[0, 5, 30],
-        DELTA_T,
-    )
-    .unwrap();
+    let fresh =
+        MassSpringSystem::<Sparse>::new(&v, &springs, 1e3, &masses, &[0, 5, 30], DELTA_T).unwrap();
     assert_close(&csc_to_nalgebra(&moved.Q), &csc_to_nalgebra(&fresh.Q), 0.0);
     assert_close(
         &points_to_nalgebra(&moved.pin_rhs),
@@ -335,8 +322,7 @@ fn a_simulation_holds_q_only_for_a_method_that_multiplies_by_it() {
     let (v, springs) = cloth(6);
     let masses = vec![0.05; v.len()];
     let fresh = |pins: &[usize]| {
-        fast_mass_springs_precomputation::<Sparse>(&v, &springs, 1e3, &masses, pins, DELTA_T)
-            .unwrap()
+        MassSpringSystem::<Sparse>::new(&v, &springs, 1e3, &masses, pins, DELTA_T).unwrap()
     };
     let with = |method| SimulationOptions {
         step: masssprings::sim::StepControl {

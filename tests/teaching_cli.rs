@@ -10,8 +10,8 @@ use common::read_points;
 mod cli;
 
 use cli::{data, masssprings, stderr, stdout, temp_folder};
-use masssprings::linalg::matrix_market::{self, MatrixMarket, Symmetry};
 use masssprings::linalg::sparse::{Ordering, SymbolicCholesky, Triangle};
+use masssprings::matrix_market::{self, MatrixMarket, Symmetry};
 use masssprings::mesh::load_scene;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Simulation, Sparse};

@@ -18,10 +18,8 @@ mod cli;
 use cli::{data, masssprings, stderr, stdout, temp_folder, TempFolder};
 use masssprings::files::write_file;
 use masssprings::linalg::dense::DenseMatrix;
-use masssprings::linalg::matrix_market::{
-    read, write_array, write_coordinate, MatrixMarket, Symmetry,
-};
 use masssprings::linalg::sparse::{CscMatrix, Ordering, TripletMatrix};
+use masssprings::matrix_market::{read, write_array, write_coordinate, MatrixMarket, Symmetry};
 use masssprings::mesh::{load_scene, Scene};
 use masssprings::sim::forces::GRAVITY;
 use masssprings::sim::local_step::project_springs;

@@ -11,7 +11,7 @@ use masssprings::linalg::sparse::{
     CscMatrix, Method, Ordering, PermutedTriangle, SparseCholesky, SymbolicCholesky, Triangle,
     TripletMatrix,
 };
-use masssprings::sim::precomputation::fast_mass_springs_precomputation;
+use masssprings::sim::precomputation::MassSpringSystem;
 use masssprings::sim::signed_incidence::{
     signed_incidence_entries, signed_incidence_matrix_sparse,
 };
@@ -60,7 +60,7 @@ fn assemble_step_by_step() -> Assembly {
 
 /// `Q` of the star as the precomputation builds it.
 fn star() -> CscMatrix {
-    fast_mass_springs_precomputation::<Sparse>(&REST, &SPRINGS, K, &MASSES, &[], DELTA_T)
+    MassSpringSystem::<Sparse>::new(&REST, &SPRINGS, K, &MASSES, &[], DELTA_T)
         .unwrap()
         .Q
 }
@@ -119,10 +119,9 @@ fn step_1_q_is_ata_plus_m_over_dt2_plus_w_ctc() {
 
 #[test]
 fn step_1_a_pin_adds_w_to_its_diagonal() {
-    let pinned =
-        fast_mass_springs_precomputation::<Sparse>(&REST, &SPRINGS, K, &MASSES, &[2], DELTA_T)
-            .unwrap()
-            .Q;
+    let pinned = MassSpringSystem::<Sparse>::new(&REST, &SPRINGS, K, &MASSES, &[2], DELTA_T)
+        .unwrap()
+        .Q;
     let free = star();
     for j in 0..5 {
         for i in 0..5 {

@@ -1,5 +1,5 @@
 //! Fuzz target: the frame reader of `simulate --resume` (the binary's
-//! `src/app/frames.rs`, included as it is). Any text must give a frame or
+//! `src/app/resume/frames.rs`, included as it is). Any text must give a frame or
 //! an error on a line of it (or about the whole file: no vertices); the
 //! record of a frame read back must be written again to the same record.
 #![no_main]
@@ -7,7 +7,7 @@
 use libfuzzer_sys::fuzz_target;
 
 #[allow(dead_code)]
-#[path = "../../src/app/frames.rs"]
+#[path = "../../src/app/resume/frames.rs"]
 mod frames;
 
 fuzz_target!(|data: &[u8]| {

@@ -4,7 +4,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use masssprings::linalg::matrix_market::{parse, parse_symmetric};
+use masssprings::matrix_market::{parse, parse_symmetric};
 
 fuzz_target!(|data: &[u8]| {
     // Keep the memory limit small: a size line may claim anything.

@@ -37,15 +37,15 @@
 //! Output: a table, or with `--json` one object `{triad_gbps, steps,
 //! sizes: [...], slopes: {...}}`; `--csv OUT` writes the sizes as CSV;
 //! `--plot OUT.png` draws the times of the phases and the peak memory
-//! against `n` on log-log axes ([`plot`](super::render::plot)), each
+//! against `n` on log-log axes ([`plot`](super::draw::plot)), each
 //! series labelled with its fitted exponent. Progress goes to stderr.
 
-use super::analyze::analyze;
+use super::analysis::analyze;
+use super::draw::plot::{Figure, Panel, Scale, Series};
+use super::error::AppError;
 use super::flags::{whole, JsonFlag};
 use super::limits::check_grid;
-use super::render::plot::{Figure, Panel, Scale, Series};
 use super::timing::{median_seconds, Repeats};
-use super::AppError;
 use masssprings::files::{write_file, FilePlan};
 use masssprings::linalg::benchmark_right_hand_side;
 use masssprings::linalg::sparse::{Method, Ordering, Relaxation, Triangle};
@@ -309,24 +309,7 @@ fn measure_in_child(side: usize, steps: usize) -> Result<SizeReport, AppError> {
 fn measure_one(side: usize, steps: usize) -> Result<SizeReport, AppError> {
     let name = format!("grid-{side}");
     let failed = |e: &dyn std::fmt::Display| AppError::Failed(format!("{name}: {e}"));
-    eprintln!("{name}: scene");
-    let scene = procedural::grid(side).to_scene().map_err(|e| failed(&e))?;
-    eprintln!("{name}: precomputation (n = {})", scene.vertices.len());
-    let started = Instant::now();
-    let mut simulation = Simulation::<Sparse>::from_scene(&scene, SimulationOptions::default())
-        .map_err(|e| failed(&e))?;
-    let precompute_s = started.elapsed().as_secs_f64();
-    drop(scene);
-    eprintln!("{name}: {steps} steps");
-    let mut step_error = None;
-    let (step_s, _) = median_seconds(Repeats::Exactly(steps), || {
-        if let Err(e) = simulation.step() {
-            step_error.get_or_insert(e);
-        }
-    });
-    if let Some(e) = step_error {
-        return Err(failed(&e));
-    }
+    let (simulation, precompute_s, step_s) = timed_simulation(&name, side, steps)?;
     let peak_bytes = peak_resident_bytes();
     eprintln!("{name}: local step, Aᵀd");
     let (local_step_s, atd_s, springs_pass_s) = time_spring_passes(&simulation);
@@ -375,6 +358,35 @@ fn measure_one(side: usize, steps: usize) -> Result<SizeReport, AppError> {
         residual: a.residual,
         backward_error: a.backward_error,
     })
+}
+
+/// The grid `side`×`side` precomputed and stepped `steps` times: the
+/// simulation, the precomputation's seconds and the median step's.
+fn timed_simulation(
+    name: &str,
+    side: usize,
+    steps: usize,
+) -> Result<(Simulation<Sparse>, f64, f64), AppError> {
+    let failed = |e: &dyn std::fmt::Display| AppError::Failed(format!("{name}: {e}"));
+    eprintln!("{name}: scene");
+    let scene = procedural::grid(side).to_scene().map_err(|e| failed(&e))?;
+    eprintln!("{name}: precomputation (n = {})", scene.vertices.len());
+    let started = Instant::now();
+    let mut simulation = Simulation::<Sparse>::from_scene(&scene, SimulationOptions::default())
+        .map_err(|e| failed(&e))?;
+    let precompute_s = started.elapsed().as_secs_f64();
+    drop(scene);
+    eprintln!("{name}: {steps} steps");
+    let mut step_error = None;
+    let (step_s, _) = median_seconds(Repeats::Exactly(steps), || {
+        if let Err(e) = simulation.step() {
+            step_error.get_or_insert(e);
+        }
+    });
+    if let Some(e) = step_error {
+        return Err(failed(&e));
+    }
+    Ok((simulation, precompute_s, step_s))
 }
 
 /// The bench simulates on the fast path, which has a precomputed system.

@@ -21,12 +21,14 @@
 //! ([`accuracy`]).
 
 mod accuracy;
+mod convergence_plot;
+mod steps_plot;
 
+use super::draw::plot::Scale;
+use super::error::AppError;
+use super::file_plan::{load_scene, plan_scene_inputs};
 use super::flags::{between, choice, whole, FactorFlags, StepRules};
 use super::limits::{check_kept, precompute};
-use super::render::plot::Scale;
-use super::steps_plot::{StepPlot, StepSeries};
-use super::{load_scene, plan_scene_inputs, AppError};
 use masssprings::files::{write_file, FilePlan};
 use masssprings::mesh::Scene;
 use masssprings::sim::energy::free_norm;
@@ -38,6 +40,7 @@ use masssprings::sim::{Simulation, Sparse, StepControl, StepMethod, Stop};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
+use steps_plot::{StepPlot, StepSeries};
 
 /// One row of the CSV.
 #[derive(Debug, Clone, Copy)]
@@ -175,7 +178,7 @@ pub fn run(args: ConvergeArgs) -> Result<(), AppError> {
         write_file(path, |out| write_csv(out, &curves))?;
     }
     if let Some(path) = &request.plot {
-        super::convergence_plot::draw(path, &scene.name, request.step, &curves_for_plot(&curves))?;
+        convergence_plot::draw(path, &scene.name, request.step, &curves_for_plot(&curves))?;
     }
     Ok(())
 }
@@ -254,19 +257,7 @@ fn trace(
         ..control.without_stopping_rules()
     };
     let failed = |e: masssprings::sim::SimulationError| AppError::Failed(format!("{method}: {e}"));
-    // One untimed iteration first makes the method's work arrays, so that
-    // the clock, started just before the step, counts what every step
-    // pays: the step's setup (the first iterate, the initial gradient) and
-    // the iterations.
-    let mut copy = simulation.clone();
-    let warm_up = StepControl {
-        iterations: 1,
-        ..control
-    };
-    copy.step_with(&warm_up, None).map_err(failed)?;
-    let (u_prev, u_cur) = (simulation.previous_positions(), simulation.positions());
-    copy.set_state(u_prev, u_cur, simulation.steps())
-        .map_err(failed)?;
+    let mut copy = warmed_up(simulation, &control)?;
     let mut samples = Vec::with_capacity(iterations.saturating_add(1));
     let mut gradient = vec![[0.0; 3]; copy.positions().len()];
     let mut previous = copy.positions().to_vec();
@@ -308,6 +299,29 @@ fn trace(
         stop: report.stop,
         rounding,
     })
+}
+
+/// A copy of `simulation` that has run one untimed iteration of `control`'s
+/// method and is back at `simulation`'s state: the iteration made the
+/// method's work arrays, so that a clock started just before the next step
+/// counts what every step pays: the step's setup (the first iterate, the
+/// initial gradient) and the iterations.
+fn warmed_up(
+    simulation: &Simulation<Sparse>,
+    control: &StepControl,
+) -> Result<Simulation<Sparse>, AppError> {
+    let method = control.method;
+    let failed = |e: masssprings::sim::SimulationError| AppError::Failed(format!("{method}: {e}"));
+    let mut copy = simulation.clone();
+    let warm_up = StepControl {
+        iterations: 1,
+        ..*control
+    };
+    copy.step_with(&warm_up, None).map_err(failed)?;
+    let (u_prev, u_cur) = (simulation.previous_positions(), simulation.positions());
+    copy.set_state(u_prev, u_cur, simulation.steps())
+        .map_err(failed)?;
+    Ok(copy)
 }
 
 /// The `ρ` Chebyshev's first step would measure, from a plain run's step
@@ -386,7 +400,7 @@ fn write_csv(out: &mut dyn Write, curves: &[Curve]) -> std::io::Result<()> {
 }
 
 /// Each curve as (name, [(iteration, energy, ms)]), for the plot.
-fn curves_for_plot(curves: &[Curve]) -> Vec<super::convergence_plot::PlotCurve> {
+fn curves_for_plot(curves: &[Curve]) -> Vec<convergence_plot::PlotCurve> {
     curves
         .iter()
         .map(|c| {
@@ -445,7 +459,26 @@ fn run_over_steps(request: &Request, scene: &Scene, steps: usize) -> Result<(), 
         advance(&mut simulation, step, steps)?;
     }
     eprintln!();
-    let plain_median = super::timing::median(&mut plain_50_ms);
+    print_reach_table(request, steps, &mut plain_50_ms, &times, &iterations);
+    if let Some(path) = &request.csv {
+        write_file(path, |out| write_reach_csv(out, &rows))?;
+    }
+    if let Some(path) = &request.plot {
+        draw_reach(path, &scene.name, &request.methods, &rows)?;
+    }
+    Ok(())
+}
+
+/// The table of `--steps S` without a rule: per method, the medians over
+/// the steps of the time and the iterations to reach plain-50's energy.
+fn print_reach_table(
+    request: &Request,
+    steps: usize,
+    plain_50_ms: &mut [f64],
+    times: &[Vec<f64>],
+    iterations: &[Vec<f64>],
+) {
+    let plain_median = super::timing::median(plain_50_ms);
     println!(
         "{} steps 1-{steps}: median over the steps of the time to reach plain-50's energy \
          (plain-50 itself: {plain_median:.3} ms)",
@@ -465,13 +498,6 @@ fn run_over_steps(request: &Request, scene: &Scene, steps: usize) -> Result<(), 
             ms / plain_median
         );
     }
-    if let Some(path) = &request.csv {
-        write_file(path, |out| write_reach_csv(out, &rows))?;
-    }
-    if let Some(path) = &request.plot {
-        draw_reach(path, &scene.name, &request.methods, &rows)?;
-    }
-    Ok(())
 }
 
 /// The plot of `--steps S` without a rule: per step, the time to reach
@@ -506,7 +532,7 @@ fn draw_reach(
         ),
         plain_50_line: false,
     };
-    super::steps_plot::draw(path, &plot, &series)
+    steps_plot::draw(path, &plot, &series)
 }
 
 /// `--steps S --csv`: when one method first reached plain-50's energy on
@@ -708,7 +734,7 @@ fn draw_rule(
         right: ("accuracy", "decrease / plain-50's (log)", Scale::Log10),
         plain_50_line: true,
     };
-    super::steps_plot::draw(path, &plot, &series)
+    steps_plot::draw(path, &plot, &series)
 }
 
 /// `--steps S --csv` with a stopping rule: one method's whole step, beside

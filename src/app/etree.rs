@@ -4,12 +4,12 @@
 //! its own colour, its columns joined by a band. Prints `n`, the height of
 //! the tree and the number of supernodes.
 
+use super::draw::encode::write_png;
+use super::draw::sparsity::{depths, draw_elimination_tree, TREE_SUPERSAMPLING};
+use super::error::AppError;
 use super::flags::{size, Size};
 use super::limits::{check_picture, picture_bytes};
-use super::render::encode::write_png;
-use super::render::sparsity::{depths, elimination_tree, TREE_SUPERSAMPLING};
-use super::spy::{file_name, load_lower, PatternArgs};
-use super::AppError;
+use super::matrix_input::{file_name, load_lower, PatternArgs};
 use masssprings::files::{write_file, FilePlan};
 use masssprings::linalg::sparse::SymbolicCholesky;
 
@@ -70,8 +70,8 @@ pub fn run(args: EtreeArgs) -> Result<(), AppError> {
             symbolic.nnz_l()
         ),
     ];
-    let image = elimination_tree(parent, &supernode_of, (width, height), &caption);
+    let image = draw_elimination_tree(parent, &supernode_of, (width, height), &caption);
     write_file(&out, |file| write_png(file, &image))?;
-    super::report(&out, &caption.join("; "));
+    super::file_plan::report(&out, &caption.join("; "));
     Ok(())
 }

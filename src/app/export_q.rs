@@ -4,11 +4,12 @@
 //! `masssprings analyze Q.mtx` (and any other sparse solver) can be tried
 //! on any scene.
 
-use super::spy::scene_q;
-use super::{plan_scene_inputs, report, AppError};
+use super::error::AppError;
+use super::file_plan::{plan_scene_inputs, report};
+use super::matrix_input::scene_q;
 use masssprings::files::{write_file, FilePlan};
-use masssprings::linalg::matrix_market::{write_coordinate, Symmetry};
 use masssprings::linalg::sparse::Triangle;
+use masssprings::matrix_market::{write_coordinate, Symmetry};
 use masssprings::mesh::load_scene;
 use masssprings::sim::PIN_WEIGHT;
 use std::path::PathBuf;

@@ -7,13 +7,13 @@
 //! with the very bytes `generate` would write is kept as it is, and one
 //! with other bytes (a scene edited since, or a file of the user's that
 //! shares the name) is refused, before anything is written, unless
-//! `--force` (`super::output_folder`).
+//! `--force` (`super::file_plan`).
 
+use super::draw::encode::write_png;
+use super::error::AppError;
+use super::file_plan::{check_output_folder, occupied, refuse_foreign, writes_same};
 use super::flags::whole;
 use super::limits::check_grid;
-use super::output_folder::{occupied, refuse_foreign, writes_same};
-use super::render::encode::write_png;
-use super::AppError;
 use masssprings::files::{write_file, FolderLock};
 use masssprings::mesh::procedural::{self, GeneratedScene};
 use std::io::{self, Write};
@@ -59,7 +59,7 @@ pub fn run(args: GenerateArgs) -> Result<(), AppError> {
         What::Examples => procedural::examples(),
     };
     let folder = args.out;
-    super::check_output_folder(&folder, "generate writes scene files into a folder")?;
+    check_output_folder(&folder, "generate writes scene files into a folder")?;
     let _lock = FolderLock::acquire(&folder, "generate")?;
     let files: Vec<SceneFile> = scenes
         .iter()

@@ -4,7 +4,7 @@
 //! the commands precompute a simulation, so that a failure (a `Q` that is
 //! not positive definite, say) names the scene file.
 
-use super::AppError;
+use super::error::AppError;
 use masssprings::memory::{self, bytes_for, thousands};
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;

@@ -11,7 +11,7 @@
 //! * their numbers are exact: without `--precision` each coordinate is the
 //!   shortest decimal that reads back to the same `f64`, so parsing it
 //!   gives back the very bits. The frame writer says which on each frame's
-//!   first line ([`super::frames`]); a rounded frame would continue a
+//!   first line ([`frames`]); a rounded frame would continue a
 //!   slightly different run.
 //!
 //! Some methods also carry something from one step to the next: Chebyshev
@@ -27,14 +27,17 @@
 //! (`tests/resume.rs`, every method). Step 0 alone resumes as the start:
 //! before step 0 the cloth was at rest, `U_prev = U_cur`.
 
-use super::frames::{frame_name, frame_step, is_frame_name, parse_frame, RunRecord};
-use super::AppError;
+pub mod folder;
+pub mod frames;
+
+use super::error::AppError;
+use folder::{earlier_frames, not_a_file};
+use frames::{frame_name, frame_step, parse_frame, RunRecord};
 use masssprings::files::read_text;
 use masssprings::mesh::Scene;
 use masssprings::sim::methods::Carried;
 use std::fs;
-use std::io;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// The state a run stopped in.
 pub struct Resumed {
@@ -172,50 +175,7 @@ fn read_exact_frame(
     Ok((frame.positions, written.carried))
 }
 
-/// What is at `path` when it is not a regular file (through links): "a
-/// folder", "a FIFO", ...
-pub fn not_a_file(path: &Path) -> Option<&'static str> {
-    let kind = fs::metadata(path).ok()?.file_type();
-    if kind.is_file() {
-        return None;
-    }
-    if kind.is_dir() {
-        return Some("a folder");
-    }
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        if kind.is_fifo() {
-            return Some("a FIFO (a named pipe)");
-        }
-        if kind.is_char_device() || kind.is_block_device() {
-            return Some("a device");
-        }
-        if kind.is_socket() {
-            return Some("a socket");
-        }
-    }
-    Some("not a regular file")
-}
-
 /// The step of the frame at `path` (`frame-000012.obj`: 12).
 fn step_of(path: &Path) -> Option<usize> {
     frame_step(path.file_name()?.to_str()?)
-}
-
-/// The entries of `folder` named like frames (none when it does not
-/// exist), sorted.
-pub fn earlier_frames(folder: &Path) -> Result<Vec<PathBuf>, AppError> {
-    let entries = match fs::read_dir(folder) {
-        Ok(entries) => entries,
-        Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(error) => return Err(AppError::Failed(format!("{}: {error}", folder.display()))),
-    };
-    let mut frames: Vec<PathBuf> = entries
-        .flatten()
-        .filter(|entry| entry.file_name().to_str().is_some_and(is_frame_name))
-        .map(|entry| entry.path())
-        .collect();
-    frames.sort();
-    Ok(frames)
 }

@@ -4,9 +4,9 @@
 //! `--out DIR` is held by one run at a time, and refuses a folder that
 //! already holds frames (`frame-*.obj`, from another run: mixing the two
 //! would be wrong without a warning) unless `--force` is given, whose new
-//! frames replace those once the run is complete (`super::frame_folder`).
+//! frames replace those once the run is complete (`super::resume::folder`).
 //! Each frame is written all or nothing, with the run's record on its
-//! second line (`super::frames`); the temporaries of a run that was killed
+//! second line (`super::resume::frames`); the temporaries of a run that was killed
 //! are removed by the next run into the same folder. No frame is written
 //! before the precomputation succeeds. Memory does not grow with `--steps`: the
 //! median step time comes from a bounded sample. Nor does the scene stay in
@@ -18,20 +18,21 @@
 //! `--resume DIR` continues the run whose frames are in `DIR` from its last
 //! two (`super::resume`), numbering the new frames on.
 
+use super::draw::texture::{read_png_file, Texture};
+use super::error::AppError;
+use super::file_plan::load_scene;
 use super::flags::{whole, JsonFlag, SimulationFlags};
-use super::frame_folder::{Extras, FrameFolder, Use};
-use super::frames::{frame_name, header as frame_header, is_frame_name, RunRecord};
 use super::limits::precompute;
 use super::progress::{duration, Progress};
-use super::render::texture::{read_png_file, Texture};
+use super::resume::folder::{Extras, FrameFolder, Use};
+use super::resume::frames::{frame_name, header as frame_header, is_frame_name, RunRecord};
 use super::resume::{self, Resumed};
 use super::timing::BoundedSample;
-use super::{load_scene, AppError};
 use masssprings::files::{same_file, write_file, FilePlan};
 use masssprings::mesh::Scene;
 use masssprings::sim::methods::Carried;
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::{Accuracy, Dense, LinearAlgebra, Sparse};
+use masssprings::sim::{Accuracy, Dense, LinearAlgebra, Simulation, Sparse};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -81,7 +82,7 @@ struct Run {
     /// Replace the frames already in `out` instead of refusing.
     force: bool,
     progress: bool,
-    /// What the frames' second line records (`super::frames`).
+    /// What the frames' second line records (`super::resume::frames`).
     record: RunRecord,
 }
 
@@ -156,39 +157,12 @@ pub fn run(args: SimulateArgs) -> Result<(), AppError> {
         record: RunRecord::new(physics, &options, dense),
     };
     check_files(&scene_path, &scene, run.out.as_deref())?;
-    let frames = match &run.out {
-        Some(folder) => Some(open_frame_folder(
-            folder,
-            &scene,
-            &run,
-            args.resume.is_some(),
-        )?),
-        None => None,
-    };
-    let resumed = match &args.resume {
-        Some(folder) => {
-            let state = resume::last_state(folder, &scene, &run.record)?;
-            resume::last_step(folder, state.step, run.steps)?;
-            Some(state)
-        }
-        None => None,
-    };
+    let (frames, resumed) = open_frames(&run, &scene, args.resume.as_deref())?;
+    let written = (frames.as_ref(), resumed);
     let summary = if dense {
-        simulate::<Dense>(
-            scene,
-            &scene_path,
-            options,
-            &run,
-            (frames.as_ref(), resumed),
-        )?
+        simulate::<Dense>(scene, &scene_path, options, &run, written)?
     } else {
-        simulate::<Sparse>(
-            scene,
-            &scene_path,
-            options,
-            &run,
-            (frames.as_ref(), resumed),
-        )?
+        simulate::<Sparse>(scene, &scene_path, options, &run, written)?
     };
     if let Some(frames) = frames {
         frames.commit()?;
@@ -202,6 +176,28 @@ pub fn run(args: SimulateArgs) -> Result<(), AppError> {
         print_summary(&scene_path, &summary);
     }
     Ok(())
+}
+
+/// The frames' folder, locked and checked, and with `--resume` (that
+/// folder) the state its run stopped in, checked against the run to come.
+fn open_frames(
+    run: &Run,
+    scene: &Scene,
+    resume: Option<&Path>,
+) -> Result<(Option<FrameFolder>, Option<Resumed>), AppError> {
+    let Some(out) = &run.out else {
+        return Ok((None, None));
+    };
+    let frames = open_frame_folder(out, scene, run, resume.is_some())?;
+    let resumed = match resume {
+        Some(folder) => {
+            let state = resume::last_state(folder, scene, &run.record)?;
+            resume::last_step(folder, state.step, run.steps)?;
+            Some(state)
+        }
+        None => None,
+    };
+    Ok((Some(frames), resumed))
 }
 
 /// Locks the frames' folder and checks what is in it ([`FrameFolder`]).
@@ -248,72 +244,130 @@ fn simulate<B: LinearAlgebra>(
     let mut simulation = precompute::<B>(&scene, scene_path, options)?;
     let precompute_s = started.elapsed().as_secs_f64();
     keep_only(&mut scene, Keep::Frames); // the simulation holds its own copies
-    let scene = &scene;
     let resumed_from = resumed.as_ref().map(|state| state.step);
     if let Some(state) = resumed {
         simulation.set_state(&state.u_prev, &state.u_cur, state.step)?;
         simulation.carry(state.carried);
     }
-    let material = match frames {
-        Some(frames) => {
-            let material = write_material(frames.folder(), scene, texture)?;
-            if resumed_from.is_none() {
-                let positions = simulation.positions();
-                let frame = (0, positions, simulation.carried());
-                write_frame(frames.frames(), frame, scene, run, material.as_deref())?;
-            }
-            material
-        }
-        None => None,
-    };
-    let mut step_times = BoundedSample::new();
-    let (mut iterations, mut gradients) = (BoundedSample::new(), BoundedSample::new());
-    let (mut iterations_max, mut stops) = (0, std::collections::BTreeMap::new());
-    let mut progress = Progress::new(run.steps, run.progress);
+    let resumed = resumed_from.is_some();
+    let material = start_frames(frames, run, &scene, texture, &simulation, resumed)?;
     let first = resumed_from.unwrap_or(0);
+    let written = (frames, material.as_deref());
+    let tally = run_steps(&mut simulation, &scene, run, first, written)?;
+    let times = [precompute_s, started.elapsed().as_secs_f64()];
+    let summary = summarize(tally, &options, B::NAME, [n, springs, run.steps], times);
+    Ok(Summary {
+        resumed_from,
+        ..summary
+    })
+}
+
+/// Readies the frames' folder (locked and checked already,
+/// [`FrameFolder`]): it gets the material, and a new run's frames get
+/// frame 0; a resumed run's frames number on. Returns the material's name,
+/// if any.
+fn start_frames<B: LinearAlgebra>(
+    frames: Option<&FrameFolder>,
+    run: &Run,
+    scene: &Scene,
+    texture: Option<(Vec<u8>, PathBuf)>,
+    simulation: &Simulation<B>,
+    resumed: bool,
+) -> Result<Option<String>, AppError> {
+    let Some(frames) = frames else {
+        return Ok(None);
+    };
+    let material = write_material(frames.folder(), scene, texture)?;
+    if !resumed {
+        let frame = (0, simulation.positions(), simulation.carried());
+        write_frame(frames.frames(), frame, scene, run, material.as_deref())?;
+    }
+    Ok(material)
+}
+
+/// What the steps report, gathered for the summary.
+struct Tally {
+    step_times: BoundedSample,
+    iterations: BoundedSample,
+    gradients: BoundedSample,
+    iterations_max: usize,
+    stops: std::collections::BTreeMap<String, usize>,
+}
+
+/// Steps `run.steps` times on from step `first`, writing every
+/// `run.every`-th frame into `frames` (with `material`) and showing
+/// progress.
+fn run_steps<B: LinearAlgebra>(
+    simulation: &mut Simulation<B>,
+    scene: &Scene,
+    run: &Run,
+    first: usize,
+    (frames, material): (Option<&FrameFolder>, Option<&str>),
+) -> Result<Tally, AppError> {
+    let mut tally = Tally {
+        step_times: BoundedSample::new(),
+        iterations: BoundedSample::new(),
+        gradients: BoundedSample::new(),
+        iterations_max: 0,
+        stops: std::collections::BTreeMap::new(),
+    };
+    let mut progress = Progress::new(run.steps, run.progress);
     for done in 1..=run.steps {
         let step = first + done;
         let t = Instant::now();
         let report = simulation
             .step()
             .map_err(|e| AppError::Failed(format!("step {step}: {e}")))?;
-        step_times.push(t.elapsed().as_secs_f64());
-        iterations.push(report.iterations as f64);
-        iterations_max = iterations_max.max(report.iterations);
-        *stops.entry(format!("{:?}", report.stop)).or_insert(0) += 1;
+        tally.step_times.push(t.elapsed().as_secs_f64());
+        tally.iterations.push(report.iterations as f64);
+        tally.iterations_max = tally.iterations_max.max(report.iterations);
+        *tally.stops.entry(format!("{:?}", report.stop)).or_insert(0) += 1;
         if let Some(gradient) = report.relative_gradient {
-            gradients.push(gradient);
+            tally.gradients.push(gradient);
         }
         if let Some(frames) = frames {
             if step.is_multiple_of(run.every) {
                 let frame = (step, simulation.positions(), simulation.carried());
-                write_frame(frames.frames(), frame, scene, run, material.as_deref())?;
+                write_frame(frames.frames(), frame, scene, run, material)?;
             }
         }
         progress.step_done(done);
     }
     progress.finish();
-    Ok(Summary {
+    Ok(tally)
+}
+
+/// The summary of a run (not resumed): `[n, springs, steps]` and the
+/// seconds of `[precomputation, whole run]`.
+fn summarize(
+    mut tally: Tally,
+    options: &SimulationOptions,
+    backend: &'static str,
+    [n, springs, steps]: [usize; 3],
+    [precompute_s, total_s]: [f64; 2],
+) -> Summary {
+    let step = &options.step;
+    Summary {
         n,
         springs,
-        steps: run.steps,
+        steps,
         precompute_s,
-        step_median_s: step_times.median(),
-        total_s: started.elapsed().as_secs_f64(),
-        backend: B::NAME,
-        method: options.step.method.name(),
-        tolerance: options.step.tolerance,
-        energy_tolerance: options.step.energy_tolerance,
-        at_least_plain: options.step.at_least_plain,
-        start: options.step.start.name(),
-        accuracy: Accuracy::of(&options.step).map(Accuracy::name),
-        iterations_median: iterations.median(),
-        iterations_max,
-        stops,
-        relative_gradient_median: Some(gradients.median()).filter(|m| !m.is_nan()),
+        step_median_s: tally.step_times.median(),
+        total_s,
+        backend,
+        method: step.method.name(),
+        tolerance: step.tolerance,
+        energy_tolerance: step.energy_tolerance,
+        at_least_plain: step.at_least_plain,
+        start: step.start.name(),
+        accuracy: Accuracy::of(step).map(Accuracy::name),
+        iterations_median: tally.iterations.median(),
+        iterations_max: tally.iterations_max,
+        stops: tally.stops,
+        relative_gradient_median: Some(tally.gradients.median()).filter(|m| !m.is_nan()),
         path: if options.textbook { "textbook" } else { "fast" },
-        resumed_from,
-    })
+        resumed_from: None,
+    }
 }
 
 /// What of a scene is still needed.
@@ -345,9 +399,9 @@ fn keep_only(scene: &mut Scene, keep: Keep) {
 /// folder would be one of the scene's files, or one another.
 fn check_files(scene_path: &Path, scene: &Scene, out: Option<&Path>) -> Result<(), AppError> {
     let mut plan = FilePlan::default();
-    super::plan_scene_inputs(&mut plan, scene_path, scene);
+    super::file_plan::plan_scene_inputs(&mut plan, scene_path, scene);
     if let Some(folder) = out {
-        super::check_output_folder(folder, "simulate writes a folder of frames")?;
+        super::file_plan::check_output_folder(folder, "simulate writes a folder of frames")?;
         plan.writes_into(
             "--out",
             folder,

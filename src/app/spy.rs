@@ -5,20 +5,17 @@
 //! fill-in in its own colour. Prints `n`, `nnz` and the fill
 //! `nnz(L) / nnz(lower triangle of Q)`.
 
-use super::analyze::read_symmetric_lower;
-use super::flags::{size, OrderingFlag, Size};
+use super::draw::encode::write_png;
+use super::draw::sparsity::{spy, Mark};
+use super::error::AppError;
+use super::file_plan::report;
+use super::flags::{size, Size};
 use super::limits::{check_picture, picture_bytes};
-use super::render::encode::write_png;
-use super::render::sparsity::{spy, Mark};
-use super::{plan_scene_inputs, report, AppError};
+use super::matrix_input::{file_name, load_lower, PatternArgs};
 use masssprings::files::{write_file, FilePlan};
 use masssprings::linalg::sparse::{
     CscMatrix, Ordering, PermutedTriangle, SymbolicCholesky, Triangle,
 };
-use masssprings::mesh::{load_scene, Scene};
-use masssprings::sim::precomputation::{network_q, selection_matrix, DELTA_T, PIN_WEIGHT};
-use masssprings::sim::Sparse;
-use std::path::{Path, PathBuf};
 
 /// Paper around the matrix, pixels.
 const MARGIN: usize = 8;
@@ -28,20 +25,6 @@ struct Picture {
     label: String,
     ordering: Ordering,
     factor: bool,
-}
-
-/// A picture of `Q`'s structure (`spy`, `etree`): the matrix, the picture,
-/// and the order the factorization uses.
-#[derive(clap::Args, Debug)]
-pub struct PatternArgs {
-    /// A symmetric Matrix Market matrix, or a scene whose Q to draw.
-    #[arg(value_name = "MATRIX.mtx|SCENE.json")]
-    pub matrix: PathBuf,
-    /// The picture to write.
-    #[arg(short, long, value_name = "OUT.png", required = true)]
-    pub out: PathBuf,
-    #[command(flatten)]
-    pub ordering: OrderingFlag,
 }
 
 /// Draw the sparsity pattern of Q or of its Cholesky factor L.
@@ -164,41 +147,4 @@ fn factor_entries<'a>(
             (i, j, mark)
         })
     })
-}
-
-/// The lower triangle of a Matrix Market file's matrix, or of the `Q` the
-/// simulation builds for a scene (`.json`); the files it read are added to
-/// `plan` as inputs.
-pub fn load_lower(path: &Path, plan: &mut FilePlan) -> Result<CscMatrix, AppError> {
-    if path.extension().is_some_and(|e| e == "json") {
-        let scene = load_scene(path)?;
-        plan_scene_inputs(plan, path, &scene);
-        Ok(scene_q(&scene, path)?.triangle(Triangle::Lower))
-    } else {
-        plan.input("the matrix", path);
-        read_symmetric_lower(path)
-    }
-}
-
-/// `Q = k AᵀA + M/Δt² + w CᵀC` of `scene`, as the simulation assembles it
-/// (both triangles), without factoring it; a `Q` that would overflow is
-/// refused first, naming the quantity.
-pub fn scene_q(scene: &Scene, scene_path: &Path) -> Result<CscMatrix, AppError> {
-    super::limits::check_q_overflow(scene, scene_path, DELTA_T)?;
-    let c = selection_matrix::<Sparse>(scene.vertices.len(), &scene.pinned);
-    Ok(network_q::<Sparse>(
-        &scene.springs,
-        &scene.masses,
-        &c,
-        scene.k,
-        DELTA_T,
-        PIN_WEIGHT,
-    ))
-}
-
-/// The file name of `path`, for captions.
-pub fn file_name(path: &Path) -> String {
-    path.file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| path.display().to_string())
 }

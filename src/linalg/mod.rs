@@ -1,19 +1,21 @@
 //! Hand-written linear algebra: everything the mass-spring solver needs, and
-//! nothing about springs.
+//! nothing about springs. It imports only `std` and itself (checked by
+//! `tests/layers.rs`), so it could be lifted out as a crate of its own.
 //!
 //! * [`dense`]: a row-major matrix and a dense Cholesky factorization.
 //! * [`sparse`]: triplets → CSC, CSC operations, orderings (AMD), the sparse
 //!   Cholesky pipeline (analyse once, factor, solve).
-//! * [`matrix_market`]: reading and writing Matrix Market files.
 //! * [`huge_pages`]: asking Linux for 2 MB pages under large arrays.
 //!
 //! The pipeline from triplets to a solve is walked through in
-//! `docs/sparse-cholesky.md`.
+//! `docs/sparse-cholesky.md`. Reading and writing its matrices as Matrix
+//! Market files is `crate::matrix_market`, beside the crate's other readers:
+//! a reader of files follows the crate's rules for files (size caps, errors
+//! naming file and line, the memory limit), which are not linear algebra.
 
 pub mod dense;
 pub mod error;
 pub mod huge_pages;
-pub mod matrix_market;
 pub mod sparse;
 
 pub use error::LinalgError;

@@ -15,7 +15,7 @@ use super::backend::{Dense, LinearAlgebra, Sparse, SparseFactorization};
 use super::control::{Pins, StepControl, StepMethod, Stop};
 use super::error::SimulationError;
 use super::monitor::Observer;
-use super::precomputation::{fast_mass_springs_precomputation_with, MassSpringSystem};
+use super::precomputation::MassSpringSystem;
 use super::step::{solve_step, StepReport, StepState, StepWorkspace};
 use super::textbook::{self, Precomputation};
 use crate::linalg::sparse::Ordering;
@@ -81,7 +81,7 @@ impl<B: LinearAlgebra> Engine<B> {
             pinned,
             delta_t,
         } = *network;
-        let mut system = fast_mass_springs_precomputation_with::<B>(
+        let mut system = MassSpringSystem::<B>::with_factorization(
             vertices, springs, k, masses, pinned, delta_t, how,
         )?;
         if pins == Pins::Exact {

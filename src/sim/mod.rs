@@ -11,7 +11,7 @@
 //! | [`signed_incidence`], [`forces`] | the handout's `A`; gravity and wind |
 //! | [`local_step`] | `dᵢⱼ = rᵢⱼ (pᵢ − pⱼ)/‖pᵢ − pⱼ‖`, one spring at a time ([`simd`]: four) |
 //! | [`spring_pass`], [`energy`], [`hessian`] | the energy a step minimises, its gradient and Hessian |
-//! | [`precomputation`], [`exact_pins`] | `r`, `M`, `A`, `C`, `Q` and its factor: constant |
+//! | [`precomputation`], [`exact_pins`] | `r`, `M`, `A`, `C`, `Q` and its factor, constant: the fast path's `MassSpringSystem::new` |
 //! | [`textbook`] | `fast_mass_springs_precomputation/step_{dense,sparse}` as the handout writes them |
 //! | [`global_step`], [`monitor`] | the fast path's iteration; stopping rules and observers |
 //! | [`methods`] | plain and the four methods that accelerate it |

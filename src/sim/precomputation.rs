@@ -11,7 +11,11 @@
 //! `Q` is factored here, once (`L Lᵀ = Q`): the key observation of Liu et
 //! al. is that `Q` is the same in every iteration of every time step. The
 //! pinning penalty `w/2 Σ ‖pᵢ − Vᵢ‖²` also puts a constant term into the
-//! right-hand side, `w CᵀC V`, computed here too. The output is constant:
+//! right-hand side, `w CᵀC V`, computed here too. The fast path's
+//! precomputation is [`MassSpringSystem::new`]; the handout's own
+//! `fast_mass_springs_precomputation_{dense,sparse}`, written out as the
+//! handout writes them from the same pieces, are in
+//! [`textbook`](super::textbook). The output is constant:
 //! the step's work arrays live in the step's own workspace
 //! ([`StepWorkspace`](super::step::StepWorkspace)).
 //!
@@ -313,66 +317,68 @@ fn pinned_mask(n: usize, pinned: &[usize]) -> Vec<bool> {
     mask
 }
 
-/// The precomputation for rest positions `v`, springs `springs`, stiffness
-/// `k`, masses `m`, pinned vertices `pinned` and time step `delta_t`, with
-/// the default factorization (sparse: AMD, supernodal).
-///
-/// # Errors
-/// [`SimulationError::InvalidInput`] for inconsistent sizes or indices;
-/// [`SimulationError::Linalg`] when `Q` is not positive definite.
-pub fn fast_mass_springs_precomputation<B: LinearAlgebra>(
-    v: &[[f64; 3]],
-    springs: &[[usize; 2]],
-    k: f64,
-    m: &[f64],
-    pinned: &[usize],
-    delta_t: f64,
-) -> Result<MassSpringSystem<B>, SimulationError> {
-    let how = SparseFactorization::default();
-    fast_mass_springs_precomputation_with(v, springs, k, m, pinned, delta_t, how)
-}
+impl<B: LinearAlgebra> MassSpringSystem<B> {
+    /// The fast path's precomputation for rest positions `v`, springs `springs`, stiffness
+    /// `k`, masses `m`, pinned vertices `pinned` and time step `delta_t`, with
+    /// the default factorization (sparse: AMD, supernodal).
+    ///
+    /// # Errors
+    /// [`SimulationError::InvalidInput`] for inconsistent sizes or indices;
+    /// [`SimulationError::Linalg`] when `Q` is not positive definite.
+    pub fn new(
+        v: &[[f64; 3]],
+        springs: &[[usize; 2]],
+        k: f64,
+        m: &[f64],
+        pinned: &[usize],
+        delta_t: f64,
+    ) -> Result<Self, SimulationError> {
+        let how = SparseFactorization::default();
+        Self::with_factorization(v, springs, k, m, pinned, delta_t, how)
+    }
 
-/// [`fast_mass_springs_precomputation`], factoring `Q` the way `how` says
-/// (the ordering and the numeric method of the sparse backend).
-///
-/// # Errors
-/// As [`fast_mass_springs_precomputation`].
-pub fn fast_mass_springs_precomputation_with<B: LinearAlgebra>(
-    v: &[[f64; 3]],
-    springs: &[[usize; 2]],
-    k: f64,
-    m: &[f64],
-    pinned: &[usize],
-    delta_t: f64,
-    how: SparseFactorization,
-) -> Result<MassSpringSystem<B>, SimulationError> {
-    let n = v.len();
-    check_inputs(v, springs, m)?;
-    check_pins(n, pinned, pinned.len())?;
-    let r = rest_lengths(v, springs);
-    let c = selection_matrix::<B>(n, pinned);
-    let q = network_q::<B>(springs, m, &c, k, delta_t, PIN_WEIGHT);
-    let prefactorization = B::factor(&q, how)?;
-    let mut pinned_rest = vec![[0.0; 3]; pinned.len()];
-    B::mul_points(&c, v, &mut pinned_rest); // C V
-    let pin_rhs = pin_right_hand_side::<B>(&c, n, &pinned_rest, PIN_WEIGHT);
-    Ok(MassSpringSystem {
-        r,
-        m: m.to_vec(),
-        C: c,
-        Q: q,
-        prefactorization,
-        springs: springs.to_vec(),
-        k,
-        delta_t,
-        w: PIN_WEIGHT,
-        pin_rhs,
-        pinned: pinned.to_vec(),
-        pin_targets: pinned_rest,
-        is_pinned: pinned_mask(n, pinned),
-        exact_pins: None,
-        q_held: true,
-    })
+    /// [`MassSpringSystem::new`], factoring `Q` the way `how` says
+    /// (the ordering and the numeric method of the sparse backend).
+    ///
+    /// # Errors
+    /// As [`MassSpringSystem::new`].
+    pub fn with_factorization(
+        v: &[[f64; 3]],
+        springs: &[[usize; 2]],
+        k: f64,
+        m: &[f64],
+        pinned: &[usize],
+        delta_t: f64,
+        how: SparseFactorization,
+    ) -> Result<Self, SimulationError> {
+        let n = v.len();
+        check_inputs(v, springs, m)?;
+        check_pins(n, pinned, pinned.len())?;
+        let r = rest_lengths(v, springs);
+        let c = selection_matrix::<B>(n, pinned);
+        let q = network_q::<B>(springs, m, &c, k, delta_t, PIN_WEIGHT);
+        let prefactorization = B::factor(&q, how)?;
+        let mut pinned_rest = vec![[0.0; 3]; pinned.len()];
+        B::mul_points(&c, v, &mut pinned_rest); // C V
+        let pin_rhs = pin_right_hand_side::<B>(&c, n, &pinned_rest, PIN_WEIGHT);
+        Ok(MassSpringSystem {
+            r,
+            m: m.to_vec(),
+            C: c,
+            Q: q,
+            prefactorization,
+            springs: springs.to_vec(),
+            k,
+            delta_t,
+            w: PIN_WEIGHT,
+            pin_rhs,
+            pinned: pinned.to_vec(),
+            pin_targets: pinned_rest,
+            is_pinned: pinned_mask(n, pinned),
+            exact_pins: None,
+            q_held: true,
+        })
+    }
 }
 
 /// `rₑ = ‖Vᵢ − Vⱼ‖`, the rest length of every spring.

@@ -135,7 +135,7 @@ impl<B: LinearAlgebra> Simulation<B> {
     /// Precomputes the system for rest positions `vertices` and starts at rest.
     ///
     /// # Errors
-    /// As [`fast_mass_springs_precomputation`](super::precomputation::fast_mass_springs_precomputation);
+    /// As [`MassSpringSystem::new`](super::precomputation::MassSpringSystem::new);
     /// [`SimulationError::InvalidInput`] for `textbook` options with
     /// another method, a stopping rule or exact pins.
     pub fn new(

@@ -34,8 +34,8 @@
 //!   compared, too, with plain-50 from the same (its own) state.
 
 use super::{draw_rule, measured_decrease, rule_rows, timed_step, Request, RuleRow};
+use crate::app::error::AppError;
 use crate::app::limits::precompute;
-use crate::app::AppError;
 use masssprings::mesh::Scene;
 use masssprings::sim::monitor::Iterate;
 use masssprings::sim::simulation::SimulationOptions;

@@ -28,10 +28,10 @@ pub use factor::inverse;
 
 use super::quantities::{quantities, Check, Quantity};
 use super::read_manifest;
-use crate::app::AppError;
+use crate::app::error::AppError;
 use masssprings::linalg::dense::DenseMatrix;
-use masssprings::linalg::matrix_market::{read, MatrixMarket, SparseFile, Symmetry};
 use masssprings::linalg::sparse::{CscMatrix, TripletMatrix};
+use masssprings::matrix_market::{read, MatrixMarket, SparseFile, Symmetry};
 use place::{Context, Place};
 use std::path::Path;
 

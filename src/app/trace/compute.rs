@@ -16,7 +16,7 @@
 //! check it).
 
 use super::quantities::{quantities, Quantity};
-use crate::app::AppError;
+use crate::app::error::AppError;
 use masssprings::linalg::dense::DenseMatrix;
 use masssprings::linalg::sparse::{CscMatrix, Ordering};
 use masssprings::mesh::Scene;

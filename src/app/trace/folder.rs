@@ -26,8 +26,8 @@
 
 use super::quantities::quantities;
 use super::{is_trace_file, read_manifest, MANIFEST};
-use crate::app::output_folder::{begins_with, refuse_foreign, start_holds};
-use crate::app::{plan_scene_inputs, AppError};
+use crate::app::error::AppError;
+use crate::app::file_plan::{begins_with, plan_scene_inputs, refuse_foreign, start_holds};
 use masssprings::files::{
     exchange_folders, remove_temporaries_of, resolve, same_file, temporary_folder, temporary_owner,
     FilePlan, FolderLock, LOCK_FILE,

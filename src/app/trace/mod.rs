@@ -25,12 +25,13 @@ mod folder;
 mod quantities;
 mod readme;
 
+use super::error::AppError;
+use super::file_plan::load_scene;
 use super::flags::{whole, OrderingFlag};
-use super::{load_scene, AppError};
 use compute::{labelled, trace, TraceOptions, Value};
 use folder::TraceFolder;
 use masssprings::files::write_file;
-use masssprings::linalg::matrix_market::{write_array, write_coordinate, Symmetry};
+use masssprings::matrix_market::{write_array, write_coordinate, Symmetry};
 use masssprings::mesh::Scene;
 use masssprings::sim::ITERATIONS;
 use quantities::Quantity;

@@ -9,7 +9,7 @@
 //! mass computation does); two-corner faces are springs and draw nothing
 //! here (the springs are drawn as lines).
 
-use super::super::render::look::mass_radius;
+use super::super::draw::look::mass_radius;
 use masssprings::mesh::bounding_box::BoundingBox;
 use masssprings::mesh::fan::fan_corners;
 use masssprings::mesh::Scene;

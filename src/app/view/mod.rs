@@ -25,9 +25,10 @@ mod routes;
 mod simulation_thread;
 mod watchers;
 
+use super::error::AppError;
+use super::file_plan::load_scene;
 use super::flags::{whole, SimulationFlags};
 use super::limits::precompute;
-use super::{load_scene, AppError};
 use api::{Frame, Status};
 use http::{Connection, Method, ReadError};
 use masssprings::mesh::Scene;
@@ -35,7 +36,7 @@ use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Dense, LinearAlgebra, Simulation, Sparse};
 use pool::{Member, Pool};
 use routes::Routes;
-use simulation_thread::{Message, SceneAssets, Shared, SimulationThread};
+use simulation_thread::{Message, SceneAssets, Shared, SimulationThread, MAX_ITERATIONS};
 use std::io::Write;
 use std::net::{IpAddr, Ipv4Addr, Ipv6Addr, SocketAddr, TcpListener, TcpStream};
 use std::path::{Path, PathBuf};
@@ -52,10 +53,6 @@ const DEFAULT_PORT: u16 = 8080;
 const MAX_CONNECTIONS: usize = 64;
 /// Scenes listed in the page's picker at most.
 const MAX_SCENES: usize = 32;
-/// The most iterations a step of the viewer may take, from the command line
-/// as from the page: a step must end within moments for the viewer to
-/// answer and to stop.
-pub const MAX_ITERATIONS: usize = 1000;
 /// Serve an interactive viewer of the scene to a web browser.
 #[derive(clap::Args, Debug)]
 #[command(after_help = "\
@@ -155,19 +152,6 @@ fn scene_list(given: &Path) -> Vec<PathBuf> {
     scenes
 }
 
-/// The scene's PNG texture, read from the path the scene names; `None`
-/// (with a warning) when it cannot be read or is not a PNG.
-fn read_texture(scene: &Scene) -> Option<Vec<u8>> {
-    let path = scene.texture.as_ref()?;
-    match super::render::texture::read_png_file(path) {
-        Ok(bytes) => Some(bytes),
-        Err(error) => {
-            eprintln!("masssprings: warning: {error}; drawing without texture");
-            None
-        }
-    }
-}
-
 /// Starts the threads, prints the URL, and serves until Ctrl-C.
 fn serve<B>(
     scene: &Scene,
@@ -184,18 +168,7 @@ where
     let local = listener.local_addr()?;
     let stop_requested = stop_signal()?;
 
-    let shared = Arc::new(Shared {
-        frame: Mutex::new(Frame::new(scene.vertices.len())),
-        status: Mutex::new(Status {
-            scene: scene.name.clone(),
-            backend: B::NAME,
-            n: scene.vertices.len(),
-            springs: scene.springs.len(),
-            ..Status::default()
-        }),
-        scene: Mutex::new(SceneAssets::of(scene, B::NAME)),
-        watchers: Mutex::new(Watchers::default()),
-    });
+    let shared = shared_state::<B>(scene);
     // A cloth shows its surface; a scene made only of springs, its springs.
     let show_springs = scene.faces.first().is_none_or(|face| face.len() < 3);
     let (commands, inbox) = mpsc::channel();
@@ -236,6 +209,23 @@ where
         thread::sleep(Duration::from_millis(10));
     }
     Ok(())
+}
+
+/// What the simulation thread and the connections share, before the first
+/// step: the rest frame, the status, the scene's assets, no watchers.
+fn shared_state<B: LinearAlgebra>(scene: &Scene) -> Arc<Shared> {
+    Arc::new(Shared {
+        frame: Mutex::new(Frame::new(scene.vertices.len())),
+        status: Mutex::new(Status {
+            scene: scene.name.clone(),
+            backend: B::NAME,
+            n: scene.vertices.len(),
+            springs: scene.springs.len(),
+            ..Status::default()
+        }),
+        scene: Mutex::new(SceneAssets::of(scene, B::NAME)),
+        watchers: Mutex::new(Watchers::default()),
+    })
 }
 
 /// How long a stopping viewer waits for the step in progress to end.

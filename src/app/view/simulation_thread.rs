@@ -17,6 +17,7 @@
 use super::api::{Command, Frame, Status, StepRecord, HISTORY_LENGTH};
 use super::display_mesh::display_mesh;
 use super::watchers::Watchers;
+use crate::app::error::AppError;
 use masssprings::mesh::bounding_box::BoundingBox;
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
@@ -27,6 +28,24 @@ use std::sync::atomic::{AtomicU8, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
+
+/// The most iterations a step of the viewer may take, from the command line
+/// as from the page: a step must end within moments for the viewer to
+/// answer and to stop.
+pub const MAX_ITERATIONS: usize = 1000;
+
+/// The scene's PNG texture, read from the path the scene names; `None`
+/// (with a warning) when it cannot be read or is not a PNG.
+fn read_texture(scene: &Scene) -> Option<Vec<u8>> {
+    let path = scene.texture.as_ref()?;
+    match crate::app::draw::texture::read_png_file(path) {
+        Ok(bytes) => Some(bytes),
+        Err(error) => {
+            eprintln!("masssprings: warning: {error}; drawing without texture");
+            None
+        }
+    }
+}
 
 /// How often the thread looks again whether a page has come back, while
 /// animating with nobody watching.
@@ -55,7 +74,7 @@ pub struct SceneAssets {
 impl SceneAssets {
     /// The display mesh and texture of `scene` on backend `backend`.
     pub fn of(scene: &Scene, backend: &'static str) -> SceneAssets {
-        let texture = super::read_texture(scene);
+        let texture = read_texture(scene);
         let mesh = display_mesh(scene, texture.is_some(), backend);
         SceneAssets {
             json: serde_json::to_string(&mesh)
@@ -411,10 +430,10 @@ impl<B: LinearAlgebra> SimulationThread<B> {
                 "mass scale {mass_scale}: expected from 0.001 to 1000"
             ));
         }
-        if !(1..=super::MAX_ITERATIONS).contains(&iterations) {
+        if !(1..=MAX_ITERATIONS).contains(&iterations) {
             return Err(format!(
                 "{iterations} iterations: expected from 1 to {}",
-                super::MAX_ITERATIONS
+                MAX_ITERATIONS
             ));
         }
         let current = (
@@ -438,8 +457,8 @@ impl<B: LinearAlgebra> SimulationThread<B> {
             .get(index)
             .ok_or_else(|| format!("there is no scene {index}"))?
             .clone();
-        let scene = crate::app::load_scene(&path).map_err(|e| match e {
-            crate::app::AppError::Usage(why) | crate::app::AppError::Failed(why) => why,
+        let scene = crate::app::file_plan::load_scene(&path).map_err(|e| match e {
+            AppError::Usage(why) | AppError::Failed(why) => why,
         })?;
         let current = self.simulation.options();
         let options = SimulationOptions {
@@ -453,7 +472,7 @@ impl<B: LinearAlgebra> SimulationThread<B> {
         // The command line's checks too: the dense path's memory first.
         let simulation =
             crate::app::limits::precompute::<B>(&scene, &path, options).map_err(|e| match e {
-                crate::app::AppError::Usage(why) | crate::app::AppError::Failed(why) => why,
+                AppError::Usage(why) | AppError::Failed(why) => why,
             })?;
         // A new scene is a new precomputation, not a refactorization.
         self.refactor = None;

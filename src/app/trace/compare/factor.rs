@@ -16,8 +16,8 @@
 
 use super::place::{permutation_of, Context, Place};
 use super::{to_sparse, union_entries, Largest, Outcome};
-use masssprings::linalg::matrix_market::MatrixMarket;
 use masssprings::linalg::sparse::{CscMatrix, Permutation, TripletMatrix};
+use masssprings::matrix_market::MatrixMarket;
 
 /// The student's matrix, sparse, if it is `n × n`; else why it differs.
 fn square(their: &MatrixMarket, n: usize) -> Result<CscMatrix, Outcome> {

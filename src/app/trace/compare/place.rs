@@ -4,8 +4,8 @@
 
 use super::{to_sparse, Difference};
 use crate::app::trace::quantities::{Axis, Spec};
-use masssprings::linalg::matrix_market::MatrixMarket;
 use masssprings::linalg::sparse::CscMatrix;
+use masssprings::matrix_market::MatrixMarket;
 
 /// Where the largest difference of a quantity is.
 #[derive(Debug, Clone)]

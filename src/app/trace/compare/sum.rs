@@ -15,7 +15,7 @@
 use super::place::Context;
 use super::to_dense;
 use masssprings::linalg::dense::DenseMatrix;
-use masssprings::linalg::matrix_market::MatrixMarket;
+use masssprings::matrix_market::MatrixMarket;
 
 /// `s` for our `b`, from our `d` and `y` and the context's `A` and `k`.
 ///

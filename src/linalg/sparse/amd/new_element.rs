@@ -133,7 +133,6 @@ impl QuotientGraph {
         let mut read = start[p] as usize;
         let mut element_start = lists.len();
         let mut element_degree = 0;
-
         // Visit each element of Ep, then p itself (its variables Ap).
         for visited in 0..=element_total {
             let (source, mut at, count) = if visited < element_total {
@@ -153,10 +152,9 @@ impl QuotientGraph {
                 if lists.len() == *workspace_len {
                     // Workspace full: keep only what is still unread, compress.
                     let unread_of_p = element_total + variable_total - (visited + 1);
-                    set_unread(start, length, p, read, unread_of_p);
-                    set_unread(start, length, source, at, count - taken);
+                    let unread = [(p, read, unread_of_p), (source, at, count - taken)];
+                    element_start = compress_unread(lists, start, length, element_start, unread);
                     counters.garbage_collections += 1;
-                    element_start = compress(lists, start, length, element_start);
                     at = start[source] as usize;
                     read = start[p] as usize;
                 }
@@ -166,15 +164,38 @@ impl QuotientGraph {
                 element_degree += size_i;
                 lists.push(i);
             }
-            if source != p {
-                // Element absorption: e ⊆ Lp, and p is e's parent.
-                parent[source] = p as i32;
-                start[source] = NONE;
-                flag[source] = 0;
-            }
+            absorb(source, p, parent, start, flag);
         }
         (element_start, lists.len(), element_degree)
     }
+}
+
+/// Element absorption: an element `e` of Ep (`e ⊆ Lp`) is absorbed into
+/// the new element `p`, which becomes its parent; `e` is gone. (`p`'s own
+/// list, read last, is no element of Ep.)
+fn absorb(e: usize, p: usize, parent: &mut [i32], start: &mut [i32], flag: &mut [i32]) {
+    if e != p {
+        parent[e] = p as i32;
+        start[e] = NONE;
+        flag[e] = 0;
+    }
+}
+
+/// Compresses the workspace when it is full in the middle of reading
+/// lists: each `(owner, at, len)` of `unread` says that only `len` entries
+/// from `at` of `owner`'s list are still to be read, so only those are
+/// kept. Returns where the new element's list now starts.
+fn compress_unread(
+    lists: &mut Vec<i32>,
+    start: &mut [i32],
+    length: &mut [i32],
+    element_start: usize,
+    unread: [(usize, usize, usize); 2],
+) -> usize {
+    for (owner, at, len) in unread {
+        set_unread(start, length, owner, at, len);
+    }
+    compress(lists, start, length, element_start)
 }
 
 /// Before a compression: the list of `owner` is now `len` entries from

@@ -10,8 +10,8 @@
 //! (right, log scale: Newton's iterations cost 100 of the others'). The
 //! best iterate itself has gap 0 and drops off the log axis.
 
-use super::render::plot::{Figure, Panel, Scale, Series};
-use super::AppError;
+use crate::app::draw::plot::{Figure, Panel, Scale, Series};
+use crate::app::error::AppError;
 use std::path::Path;
 
 /// A method's name and its points (iteration, energy gap, milliseconds).

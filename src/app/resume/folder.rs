@@ -17,14 +17,14 @@
 //!   name) are replaced only when they are this command's: a material
 //!   whose first line is the one `simulate` writes, a copy holding the
 //!   texture's bytes; anything else there is refused unless `--force`
-//!   ([`super::output_folder`]).
+//!   (`file_plan`).
 
-use super::frames::frame_step;
-use super::output_folder::{holds_bytes, occupied, refuse_foreign, starts_with_line};
-use super::resume::{earlier_frames, not_a_file};
-use super::AppError;
+use super::frames::{frame_step, is_frame_name};
+use crate::app::error::AppError;
+use crate::app::file_plan::{holds_bytes, occupied, refuse_foreign, starts_with_line};
 use masssprings::files::{read_bytes, same_file, temporary_folder, FolderLock};
 use std::fs;
+use std::io;
 use std::path::{Path, PathBuf};
 
 /// What a run does with its folder.
@@ -180,4 +180,47 @@ fn foreign_extras(extras: &Extras) -> Vec<PathBuf> {
         }
     }
     foreign
+}
+
+/// What is at `path` when it is not a regular file (through links): "a
+/// folder", "a FIFO", ...
+pub fn not_a_file(path: &Path) -> Option<&'static str> {
+    let kind = fs::metadata(path).ok()?.file_type();
+    if kind.is_file() {
+        return None;
+    }
+    if kind.is_dir() {
+        return Some("a folder");
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_fifo() {
+            return Some("a FIFO (a named pipe)");
+        }
+        if kind.is_char_device() || kind.is_block_device() {
+            return Some("a device");
+        }
+        if kind.is_socket() {
+            return Some("a socket");
+        }
+    }
+    Some("not a regular file")
+}
+
+/// The entries of `folder` named like frames (none when it does not
+/// exist), sorted.
+pub fn earlier_frames(folder: &Path) -> Result<Vec<PathBuf>, AppError> {
+    let entries = match fs::read_dir(folder) {
+        Ok(entries) => entries,
+        Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(error) => return Err(AppError::Failed(format!("{}: {error}", folder.display()))),
+    };
+    let mut frames: Vec<PathBuf> = entries
+        .flatten()
+        .filter(|entry| entry.file_name().to_str().is_some_and(is_frame_name))
+        .map(|entry| entry.path())
+        .collect();
+    frames.sort();
+    Ok(frames)
 }

@@ -1,52 +1,31 @@
 //! `masssprings render SCENE.json -o OUT.gif|OUT.png`: simulate a scene and
-//! draw it with a small software renderer that has the viewer's look
-//! (`look.rs`), into an animated GIF or a PNG of the last frame.
+//! draw it with the software renderer of `draw/`, which has the viewer's
+//! look, into an animated GIF or a PNG of the last frame.
 //!
-//! The pipeline, one file per step:
+//! The pipeline:
 //!
 //! 1. simulate `N` steps, keeping the positions of step 0 and every `K`-th
 //!    step (for a PNG: of step `N` only);
-//! 2. frame them all with one camera (`camera.rs`): the bounding box of the
-//!    rest shape and of every kept frame, so the picture does not jump;
-//! 3. draw each frame (`frame.rs`): background (`canvas.rs`), surfaces
-//!    (`triangle.rs`, `lighting.rs`, `texture.rs`), springs (`lines.rs`),
-//!    point masses (`discs.rs`), at 2× and filtered down;
-//! 4. encode (`palette.rs`, `encode.rs`) and write the file all or nothing
-//!    (a temporary file renamed into place, `masssprings::files::write_file`).
+//! 2. frame them all with one camera (`draw/camera.rs`): the bounding box
+//!    of the rest shape and of every kept frame, so the picture does not
+//!    jump;
+//! 3. draw each frame (`draw/frame.rs`);
+//! 4. encode (`draw/encode.rs`) and write the file all or nothing (a
+//!    temporary file renamed into place, `masssprings::files::write_file`).
 //!
-//! Nothing is written unless every step succeeds. This is teaching code:
-//! a rasterizer in a few hundred lines, written for reading, not a
-//! production renderer (no clipping against the near plane: the camera
-//! keeps the whole scene in front of it; no mipmaps; no shadows).
+//! Nothing is written unless every step succeeds.
 
-mod camera;
-mod canvas;
-mod discs;
-pub(super) mod encode;
-mod frame;
-mod lighting;
-mod lines;
-pub(super) mod look;
-mod palette;
-pub(super) mod plot;
-pub(super) mod sparsity;
-mod text;
-pub mod texture;
-mod triangle;
-mod vector;
-
-#[cfg(test)]
-#[path = "../../../tests/common/mod.rs"]
-mod tests_common;
-
+use super::draw::camera::{BoundingBox, Camera};
+use super::draw::encode;
+use super::draw::frame::FrameRenderer;
+use super::draw::look::SUPERSAMPLING;
+use super::draw::texture::Texture;
+use super::error::AppError;
+use super::file_plan::{load_scene, plan_scene_inputs};
 use super::flags::{size, whole, JsonFlag, SimulationFlags, Size};
 use super::limits::{check_frames, check_picture, picture_bytes, precompute};
 use super::progress::Progress;
 use super::timing::median;
-use super::{load_scene, AppError};
-use camera::{BoundingBox, Camera};
-use frame::FrameRenderer;
-use look::SUPERSAMPLING;
 use masssprings::files::{write_file, FilePlan};
 use masssprings::mesh::procedural::RgbImage;
 use masssprings::mesh::Scene;
@@ -54,7 +33,6 @@ use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Dense, LinearAlgebra, Sparse};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use texture::Texture;
 
 /// The largest width or height accepted by `--size`.
 const MAX_SIDE: usize = 2048;
@@ -139,19 +117,12 @@ pub struct RenderArgs {
     simulation: SimulationFlags,
 }
 
+/// Simulates, frames, draws, writes and reports: `render`'s steps.
 pub fn run(args: RenderArgs) -> Result<(), AppError> {
     let request = parse(args)?;
     let scene = load_scene(&request.scene)?;
-    let mut plan = FilePlan::default();
-    super::plan_scene_inputs(&mut plan, &request.scene, &scene);
-    plan.output("-o", &request.out).check()?;
-    check_memory(&request, scene.vertices.len())?;
-    let texture = match &scene.texture {
-        Some(path) if !scene.face_texture_coords.is_empty() => {
-            Some(Texture::read_png(path).map_err(AppError::Failed)?)
-        }
-        _ => None,
-    };
+    check_files(&request, &scene)?;
+    let texture = read_texture(&scene)?;
     let started = Instant::now();
     let frames = if request.dense {
         simulate::<Dense>(&scene, &request)?
@@ -159,7 +130,48 @@ pub fn run(args: RenderArgs) -> Result<(), AppError> {
         simulate::<Sparse>(&scene, &request)?
     };
     let simulation_s = started.elapsed().as_secs_f64();
+    let camera = frame_camera(&request, &scene, &frames);
+    let (images, mut frame_times) = draw_frames(&request, &scene, texture, camera, &frames);
+    let started = Instant::now();
+    write(&request, &images)?;
+    let summary = Summary {
+        out: request.out.display().to_string(),
+        frames: images.len(),
+        width: request.width,
+        height: request.height,
+        steps: request.steps,
+        bytes: std::fs::metadata(&request.out).map_or(0, |m| m.len()),
+        simulation_s,
+        render_frame_median_s: median(&mut frame_times),
+        encode_s: started.elapsed().as_secs_f64(),
+        fit: request.fit.clone(),
+    };
+    print_summary(&request, &summary);
+    Ok(())
+}
 
+/// Refuses an output that would overwrite an input, and a run whose kept
+/// frames would not fit in memory, before any work is done.
+fn check_files(request: &Request, scene: &Scene) -> Result<(), AppError> {
+    let mut plan = FilePlan::default();
+    plan_scene_inputs(&mut plan, &request.scene, scene);
+    plan.output("-o", &request.out).check()?;
+    check_memory(request, scene.vertices.len())
+}
+
+/// The scene's texture, when it has one and texture coordinates to use it.
+fn read_texture(scene: &Scene) -> Result<Option<Texture>, AppError> {
+    match &scene.texture {
+        Some(path) if !scene.face_texture_coords.is_empty() => {
+            Ok(Some(Texture::read_png(path).map_err(AppError::Failed)?))
+        }
+        _ => Ok(None),
+    }
+}
+
+/// One camera for every frame (`--fit`): it frames the rest shape, the last
+/// step drawn, or both and every step drawn, so the picture does not jump.
+fn frame_camera(request: &Request, scene: &Scene, frames: &[Vec<[f64; 3]>]) -> Camera {
     let mut bounds = BoundingBox::empty();
     if request.fit != "last" {
         bounds.include(&scene.vertices);
@@ -168,59 +180,60 @@ pub fn run(args: RenderArgs) -> Result<(), AppError> {
         "rest" => {}
         "last" => bounds.include(frames.last().expect("at least one frame")),
         _ => {
-            for positions in &frames {
+            for positions in frames {
                 bounds.include(positions);
             }
         }
     }
-    let (width, height) = (request.width, request.height);
-    let camera = Camera::framing(&bounds, SUPERSAMPLING * width, SUPERSAMPLING * height);
-    let mut renderer =
-        FrameRenderer::new(&scene, texture, camera, (width, height), request.springs);
+    let (width, height) = (
+        SUPERSAMPLING * request.width,
+        SUPERSAMPLING * request.height,
+    );
+    Camera::framing(&bounds, width, height)
+}
+
+/// Draws every frame; returns the pictures and the seconds each took.
+fn draw_frames(
+    request: &Request,
+    scene: &Scene,
+    texture: Option<Texture>,
+    camera: Camera,
+    frames: &[Vec<[f64; 3]>],
+) -> (Vec<RgbImage>, Vec<f64>) {
+    let size = (request.width, request.height);
+    let mut renderer = FrameRenderer::new(scene, texture, camera, size, request.springs);
     let mut images = Vec::with_capacity(frames.len());
     let mut frame_times = Vec::with_capacity(frames.len());
-    for positions in &frames {
+    for positions in frames {
         let t = Instant::now();
         images.push(renderer.render(positions));
         frame_times.push(t.elapsed().as_secs_f64());
     }
+    (images, frame_times)
+}
 
-    let started = Instant::now();
-    write(&request, &images)?;
-    let bytes = std::fs::metadata(&request.out).map_or(0, |m| m.len());
-    let render_frame_median_s = median(&mut frame_times);
+/// Prints what was written and how long each part took (`--json`: as JSON).
+fn print_summary(request: &Request, summary: &Summary) {
     if request.json {
-        let summary = Summary {
-            out: request.out.display().to_string(),
-            frames: images.len(),
-            width,
-            height,
-            steps: request.steps,
-            bytes,
-            simulation_s,
-            render_frame_median_s,
-            encode_s: started.elapsed().as_secs_f64(),
-            fit: request.fit.clone(),
-        };
         println!(
             "{}",
-            serde_json::to_string(&summary).expect("plain numbers serialise")
+            serde_json::to_string(summary).expect("plain numbers serialise")
         );
-        return Ok(());
+        return;
     }
+    let (width, height, frames) = (summary.width, summary.height, summary.frames);
     println!(
-        "wrote {} ({} frame{} of {width}×{height}, {:.0} KiB)",
+        "wrote {} ({frames} frame{} of {width}×{height}, {:.0} KiB)",
         request.out.display(),
-        images.len(),
-        if images.len() == 1 { "" } else { "s" },
-        bytes as f64 / 1024.0
+        if frames == 1 { "" } else { "s" },
+        summary.bytes as f64 / 1024.0
     );
     println!(
-        "simulation {simulation_s:.2} s, rendering {:.1} ms/frame (median), encoding {:.2} s",
-        1e3 * render_frame_median_s,
-        started.elapsed().as_secs_f64()
+        "simulation {:.2} s, rendering {:.1} ms/frame (median), encoding {:.2} s",
+        summary.simulation_s,
+        1e3 * summary.render_frame_median_s,
+        summary.encode_s
     );
-    Ok(())
 }
 
 /// How `args` asks the simulation to run.

@@ -15,10 +15,10 @@
 //! (steps where a method never got there are left out). Plain-50 itself is
 //! the line at 1 in both panels of the first kind.
 //!
-//! Drawn by the project's own plotter ([`super::render::plot`]).
+//! Drawn by the project's own plotter ([`super::draw::plot`]).
 
-use super::render::plot::{Figure, Panel, Scale, Series};
-use super::AppError;
+use crate::app::draw::plot::{Figure, Panel, Scale, Series};
+use crate::app::error::AppError;
 use std::path::Path;
 
 /// A method's name and its points `(step, left value, right value)`.

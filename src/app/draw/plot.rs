@@ -48,7 +48,7 @@ use super::encode;
 use super::lines::{draw_line_2d, flat_point};
 use super::look::{hex, Rgb, SUPERSAMPLING};
 use super::text::{draw_text, draw_text_vertical, text_height, text_width, Align};
-use crate::app::AppError;
+use crate::app::error::AppError;
 use masssprings::files::write_file;
 use masssprings::mesh::procedural::RgbImage;
 use std::path::Path;
@@ -562,24 +562,7 @@ impl Panel {
             label(canvas, &self.title, at, SMALL, Align::Centre);
             top += small + PAD;
         }
-        let x_target = ((cell.width() / (70 * S) as f64) as usize).clamp(2, 10);
-        let y_target = ((cell.height() / (45 * S) as f64) as usize).clamp(2, 10);
-        let x_range = axis_range(
-            self.x_range,
-            self.visible_points().map(|p| p.0),
-            self.x_scale,
-            x_target,
-        );
-        let y_range = axis_range(
-            self.y_range,
-            self.visible_points().map(|p| p.1),
-            self.y_scale,
-            y_target,
-        );
-        let (x_ticks, y_ticks) = (
-            ticks(self.x_scale, x_range, x_target),
-            ticks(self.y_scale, y_range, y_target),
-        );
+        let ([x_range, y_range], [x_ticks, y_ticks]) = self.ranges_and_ticks(&cell);
         let widest = y_ticks
             .labels
             .iter()
@@ -626,6 +609,28 @@ impl Panel {
         draw_y_ticks(canvas, &plot, &y_ticks);
         self.draw_axis_labels(canvas, &plot, cell);
         draw_legend(canvas, &rect, &self.series);
+    }
+
+    /// The ranges of both axes in `cell` and their ticks: about one tick
+    /// per 70 pixels across and per 45 up, 2 to 10 each.
+    fn ranges_and_ticks(&self, cell: &Rect) -> ([(f64, f64); 2], [Ticks; 2]) {
+        let x_target = ((cell.width() / (70 * S) as f64) as usize).clamp(2, 10);
+        let y_target = ((cell.height() / (45 * S) as f64) as usize).clamp(2, 10);
+        let x_range = axis_range(
+            self.x_range,
+            self.visible_points().map(|p| p.0),
+            self.x_scale,
+            x_target,
+        );
+        let y_range = axis_range(
+            self.y_range,
+            self.visible_points().map(|p| p.1),
+            self.y_scale,
+            y_target,
+        );
+        let x_ticks = ticks(self.x_scale, x_range, x_target);
+        let y_ticks = ticks(self.y_scale, y_range, y_target);
+        ([x_range, y_range], [x_ticks, y_ticks])
     }
 
     /// The x label under the tick labels, the y label turned up at the

@@ -150,7 +150,7 @@ pub const TREE_SUPERSAMPLING: usize = 3;
 /// The elimination tree `parent` (postordered: `parent[j] > j`) with its
 /// supernodes (`supernode_of[j]`), `width × height` pixels, the `caption`
 /// lines below it.
-pub fn elimination_tree(
+pub fn draw_elimination_tree(
     parent: &[Option<usize>],
     supernode_of: &[usize],
     (width, height): (usize, usize),
