@@ -144,6 +144,24 @@ fn trace_refuses_a_folder_of_files_it_did_not_write_unless_forced() {
     let out = folder.join("out");
     succeeded(&run_in(&folder, &["trace", "net.json", "-o", "out"]));
     succeeded(&run_in(&folder, &["trace", "net.json", "-o", "out"]));
+    // forced among a link: the link is replaced, never written through
+    let linked = folder.join("linked");
+    std::fs::create_dir(&linked).unwrap();
+    std::fs::write(folder.join("precious.txt"), "keep me").unwrap();
+    std::os::unix::fs::symlink("../precious.txt", linked.join("r.mtx")).unwrap();
+    let refused = run_in(&folder, &["trace", "net.json", "-o", "linked"]);
+    assert_fails(&refused, &["r.mtx is not written by masssprings trace"]);
+    succeeded(&run_in(
+        &folder,
+        &["trace", "net.json", "-o", "linked", "--force"],
+    ));
+    assert_eq!(
+        std::fs::read_to_string(folder.join("precious.txt")).unwrap(),
+        "keep me"
+    );
+    assert!(std::fs::symlink_metadata(linked.join("r.mtx"))
+        .unwrap()
+        .is_file());
     // a student's own file put among ours is not
     std::fs::write(
         out.join("d_9.mtx"),
@@ -382,6 +400,27 @@ fn generate_keeps_edited_scenes_unless_forced() {
         std::fs::read(&net).unwrap(),
         std::fs::read(data("net.json")).unwrap()
     );
+    // forced over a link: the link goes, its target stays
+    std::fs::write(folder.join("precious.txt"), "keep me").unwrap();
+    std::fs::remove_file(out.join("flag.json")).unwrap();
+    std::os::unix::fs::symlink("../precious.txt", out.join("flag.json")).unwrap();
+    let refused = masssprings(&["generate", "examples", "--out", text(&out)]);
+    assert_fails(
+        &refused,
+        &["flag.json is not written by masssprings generate"],
+    );
+    succeeded(&masssprings(&[
+        "generate",
+        "examples",
+        "--out",
+        text(&out),
+        "--force",
+    ]));
+    assert_eq!(
+        std::fs::read_to_string(folder.join("precious.txt")).unwrap(),
+        "keep me"
+    );
+    std::fs::remove_file(folder.join("precious.txt")).unwrap();
     // the default --out . with a user's file of the same name
     std::fs::write(folder.join("grid-3.obj"), "my own mesh").unwrap();
     std::fs::write(folder.join(".notes.2024-06.tmp"), "notes").unwrap();

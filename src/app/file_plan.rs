@@ -205,6 +205,20 @@ fn read_up_to(mut file: fs::File, buffer: &mut [u8]) -> usize {
     filled
 }
 
+/// Removes a symbolic link at `path` (not what it points to), so that
+/// the file written there next replaces the link in its folder rather
+/// than a file elsewhere: for files written into a folder by names the user
+/// did not type. Anything else at `path` is left.
+///
+/// # Errors
+/// The link cannot be removed.
+pub fn unlink_link(path: &Path) -> Result<(), AppError> {
+    if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+        fs::remove_file(path).map_err(|e| AppError::Failed(format!("{}: {e}", path.display())))?;
+    }
+    Ok(())
+}
+
 /// Is there anything at `path` (also a link to nothing)?
 pub fn occupied(path: &Path) -> bool {
     fs::symlink_metadata(path).is_ok()

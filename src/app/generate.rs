@@ -11,7 +11,7 @@
 
 use super::draw::encode::write_png;
 use super::error::AppError;
-use super::file_plan::{check_output_folder, occupied, refuse_foreign, writes_same};
+use super::file_plan::{check_output_folder, occupied, refuse_foreign, unlink_link, writes_same};
 use super::flags::whole;
 use super::limits::check_grid;
 use masssprings::files::{write_file, FolderLock};
@@ -82,6 +82,7 @@ pub fn run(args: GenerateArgs) -> Result<(), AppError> {
         if same {
             kept.push(file.path.display().to_string());
         } else {
+            unlink_link(&file.path)?; // forced: the link goes, not its target
             write_file(&file.path, |out| file.write(out))?;
             written.push(file.path.display().to_string());
         }

@@ -31,8 +31,8 @@ pub mod folder;
 pub mod frames;
 
 use super::error::AppError;
-use folder::{earlier_frames, not_a_file};
-use frames::{frame_name, frame_step, parse_frame, RunRecord};
+use folder::{earlier_frames, not_a_file, not_a_folder};
+use frames::{check_carried, frame_name, frame_step, parse_frame, RunRecord};
 use masssprings::files::read_text;
 use masssprings::mesh::Scene;
 use masssprings::sim::methods::Carried;
@@ -64,10 +64,7 @@ pub struct Resumed {
 /// (file, line).
 pub fn last_state(folder: &Path, scene: &Scene, record: &RunRecord) -> Result<Resumed, AppError> {
     if !folder.is_dir() {
-        return Err(AppError::Failed(format!(
-            "--resume {}: no such folder",
-            folder.display()
-        )));
+        return Err(not_a_folder(folder));
     }
     let frames = earlier_frames(folder)?;
     let last = frames.iter().filter_map(|path| step_of(path)).max();
@@ -162,6 +159,11 @@ fn read_exact_frame(
             "the frames are of a run with other settings: {}; resume with the scene and the \
              flags of that run",
             differences.join(", ")
+        ));
+    }
+    if let Err(problem) = check_carried(&written.carried) {
+        return refuse(format!(
+            "its run record holds what no run carries: {problem} (the file was edited?)"
         ));
     }
     if frame.positions.len() != scene.vertices.len() {

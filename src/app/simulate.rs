@@ -20,11 +20,11 @@
 
 use super::draw::texture::{read_png_file, Texture};
 use super::error::AppError;
-use super::file_plan::load_scene;
+use super::file_plan::{load_scene, unlink_link};
 use super::flags::{whole, JsonFlag, SimulationFlags};
 use super::limits::precompute;
 use super::progress::{duration, Progress};
-use super::resume::folder::{Extras, FrameFolder, Use};
+use super::resume::folder::{not_a_folder, Extras, FrameFolder, Use};
 use super::resume::frames::{frame_name, header as frame_header, is_frame_name, RunRecord};
 use super::resume::{self, Resumed};
 use super::timing::BoundedSample;
@@ -156,6 +156,9 @@ pub fn run(args: SimulateArgs) -> Result<(), AppError> {
         progress: !args.json.json,
         record: RunRecord::new(physics, &options, dense),
     };
+    if let Some(folder) = args.resume.as_deref().filter(|folder| !folder.is_dir()) {
+        return Err(not_a_folder(folder));
+    }
     check_files(&scene_path, &scene, run.out.as_deref())?;
     let (frames, resumed) = open_frames(&run, &scene, args.resume.as_deref())?;
     let written = (frames.as_ref(), resumed);
@@ -460,11 +463,14 @@ fn write_material(
         .as_deref()
         .is_some_and(|t| same_file(t, &copy))
     {
+        unlink_link(&copy)?; // a link there is replaced, not written through
         write_file(&copy, |out| out.write_all(&bytes))?;
     }
     let texture_name = copy.file_name().unwrap_or_default().to_owned();
     let name = scene.name.clone();
-    write_file(&folder.join(format!("{name}.mtl")), |out| {
+    let material = folder.join(format!("{name}.mtl"));
+    unlink_link(&material)?;
+    write_file(&material, |out| {
         writeln!(out, "{}", material_header(&name))?;
         writeln!(out, "newmtl {name}")?;
         writeln!(out, "Kd 1 1 1")?;

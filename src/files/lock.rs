@@ -120,6 +120,7 @@ impl Drop for FolderLock {
 /// was removed (by the run that held it) between the opening and the lock.
 fn lock_file_in(folder: &Path, path: &Path) -> Result<File, FileError> {
     for _ in 0..100 {
+        refuse_odd_lock_file(path)?;
         let file = OpenOptions::new()
             .read(true)
             .write(true)
@@ -141,6 +142,19 @@ fn lock_file_in(folder: &Path, path: &Path) -> Result<File, FileError> {
         }
     }
     Err(busy(folder, path))
+}
+
+/// Refuses a lock file that is not a regular file (a link, which the lock
+/// would write through, a FIFO, a folder): this crate never makes one.
+fn refuse_odd_lock_file(path: &Path) -> Result<(), FileError> {
+    match fs::symlink_metadata(path) {
+        Ok(metadata) if !metadata.file_type().is_file() => Err(FileError::invalid(
+            "this is not a lock file of masssprings (a link, a FIFO or a folder has its name); \
+             move it away",
+        )
+        .in_file(path)),
+        _ => Ok(()),
+    }
 }
 
 /// The refusal when another run holds the lock, naming it when it has
@@ -169,11 +183,12 @@ fn parse_record(record: &str) -> Option<Owner> {
     super::temporaries::temporary_owner(&format!(".x.{tag}-0.tmp"))
 }
 
-/// Is the open `file` the file at `path` (not one made there since)?
+/// Is the open `file` the file at `path` itself (not one made there since,
+/// nor one a link there points to)?
 #[cfg(unix)]
 fn same_inode(file: &File, path: &Path) -> bool {
     use std::os::unix::fs::MetadataExt;
-    match (file.metadata(), fs::metadata(path)) {
+    match (file.metadata(), fs::symlink_metadata(path)) {
         (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
         _ => false,
     }
@@ -215,6 +230,31 @@ mod tests {
         fs::write(folder.join("kept"), "a result").unwrap();
         drop(again);
         assert_eq!(fs::read_dir(&folder).unwrap().count(), 1, "only the result");
+        fs::remove_dir_all(&folder).unwrap();
+    }
+
+    #[test]
+    fn a_lock_file_that_is_a_link_is_refused_and_its_target_kept() {
+        let folder = folder("link");
+        fs::create_dir_all(&folder).unwrap();
+        let target = folder.join("precious");
+        fs::write(&target, "keep me").unwrap();
+        std::os::unix::fs::symlink("precious", folder.join(LOCK_FILE)).unwrap();
+        let refused = FolderLock::acquire(&folder, "trace")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            refused.contains("not a lock file of masssprings"),
+            "{refused}"
+        );
+        assert_eq!(fs::read_to_string(&target).unwrap(), "keep me");
+        fs::remove_file(folder.join(LOCK_FILE)).unwrap();
+        std::os::unix::fs::symlink("nowhere", folder.join(LOCK_FILE)).unwrap();
+        assert!(FolderLock::acquire(&folder, "trace").is_err());
+        assert!(
+            !folder.join("nowhere").exists(),
+            "nothing made through the link"
+        );
         fs::remove_dir_all(&folder).unwrap();
     }
 

@@ -64,10 +64,7 @@ impl FrameFolder {
     /// `simulate` in the way, without `--force`.
     pub fn open(folder: &Path, how: Use, extras: &Extras) -> Result<FrameFolder, AppError> {
         if how == Use::Resume && !folder.is_dir() {
-            return Err(AppError::Failed(format!(
-                "--resume {}: no such folder",
-                folder.display()
-            )));
+            return Err(not_a_folder(folder));
         }
         let lock = FolderLock::acquire(folder, "simulate")?;
         let force = how == (Use::Fresh { force: true });
@@ -180,6 +177,15 @@ fn foreign_extras(extras: &Extras) -> Vec<PathBuf> {
         }
     }
     foreign
+}
+
+/// The refusal of a `--resume` folder that is none: missing, or a file.
+pub fn not_a_folder(folder: &Path) -> AppError {
+    let what = match fs::symlink_metadata(folder) {
+        Ok(_) => "this is not a folder",
+        Err(_) => "no such folder",
+    };
+    AppError::Failed(format!("--resume {}: {what}", folder.display()))
 }
 
 /// What is at `path` when it is not a regular file (through links): "a

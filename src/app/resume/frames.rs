@@ -26,6 +26,8 @@
 use masssprings::files::FileError;
 use masssprings::linalg::sparse::SupernodeMerging;
 use masssprings::mesh::obj::parse_obj;
+use masssprings::sim::methods::chebyshev::{ESTIMATION_ITERATIONS, RHO_CAP};
+use masssprings::sim::methods::newton::LARGEST_DAMPING;
 use masssprings::sim::methods::Carried;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Accuracy, StepMethod};
@@ -142,6 +144,41 @@ impl RunRecord {
         }
         differ
     }
+}
+
+/// Refuses what carries over that no run carries (a record edited by
+/// hand): a `ρ` outside `[0, 0.995]`, more plain iterations recorded than
+/// the estimate takes, a ratio or a damping that is negative, not finite,
+/// or beyond what the damping ever grows to.
+///
+/// # Errors
+/// A sentence naming the value and its range.
+pub fn check_carried(carried: &Carried) -> Result<(), String> {
+    let chebyshev = &carried.chebyshev;
+    if let Some(rho) = chebyshev.rho.filter(|&rho| !(0.0..=RHO_CAP).contains(&rho)) {
+        return Err(format!("Chebyshev's ρ = {rho} is outside [0, {RHO_CAP}]"));
+    }
+    if chebyshev.recorded > ESTIMATION_ITERATIONS {
+        return Err(format!(
+            "{} plain iterations recorded toward ρ, more than the {ESTIMATION_ITERATIONS} the \
+             estimate takes",
+            chebyshev.recorded
+        ));
+    }
+    let ratio = chebyshev.largest_ratio;
+    if !(ratio.is_finite() && ratio >= 0.0) {
+        return Err(format!(
+            "the largest ratio {ratio} is not a finite number ≥ 0"
+        ));
+    }
+    let damping = carried.newton_damping;
+    let most = 10.0 * LARGEST_DAMPING;
+    if !(damping.is_finite() && (0.0..=most).contains(&damping)) {
+        return Err(format!(
+            "Newton's damping {damping} is outside [0, {most:e}]"
+        ));
+    }
+    Ok(())
 }
 
 /// 64-bit FNV-1a of `words` (each as 8 little-endian bytes), and their
@@ -297,6 +334,30 @@ mod tests {
         let frame = parse_frame(&rounded).unwrap();
         assert_eq!((frame.scene.as_str(), frame.precision), ("a — b", Some(9)));
         assert!(frame.record.is_none());
+    }
+
+    #[test]
+    fn what_no_run_carries_is_refused() {
+        let mut carried = Carried::default();
+        assert!(check_carried(&carried).is_ok());
+        carried.chebyshev.rho = Some(0.995);
+        carried.newton_damping = 1e-6;
+        assert!(check_carried(&carried).is_ok());
+        for (rho, damping, recorded, ratio) in [
+            (Some(2.0), 0.0, 0, 0.0),
+            (Some(-0.5), 0.0, 0, 0.0),
+            (Some(f64::NAN), 0.0, 0, 0.0),
+            (None, -1.0, 0, 0.0),
+            (None, f64::INFINITY, 0, 0.0),
+            (None, 0.0, 21, 0.0),
+            (None, 0.0, 0, f64::NAN),
+        ] {
+            carried.chebyshev.rho = rho;
+            carried.newton_damping = damping;
+            carried.chebyshev.recorded = recorded;
+            carried.chebyshev.largest_ratio = ratio;
+            assert!(check_carried(&carried).is_err(), "{carried:?}");
+        }
     }
 
     #[test]

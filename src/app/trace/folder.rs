@@ -27,7 +27,9 @@
 use super::quantities::quantities;
 use super::{is_trace_file, read_manifest, MANIFEST};
 use crate::app::error::AppError;
-use crate::app::file_plan::{begins_with, plan_scene_inputs, refuse_foreign, start_holds};
+use crate::app::file_plan::{
+    begins_with, plan_scene_inputs, refuse_foreign, start_holds, unlink_link,
+};
 use masssprings::files::{
     exchange_folders, remove_temporaries_of, resolve, same_file, temporary_folder, temporary_owner,
     FilePlan, FolderLock, LOCK_FILE,
@@ -112,10 +114,16 @@ impl TraceFolder {
     /// # Errors
     /// The manifest cannot be removed.
     pub fn begin(&self) -> Result<(), AppError> {
-        if self.staging.is_none() && self.earlier.iter().any(|name| name == MANIFEST) {
+        if self.staging.is_some() {
+            return Ok(());
+        }
+        if self.earlier.iter().any(|name| name == MANIFEST) {
             let manifest = self.out.join(MANIFEST);
             fs::remove_file(&manifest)
                 .map_err(|e| AppError::Failed(format!("{}: {e}", manifest.display())))?;
+        }
+        for name in trace_names() {
+            unlink_link(&self.out.join(name))?; // forced: the link goes, not its target
         }
         Ok(())
     }
@@ -160,19 +168,20 @@ impl Drop for TraceFolder {
 fn plan(out: &Path, scene_path: &Path, scene: &Scene) -> Result<(), AppError> {
     let mut plan = FilePlan::default();
     plan_scene_inputs(&mut plan, scene_path, scene);
-    let names = quantities(ITERATIONS)
-        .iter()
-        .map(|q| q.file_name())
-        .collect::<Vec<_>>();
-    for name in names
-        .iter()
-        .map(String::as_str)
-        .chain(["README.md", MANIFEST])
-    {
+    for name in trace_names() {
         plan.output("trace's file", &out.join(name));
     }
     plan.check()?;
     Ok(())
+}
+
+/// Every name `trace` may write: each quantity of the longest trace, the
+/// README and the manifest.
+fn trace_names() -> Vec<String> {
+    let quantities = quantities(ITERATIONS).into_iter().map(|q| q.file_name());
+    quantities
+        .chain(["README.md".into(), MANIFEST.into()])
+        .collect()
 }
 
 /// The names of the earlier trace in `out`, and the files there that are
