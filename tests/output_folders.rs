@@ -140,6 +140,14 @@ fn trace_refuses_a_folder_of_files_it_did_not_write_unless_forced() {
             "{kept}"
         );
     }
+    // a link to a folder not made yet: made at the link's end, the link kept
+    std::os::unix::fs::symlink("made-later", folder.join("later")).unwrap();
+    succeeded(&run_in(&folder, &["trace", "net.json", "-o", "later"]));
+    assert!(folder.join("made-later/trace.json").exists());
+    assert!(std::fs::symlink_metadata(folder.join("later"))
+        .unwrap()
+        .file_type()
+        .is_symlink());
     // a trace folder and its own README are trace's: a re-run needs no --force
     let out = folder.join("out");
     succeeded(&run_in(&folder, &["trace", "net.json", "-o", "out"]));

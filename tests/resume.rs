@@ -395,14 +395,25 @@ fn a_record_that_no_run_wrote_and_a_file_for_a_folder_are_refused() {
     let net = data("net.json");
     let chebyshev = ["--method", "chebyshev"];
     let dir = folder.to_str().unwrap();
-    simulate(&[&net, "--steps", "2", "--out", dir, chebyshev[0], chebyshev[1]]);
+    simulate(&[
+        &net,
+        "--steps",
+        "2",
+        "--out",
+        dir,
+        chebyshev[0],
+        chebyshev[1],
+    ]);
     let last = folder.join("frame-000002.obj");
     let text = std::fs::read_to_string(&last).unwrap();
     let start = text.find("\"rho\":").unwrap() + "\"rho\":".len();
     let end = start + text[start..].find(',').unwrap();
     std::fs::write(&last, format!("{}5.0{}", &text[..start], &text[end..])).unwrap();
     let error = resume_error(&net, &folder, &chebyshev, 1);
-    assert!(error.contains("Chebyshev's ρ = 5 is outside [0, 0.995]"), "{error}");
+    assert!(
+        error.contains("Chebyshev's ρ = 5 is outside [0, 0.995]"),
+        "{error}"
+    );
     let error = resume_error(&net, &folder.join("frame-000000.obj"), &[], 1);
     assert!(error.contains("this is not a folder"), "{error}");
 }

@@ -282,8 +282,8 @@ impl Request {
 fn check_memory(request: &Request, n: usize) -> Result<(), AppError> {
     let kept = request.kept_frames().ok_or_else(|| {
         AppError::Failed(format!(
-            "--steps {} --every {}: {} frames to keep (step 0 and every {}-th step), more \
-             than 64 bits count; draw fewer frames",
+            "--steps {} --every {}: {} frames to keep (step 0, then one every {} steps), \
+             more than 64 bits count; draw fewer frames",
             request.steps,
             request.every,
             (request.steps / request.every) as u128 + 1,

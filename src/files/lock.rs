@@ -51,9 +51,25 @@ impl FolderLock {
     /// command and process, when it has written them), or the folder or
     /// its lock file cannot be made.
     pub fn acquire(folder: &Path, command: &str) -> Result<FolderLock, FileError> {
+        Self::acquire_cleaning(folder, command, &[])
+    }
+
+    /// [`FolderLock::acquire`], removing the killed run's temporaries from
+    /// the folders `beside` too (where a command stages a result beside
+    /// its folder), before its record is replaced by this run's.
+    ///
+    /// # Errors
+    /// As [`FolderLock::acquire`].
+    pub fn acquire_cleaning(
+        folder: &Path,
+        command: &str,
+        beside: &[&Path],
+    ) -> Result<FolderLock, FileError> {
         let failed = |error: io::Error| FileError::unwritable(folder, error);
         let made_folder = !folder.exists();
-        fs::create_dir_all(folder).map_err(failed)?;
+        // a link to a folder not made yet is followed, as for a file
+        let target = super::resolve(folder).unwrap_or_else(|_| folder.to_path_buf());
+        fs::create_dir_all(&target).map_err(failed)?;
         let path = folder.join(LOCK_FILE);
         let mut file = lock_file_in(folder, &path).map_err(|error| {
             if made_folder {
@@ -65,7 +81,9 @@ impl FolderLock {
         let _ = file.read_to_string(&mut previous);
         let stale_owner = parse_record(&previous).filter(|owner| !owner.is_running());
         if let Some(owner) = stale_owner {
-            remove_temporaries_of(folder, owner);
+            for place in std::iter::once(folder).chain(beside.iter().copied()) {
+                remove_temporaries_of(place, owner);
+            }
         }
         let record = format!("masssprings {command} {}\n", Owner::this_process().tag());
         file.set_len(0)
@@ -283,7 +301,15 @@ mod tests {
         for name in users.iter().chain([&theirs]) {
             fs::write(folder.join(name), "text").unwrap();
         }
-        let lock = FolderLock::acquire(&folder, "simulate").unwrap();
+        let beside = folder.join("beside");
+        fs::create_dir(&beside).unwrap();
+        let staged_beside = beside.join(format!(".out.{dead}-2.tmp"));
+        fs::create_dir(&staged_beside).unwrap();
+        let lock = FolderLock::acquire_cleaning(&folder, "simulate", &[&beside]).unwrap();
+        assert!(
+            !staged_beside.exists(),
+            "the killed run's staging beside the folder"
+        );
         assert_eq!(
             lock.stale_owner(),
             Some(Owner { pid, start: 5 }),
@@ -293,6 +319,7 @@ mod tests {
         for name in &users {
             assert!(folder.join(name).exists(), "{name} is not the killed run's");
         }
+        fs::remove_dir(&beside).unwrap();
         drop(lock);
         fs::remove_dir_all(&folder).unwrap();
     }

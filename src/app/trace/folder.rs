@@ -19,8 +19,9 @@
 //!   staging folder is removed by the next trace into `DIR`, which finds
 //!   its owner in `DIR`'s lock.
 //! * **In place** (no swap) when `--force` writes among files that are not
-//!   `trace`'s, when `DIR` is the current folder (whose place a shell holds),
-//!   or when the folder above `DIR` cannot be written: the old manifest is
+//!   `trace`'s, when `DIR` is the current folder (whose place a shell holds)
+//!   or a mount point (which cannot be renamed), or when the folder above
+//!   `DIR` cannot be written: the old manifest is
 //!   removed first, so a run that fails there leaves a folder `--compare`
 //!   refuses, never a manifest over a mixture.
 
@@ -31,8 +32,8 @@ use crate::app::file_plan::{
     begins_with, plan_scene_inputs, refuse_foreign, start_holds, unlink_link,
 };
 use masssprings::files::{
-    exchange_folders, remove_temporaries_of, resolve, same_file, temporary_folder, temporary_owner,
-    FilePlan, FolderLock, LOCK_FILE,
+    exchange_folders, resolve, same_file, temporary_folder, temporary_owner, FilePlan, FolderLock,
+    LOCK_FILE,
 };
 use masssprings::mesh::Scene;
 use masssprings::sim::ITERATIONS;
@@ -81,15 +82,15 @@ impl TraceFolder {
             )));
         }
         plan(out, scene_path, scene)?;
-        let lock = FolderLock::acquire(out, "trace")?;
-        let resolved =
-            resolve(out).map_err(|e| AppError::Failed(format!("-o {}: {e}", out.display())))?;
-        if let (Some(owner), Some(parent)) = (lock.stale_owner(), resolved.parent()) {
-            remove_temporaries_of(parent, owner); // a killed trace's staging folder
-        }
+        let failed = |e: std::io::Error| AppError::Failed(format!("-o {}: {e}", out.display()));
+        let resolved = resolve(out).map_err(failed)?;
+        // a killed trace's staging folder is beside `out`
+        let beside: Vec<&Path> = resolved.parent().into_iter().collect();
+        let lock = FolderLock::acquire_cleaning(out, "trace", &beside)?;
         let (earlier, foreign) = survey(out);
         refuse_foreign(&format!("-o {}", out.display()), "trace", &foreign, force)?;
-        let in_place = !foreign.is_empty() || same_file(out, Path::new("."));
+        let in_place =
+            !foreign.is_empty() || same_file(out, Path::new(".")) || is_mount_point(&resolved);
         let staging = if in_place {
             None
         } else {
@@ -163,6 +164,23 @@ impl Drop for TraceFolder {
     }
 }
 
+/// Is `folder` the root of a file system of its own (a mount point), which
+/// cannot be renamed nor exchanged with a folder beside it?
+#[cfg(unix)]
+fn is_mount_point(folder: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    let parent = folder.parent().unwrap_or(folder);
+    match (fs::metadata(folder), fs::metadata(parent)) {
+        (Ok(a), Ok(b)) => a.dev() != b.dev() || a.ino() == b.ino(),
+        _ => false,
+    }
+}
+
+#[cfg(not(unix))]
+fn is_mount_point(_folder: &Path) -> bool {
+    false
+}
+
 /// Refuses a trace whose files would be one of the scene's (through a
 /// link, or by name: an OBJ called `README.md` in `-o .`).
 fn plan(out: &Path, scene_path: &Path, scene: &Scene) -> Result<(), AppError> {
@@ -187,7 +205,9 @@ fn trace_names() -> Vec<String> {
 /// The names of the earlier trace in `out`, and the files there that are
 /// not `trace`'s (the lock and temporaries aside).
 fn survey(out: &Path) -> (Vec<String>, Vec<PathBuf>) {
-    let manifest = read_manifest(out).ok();
+    // only a regular file is read (a FIFO would be waited for)
+    let manifest_file = fs::symlink_metadata(out.join(MANIFEST)).is_ok_and(|m| m.is_file());
+    let manifest = manifest_file.then(|| read_manifest(out).ok()).flatten();
     let listed = |name: &str| {
         manifest
             .as_ref()
