@@ -15,6 +15,8 @@
 //!
 //! Nothing is written unless every step succeeds.
 
+mod mistake;
+
 use super::draw::camera::{BoundingBox, Camera};
 use super::draw::encode;
 use super::draw::frame::FrameRenderer;
@@ -22,13 +24,14 @@ use super::draw::look::SUPERSAMPLING;
 use super::draw::texture::Texture;
 use super::error::AppError;
 use super::file_plan::{load_scene, plan_scene_inputs};
-use super::flags::{size, whole, JsonFlag, SimulationFlags, Size};
+use super::flags::{choice, size, whole, JsonFlag, SimulationFlags, Size};
 use super::limits::{check_frames, check_picture, picture_bytes, precompute};
 use super::progress::Progress;
 use super::timing::median;
 use masssprings::files::{write_file, FilePlan};
 use masssprings::mesh::procedural::RgbImage;
 use masssprings::mesh::Scene;
+use masssprings::sim::mistakes::Mistake;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Dense, LinearAlgebra, Sparse};
 use std::path::{Path, PathBuf};
@@ -62,6 +65,8 @@ struct Request {
     /// Which positions the camera frames: `rest`, `last` or `all`.
     fit: String,
     json: bool,
+    /// Draw the handout's step beside this mistake's (`mistake.rs`).
+    mistake: Option<Mistake>,
 }
 
 /// What `render --json` prints.
@@ -85,7 +90,11 @@ struct Summary {
 Simulates N steps and draws step 0 and every K-th step with the viewer's
 look into a looping GIF that plays in real time, or draws the last step into
 a PNG. Cloths show their surface and pins; --springs adds every spring and
-point mass (always drawn for scenes made only of springs).")]
+point mass (always drawn for scenes made only of springs).
+
+With --mistake NAME, draws the handout's step (left) beside the same step with
+one of the usual mistakes made in it (right), in one picture of --size:
+docs/mistakes.md shows every one and what it looks like.")]
 pub struct RenderArgs {
     /// The scene: JSON that names an OBJ (data/README.md).
     #[arg(value_name = "SCENE.json")]
@@ -111,6 +120,9 @@ pub struct RenderArgs {
     /// What the camera frames: the rest shape, the last step drawn, or the rest shape and every step drawn.
     #[arg(long, value_name = "F", default_value = "all", value_parser = ["rest", "last", "all"])]
     fit: String,
+    /// Draw the handout's step beside the same step with one of the usual mistakes in it (docs/mistakes.md).
+    #[arg(long, value_name = "NAME", value_parser = choice::<Mistake>(&Mistake::ALL.map(Mistake::name)), conflicts_with_all = ["json", "fit", "dense"])]
+    mistake: Option<Mistake>,
     #[command(flatten)]
     json: JsonFlag,
     #[command(flatten)]
@@ -123,6 +135,9 @@ pub fn run(args: RenderArgs) -> Result<(), AppError> {
     let scene = load_scene(&request.scene)?;
     check_files(&request, &scene)?;
     let texture = read_texture(&scene)?;
+    if let Some(mistake) = request.mistake {
+        return mistake::run(&picture(&request), &scene, texture, mistake);
+    }
     let started = Instant::now();
     let frames = if request.dense {
         simulate::<Dense>(&scene, &request)?
@@ -263,17 +278,45 @@ fn parse(args: RenderArgs) -> Result<Request, AppError> {
         springs: args.springs,
         fit: args.fit,
         json: args.json.json,
+        mistake: args.mistake,
     })
 }
 
+/// What `render --mistake` draws, from the request.
+fn picture(request: &Request) -> mistake::Picture<'_> {
+    mistake::Picture {
+        scene_path: &request.scene,
+        out: &request.out,
+        gif: request.format == Format::Gif,
+        steps: request.steps,
+        every: request.every,
+        size: (request.width, request.height),
+        options: request.options,
+        springs: request.springs,
+        progress: !request.json,
+    }
+}
+
 impl Request {
-    /// The frames kept for the whole run: step 0 and every `every`-th step
-    /// (GIF), or the last step (PNG); `None` past 64 bits.
-    fn kept_frames(&self) -> Option<u64> {
-        match self.format {
-            Format::Gif => ((self.steps / self.every) as u64).checked_add(1),
-            Format::Png => Some(1),
+    /// The runs drawn: one, or two beside a mistake.
+    fn runs(&self) -> u128 {
+        if self.mistake.is_some() {
+            2
+        } else {
+            1
         }
+    }
+
+    /// The frames kept for the whole run: step 0 and every `every`-th step
+    /// (GIF), or the last step (PNG); twice that beside a mistake; `None`
+    /// past 64 bits.
+    fn kept_frames(&self) -> Option<u64> {
+        let runs = self.runs() as u64;
+        let one_run = match self.format {
+            Format::Gif => ((self.steps / self.every) as u64).checked_add(1)?,
+            Format::Png => 1,
+        };
+        one_run.checked_mul(runs)
     }
 }
 
@@ -286,7 +329,7 @@ fn check_memory(request: &Request, n: usize) -> Result<(), AppError> {
              more than 64 bits count; draw fewer frames",
             request.steps,
             request.every,
-            (request.steps / request.every) as u128 + 1,
+            ((request.steps / request.every) as u128 + 1) * request.runs(),
             request.every
         ))
     })?;

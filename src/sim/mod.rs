@@ -13,6 +13,7 @@
 //! | [`spring_pass`], [`energy`], [`hessian`] | the energy a step minimises, its gradient and Hessian |
 //! | [`precomputation`], [`exact_pins`] | `r`, `M`, `A`, `C`, `Q` and its factor, constant: the fast path's `MassSpringSystem::new` |
 //! | [`textbook`] | `fast_mass_springs_precomputation/step_{dense,sparse}` as the handout writes them |
+//! | [`mistakes`] | the same, with one of the usual mistakes made on purpose (`render`/`trace --mistake`) |
 //! | [`global_step`], [`monitor`] | the fast path's iteration; stopping rules and observers |
 //! | [`methods`] | plain and the four methods that accelerate it |
 //! | [`step`] | one step on the fast path, with its own work arrays |
@@ -32,6 +33,7 @@ pub mod global_step;
 pub mod hessian;
 pub mod local_step;
 pub mod methods;
+pub mod mistakes;
 pub mod monitor;
 pub mod precomputation;
 pub mod signed_incidence;

@@ -2,7 +2,8 @@
 //! viewer's look (`look.rs`), and what else draws pixels: plots
 //! (`plot.rs`), sparsity patterns and elimination trees (`sparsity.rs`),
 //! and the PNG and GIF encoders (`palette.rs`, `encode.rs`). `render`
-//! draws a simulation with it; `spy`, `etree`, `converge`, `bench` and
+//! draws a simulation with it (`render --mistake`: two, side by side,
+//! `panels.rs`); `spy`, `etree`, `converge`, `bench` and
 //! `generate` draw their pictures with it.
 //!
 //! A frame, one file per step: one camera frames the scene (`camera.rs`);
@@ -24,6 +25,7 @@ mod lighting;
 mod lines;
 pub(super) mod look;
 mod palette;
+pub(super) mod panels;
 pub(super) mod plot;
 pub(super) mod sparsity;
 mod text;

@@ -22,13 +22,15 @@ use masssprings::linalg::sparse::{CscMatrix, Ordering};
 use masssprings::mesh::Scene;
 use masssprings::sim::forces::GRAVITY;
 use masssprings::sim::local_step::project_springs;
+use masssprings::sim::mistakes::Mistake;
 use masssprings::sim::textbook::{
     fast_mass_springs_step_sparse, inertial_term, pin_term, precomputation_ordered,
     right_hand_side, solve_sparse, Precomputation,
 };
 use masssprings::sim::{Sparse, DELTA_T};
 
-/// Which step, how many of its iterations, and the factor's ordering.
+/// Which step, how many of its iterations, the factor's ordering, and
+/// the mistake to make (a student's folder, written by `mistaken.rs`).
 #[derive(Debug, Clone, Copy)]
 pub struct TraceOptions {
     /// 1-based step `K`.
@@ -36,6 +38,7 @@ pub struct TraceOptions {
     /// Iterations `N` of step `K` to keep.
     pub iterations: usize,
     pub ordering: Ordering,
+    pub mistake: Option<Mistake>,
 }
 
 /// A quantity's value, as it is written.
@@ -77,7 +80,7 @@ pub fn trace(scene: &Scene, options: TraceOptions) -> Result<Vec<Value>, AppErro
 }
 
 /// `A`, `r`, `M`, `C`, `Q`, `P`, `L`, in the order of the table.
-fn precomputed(pre: &Precomputation<Sparse>) -> Vec<Value> {
+pub fn precomputed(pre: &Precomputation<Sparse>) -> Vec<Value> {
     let r = DenseMatrix::from_row_major(pre.r.len(), 1, pre.r.clone())
         .expect("one rest length per row");
     vec![
@@ -95,7 +98,7 @@ fn precomputed(pre: &Precomputation<Sparse>) -> Vec<Value> {
 
 /// `(U_prev, U_cur)` at the start of `step` (1-based): at rest for the
 /// first, then one handout step after another.
-fn state_before(
+pub fn state_before(
     pre: &Precomputation<Sparse>,
     f_ext: &[[f64; 3]],
     step: usize,
@@ -120,7 +123,7 @@ pub fn permutation_matrix(perm: &[usize]) -> CscMatrix {
 }
 
 /// An `n × 3` block of points as a dense matrix.
-fn points(rows: &[[f64; 3]]) -> Value {
+pub fn points(rows: &[[f64; 3]]) -> Value {
     Value::Dense(DenseMatrix::from_rows(rows).expect("rows of three"))
 }
 

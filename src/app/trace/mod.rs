@@ -22,17 +22,19 @@
 mod compare;
 mod compute;
 mod folder;
+mod mistaken;
 mod quantities;
 mod readme;
 
 use super::error::AppError;
 use super::file_plan::load_scene;
-use super::flags::{whole, OrderingFlag};
+use super::flags::{choice, whole, OrderingFlag};
 use compute::{labelled, trace, TraceOptions, Value};
 use folder::TraceFolder;
 use masssprings::files::write_file;
 use masssprings::matrix_market::{write_array, write_coordinate, Symmetry};
 use masssprings::mesh::Scene;
+use masssprings::sim::mistakes::Mistake;
 use masssprings::sim::ITERATIONS;
 use quantities::Quantity;
 use std::path::{Path, PathBuf};
@@ -48,7 +50,13 @@ digits), with DIR/README.md saying what each holds and how to compare.
 With --compare DIR OTHER, compares the files of OTHER (same names and formats,
 any subset: yours) with those of DIR (written by trace), in the handout's
 order, and exits with 1 when one differs: the first DIFFERS line is the first
-quantity to fix.")]
+quantity to fix.
+
+With --mistake NAME, writes instead the files of a student who made one of the
+usual mistakes (docs/mistakes.md), from our U_prev and U_cur of step K: trace
+the scene into DIR as well, and --compare DIR names the quantity that mistake
+makes wrong first. Use a step K of 2 or more: at step 1, U_prev = U_cur hides
+some of them.")]
 pub struct TraceArgs {
     /// The scene: JSON that names an OBJ (data/README.md).
     #[arg(value_name = "SCENE.json", required_unless_present = "compare")]
@@ -67,8 +75,11 @@ pub struct TraceArgs {
     /// Write into DIR even though it holds files trace did not write, replacing those of trace's names.
     #[arg(long, conflicts_with = "compare")]
     force: bool,
+    /// Write what a student with one of the usual mistakes writes, from our state at step K, to --compare with a trace (docs/mistakes.md).
+    #[arg(long, value_name = "NAME", value_parser = choice::<Mistake>(&Mistake::ALL.map(Mistake::name)))]
+    mistake: Option<Mistake>,
     /// Compare OTHER's files with DIR's (instead of tracing a scene).
-    #[arg(long, num_args = 2, value_names = ["DIR", "OTHER"], conflicts_with_all = ["scene", "out", "step", "iterations", "ordering"])]
+    #[arg(long, num_args = 2, value_names = ["DIR", "OTHER"], conflicts_with_all = ["scene", "out", "step", "iterations", "ordering", "mistake"])]
     compare: Option<Vec<PathBuf>>,
 }
 
@@ -85,6 +96,9 @@ pub struct Manifest {
     /// The stiffness `k`, which `--compare` needs for the size of `b`'s terms.
     pub k: f64,
     pub files: Vec<String>,
+    /// The mistake made on purpose (`--mistake`), if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mistake: Option<String>,
 }
 
 /// The file `--compare` reads first.
@@ -101,11 +115,16 @@ pub fn run(args: TraceArgs) -> Result<(), AppError> {
         step: args.step,
         iterations: args.iterations,
         ordering: args.ordering.ordering,
+        mistake: args.mistake,
     };
     let scene = load_scene(&scene_path)?;
     let folder = TraceFolder::open(&out, &scene_path, &scene, args.force)?;
     let start = std::time::Instant::now();
-    let values = labelled(trace(&scene, options)?, options.iterations);
+    let values = match options.mistake {
+        Some(mistake) => mistaken::trace(&scene, options, mistake)?,
+        None => trace(&scene, options)?,
+    };
+    let values = labelled(values, options.iterations);
     let manifest = manifest(&scene_path, &scene, options, &values);
     folder.begin()?;
     write_all(folder.target(), &scene_path, &values, &manifest)?;
@@ -113,10 +132,13 @@ pub fn run(args: TraceArgs) -> Result<(), AppError> {
     written.extend(["README.md".to_string(), MANIFEST.to_string()]);
     folder.commit(&written)?;
     println!(
-        "{}: {} files of {} (n = {}, m = {}), step {}, {} iteration(s), {} ordering, in {:.2} s",
+        "{}: {} files of {}{} (n = {}, m = {}), step {}, {} iteration(s), {} ordering, in {:.2} s",
         out.display(),
         values.len(),
         scene_path.display(),
+        options
+            .mistake
+            .map_or(String::new(), |m| format!(" with the mistake {m}")),
         scene.vertices.len(),
         scene.springs.len(),
         options.step,
@@ -163,6 +185,7 @@ fn manifest(
         pins: scene.pinned.len(),
         k: scene.k,
         files: values.iter().map(|(q, _)| q.file_name()).collect(),
+        mistake: options.mistake.map(|m| m.name().to_string()),
     }
 }
 

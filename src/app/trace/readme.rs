@@ -7,16 +7,43 @@ use super::compute::Value;
 use super::folder::README_START;
 use super::quantities::{Check, Quantity, SPECS};
 use super::Manifest;
+use masssprings::sim::mistakes::Mistake;
 use std::fmt::Write;
 
 /// The README of a trace.
 pub fn readme(manifest: &Manifest, values: &[(Quantity, Value)]) -> String {
     let mut text = String::new();
     header(&mut text, manifest);
+    if let Some(mistake) = manifest.mistake.as_deref().and_then(Mistake::from_name) {
+        let _ = write!(
+            text,
+            "**These files hold a mistake on purpose** (`--mistake {mistake}`: `{wrong}` \
+             where the handout has `{right}`): the precomputation and step K are a student's \
+             who made it, from our `U_prev` and `U_cur`. Trace the scene without `--mistake` \
+             and `--compare` the two folders to see which quantity the mistake makes wrong \
+             first.\n\n",
+            wrong = mistake.wrong(),
+            right = mistake.right(),
+        );
+    }
+    gallery(&mut text);
     table(&mut text, values);
     tolerances(&mut text);
     how_to_compare(&mut text, manifest);
     text
+}
+
+/// Where a student whose cloth misbehaves looks first.
+fn gallery(text: &mut String) {
+    text.push_str(
+        "**Does your cloth sag, explode, fly away or stand still?** Look for its symptom \
+         first in the gallery of common mistakes, `docs/mistakes.md` in the masssprings \
+         repository: each mistake is drawn beside the handout's step, with the quantity \
+         `--compare` finds wrong first for it (`masssprings render SCENE.json --mistake \
+         NAME -o OUT.gif` draws one; `masssprings trace SCENE.json --mistake NAME --step 3 \
+         -o DIR` writes its files). The handout's own slips, and what following each one \
+         does, are listed in `docs/equations.md`.\n\n",
+    );
 }
 
 fn header(text: &mut String, m: &Manifest) {
@@ -24,7 +51,7 @@ fn header(text: &mut String, m: &Manifest) {
         text,
         "{README_START}{scene}, step {step}\n\n\
          Written by `masssprings trace {scene} --step {step} --iterations {iterations} \
-         --ordering {ordering} -o DIR`: the handout's precomputation and step \
+         --ordering {ordering}{mistake} -o DIR`: the handout's precomputation and step \
          (`sim::textbook`), run exactly in the handout's order. The state of step {step} \
          comes from {before} handout step(s) from rest (`U_prev = U_cur = V`) under gravity \
          `f_ext = (0, −9.8, 0)` at every vertex; then `p = U_cur` and each iteration computes \
@@ -43,6 +70,10 @@ fn header(text: &mut String, m: &Manifest) {
         step = m.step,
         iterations = m.iterations,
         ordering = m.ordering,
+        mistake = m
+            .mistake
+            .as_ref()
+            .map_or(String::new(), |m| format!(" --mistake {m}")),
         before = m.step - 1,
         n = m.vertices,
         springs = m.springs,
