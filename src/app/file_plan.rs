@@ -280,7 +280,7 @@ mod tests {
         assert!(!writes_same(&file, |out| out.write_all(b"# net")));
         let longer = |out: &mut dyn Write| write!(out, "{text}more");
         assert!(!writes_same(&file, longer));
-        let refusal = refuse_foreign("--out f", "simulate", &[file.clone()], false);
+        let refusal = refuse_foreign("--out f", "simulate", std::slice::from_ref(&file), false);
         let message = match refusal {
             Err(AppError::Failed(message)) => message,
             _ => panic!("refused"),

@@ -36,8 +36,9 @@ pub struct FolderLock {
     folder: PathBuf,
     path: PathBuf,
     file: File,
-    /// The folder did not exist before the lock was taken.
-    made_folder: bool,
+    /// The folder the lock made (it did not exist before), at the end of
+    /// the links to it.
+    made_folder: Option<PathBuf>,
     /// The owner of the last run that held the lock and was killed.
     stale_owner: Option<Owner>,
 }
@@ -66,16 +67,15 @@ impl FolderLock {
         beside: &[&Path],
     ) -> Result<FolderLock, FileError> {
         let failed = |error: io::Error| FileError::unwritable(folder, error);
-        let made_folder = !folder.exists();
         // a link to a folder not made yet is followed, as for a file
         let target = super::resolve(folder).unwrap_or_else(|_| folder.to_path_buf());
+        let made_folder = (!folder.exists()).then(|| target.clone());
         fs::create_dir_all(&target).map_err(failed)?;
         let path = folder.join(LOCK_FILE);
-        let mut file = lock_file_in(folder, &path).map_err(|error| {
-            if made_folder {
-                let _ = fs::remove_dir(folder);
+        let mut file = lock_file_in(folder, &path).inspect_err(|_| {
+            if let Some(made) = &made_folder {
+                let _ = fs::remove_dir(made);
             }
-            error
         })?;
         let mut previous = String::new();
         let _ = file.read_to_string(&mut previous);
@@ -117,7 +117,7 @@ impl FolderLock {
     pub fn moved_to(&mut self, folder: &Path) {
         self.folder = folder.to_path_buf();
         self.path = folder.join(LOCK_FILE);
-        self.made_folder = false;
+        self.made_folder = None;
     }
 }
 
@@ -128,8 +128,8 @@ impl Drop for FolderLock {
         if same_inode(&self.file, &self.path) {
             let _ = fs::remove_file(&self.path);
         }
-        if self.made_folder {
-            let _ = fs::remove_dir(&self.folder); // only when nothing was written
+        if let Some(made) = &self.made_folder {
+            let _ = fs::remove_dir(made); // only when nothing was written
         }
     }
 }
