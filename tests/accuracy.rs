@@ -201,17 +201,77 @@ fn converge_compares_the_accuracy_with_plain_50_over_steps() {
     let output = masssprings(&args);
     assert!(output.status.success(), "{}", stderr(&output));
     let text = stdout(&output);
-    for line in [
+    let lines = [
         "--accuracy assignment (lbfgs) against plain-50",
-        "from the same states:  plain-50 ",
-        "steps above plain-50's energy (by more than 1e-9 of its decrease and its rounding): 0 of 5",
-        "each on its own:",
+        "each on its own (what a user gets): plain-50 ",
         "along its own trajectory, against plain-50 from each of its states: 0 of 5 steps above",
-        "trajectories apart (largest over the steps): max vertex ",
-    ] {
-        assert!(text.contains(line), "missing '{line}' in\n{text}");
+        "the two trajectories apart (largest over the steps): max vertex ",
+        "from the same states (each step of both from plain-50's state): plain-50 ",
+        "0 of 5 steps above plain-50's energy (by more than 1e-9 of its decrease and its rounding)",
+    ];
+    let mut at = 0;
+    for line in lines {
+        let found = text[at..].find(line);
+        assert!(
+            found.is_some(),
+            "missing '{line}' (after byte {at}: own run first) in\n{text}"
+        );
+        at += found.unwrap();
     }
     assert_eq!(&std::fs::read(&png).unwrap()[..4], b"\x89PNG");
     let refused = masssprings(&["converge", &scene, "--accuracy", "assignment"]);
     assert_eq!(refused.status.code(), Some(2), "{}", stderr(&refused));
+}
+
+#[test]
+fn converge_measures_the_rule_against_an_oracle_and_draws_the_motion() {
+    let folder = temp_folder("accuracy-oracle");
+    let (oracle, motion) = (folder.join("oracle.png"), folder.join("motion.png"));
+    let scene = data("net.json");
+    for (flag, png) in [("--oracle", &oracle), ("--motion", &motion)] {
+        let args = [
+            "converge",
+            &scene,
+            "--steps",
+            "4",
+            "--accuracy",
+            "assignment",
+            flag,
+            png.to_str().unwrap(),
+        ];
+        let output = masssprings(&args);
+        assert!(output.status.success(), "{flag}: {}", stderr(&output));
+        assert_eq!(&std::fs::read(png).unwrap()[..4], b"\x89PNG", "{flag}");
+        let text = stdout(&output);
+        let expected = match flag {
+            "--oracle" => "oracle, along own's trajectory: the rule's median step ",
+            _ => "plain-50: mean kinetic energy ",
+        };
+        assert!(
+            text.contains(expected),
+            "{flag}: missing '{expected}' in\n{text}"
+        );
+    }
+    let table = std::fs::read_to_string(folder.join("oracle.csv")).unwrap();
+    let rows: Vec<&str> = table.lines().collect();
+    assert!(
+        rows[0].starts_with("trajectory,step,plain_50_energy"),
+        "{}",
+        rows[0]
+    );
+    assert_eq!(
+        rows.len(),
+        1 + 2 * 4,
+        "a row per step of each trajectory:\n{table}"
+    );
+    for row in &rows[1..] {
+        let cells: Vec<&str> = row.split(',').collect();
+        let (energy, rule): (f64, f64) = (cells[2].parse().unwrap(), cells[6].parse().unwrap());
+        assert!(energy <= 0.0, "plain-50 lowers the energy: {row}");
+        let slack = 1e-9 * energy.abs() + 1e-12;
+        assert!(
+            rule <= energy + slack,
+            "the rule ends at or below plain-50: {row}"
+        );
+    }
 }

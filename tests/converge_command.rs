@@ -243,7 +243,7 @@ fn converge_with_an_energy_tolerance_solves_each_step_by_that_rule() {
             .filter(|r| {
                 let (energy, target): (f64, f64) = (r[4].parse().unwrap(), r[5].parse().unwrap());
                 assert!(energy < 0.0 && target < 0.0, "{r:?}");
-                assert!(r[3] == "EnergyTolerance" || r[3] == "Iterations", "{r:?}");
+                assert!(r[3] == "energy-tolerance" || r[3] == "iterations", "{r:?}");
                 energy <= target + 1e-12 * target.abs()
             })
             .count();
@@ -346,7 +346,7 @@ fn converge_with_at_least_plain_stops_each_step_past_the_floor() {
         .collect();
     assert_eq!(rows.len(), 6, "{text}");
     for row in &rows {
-        assert_eq!(row[3], "AtLeastPlain", "{text}");
+        assert_eq!(row[3], "at-least-plain", "{text}");
         let iterations: usize = row[2].parse().unwrap();
         if row[1] == "plain" {
             // ten first decreases take plain at least ten iterations

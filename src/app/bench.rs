@@ -145,7 +145,8 @@ fresh process: n, nnz(Q), nnz(L), flops, median times of ordering,
 symbolic analysis, numeric factorization, a 3-column solve and a full
 step, peak memory (VmHWM), the solve's bandwidth beside a measured triad
 bandwidth, and the log-log slope of each cost. Default sizes 32,100,316
-(about a minute); 1000, 2000, 3162 on request.")]
+(about a minute); 1000, 2000, 3162 on request. Shows what it is measuring
+on standard error, with --json too.")]
 pub struct BenchArgs {
     /// Grid sides, each at least 2 (the default takes about a minute on a 2-core machine; 1000, one million vertices, 2000 and 3162 on request).
     #[arg(long, value_name = "N,N,…", value_delimiter = ',', default_value = "32,100,316", value_parser = whole(2, usize::MAX))]

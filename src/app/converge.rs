@@ -19,9 +19,22 @@
 //! read one by one. With `--accuracy` instead of a rule, it compares the
 //! accuracy's settings with the assignment's over whole animations
 //! ([`accuracy`]).
+//!
+//! The files beside this one, each using only those listed before it:
+//! [`request`] (the parsed command line), [`curve`] (one step by one
+//! method, iterate by iterate), [`steps_plot`] and [`convergence_plot`]
+//! (the pictures), [`steps`] (steps 1…S, each method's whole step beside
+//! plain-50's), [`accuracy`] (`--accuracy`), [`oracle`] (`--oracle`: the
+//! accuracy's cost against the least any rule could spend) and [`motion`]
+//! (`--motion`: how much the cloth moves, by how each step is solved).
 
 mod accuracy;
 mod convergence_plot;
+mod curve;
+mod motion;
+mod oracle;
+mod request;
+mod steps;
 mod steps_plot;
 
 use super::draw::plot::Scale;
@@ -29,59 +42,17 @@ use super::error::AppError;
 use super::file_plan::{load_scene, plan_scene_inputs};
 use super::flags::{between, choice, whole, FactorFlags, StepRules};
 use super::limits::{check_kept, precompute};
+use super::progress::Progress;
+use curve::{first_reaching, rho_from, trace, yardstick, Curve, Sample};
 use masssprings::files::{write_file, FilePlan};
 use masssprings::mesh::Scene;
-use masssprings::sim::energy::free_norm;
-use masssprings::sim::methods::chebyshev::estimate_rho;
-use masssprings::sim::monitor::Iterate;
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::{Accuracy, Start, DELTA_T};
-use masssprings::sim::{Simulation, Sparse, StepControl, StepMethod, Stop};
+use masssprings::sim::{Sparse, StepMethod, DELTA_T};
+use request::{Request, YARDSTICKS};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
-use steps_plot::{StepPlot, StepSeries};
-
-/// One row of the CSV.
-#[derive(Debug, Clone, Copy)]
-struct Sample {
-    iteration: usize,
-    energy: f64,
-    relative_gradient: f64,
-    elapsed_ms: f64,
-    /// `‖pₖ − pₖ₋₁‖` (0 at iteration 0).
-    step_norm: f64,
-}
-
-/// One method's curve.
-struct Curve {
-    method: StepMethod,
-    samples: Vec<Sample>,
-    stop: Stop,
-    /// The rounding `η` of the step's energy differences
-    /// (`StepEnergy::rounding`).
-    rounding: f64,
-}
-
-pub(super) struct Request {
-    scene: PathBuf,
-    step: usize,
-    methods: Vec<StepMethod>,
-    control: StepControl,
-    csv: Option<PathBuf>,
-    plot: Option<PathBuf>,
-    /// `--steps S`: instead of one step, steps 1…S, medians only.
-    over_steps: Option<usize>,
-    /// The canonical simulation: plain, 50 iterations, the pins and the
-    /// factorization given.
-    pub(super) canonical: SimulationOptions,
-    /// `--accuracy A` (with `--steps`): the accuracy's settings against the
-    /// assignment's, over whole animations.
-    accuracy: Option<Accuracy>,
-}
-
-/// Plain iterations whose energies are the yardsticks.
-const YARDSTICKS: [usize; 2] = [50, 200];
+use steps::{advance, by_method, draw_rule, rule_rows, write_rule_csv, RuleRow};
+use steps_plot::StepPlot;
 
 /// Solve one time step by every method, iteration by iteration.
 #[derive(clap::Args, Debug)]
@@ -126,6 +97,20 @@ pub struct ConvergeArgs {
     /// The time step in seconds, 1e-4 to 1 (default 1/30, the assignment's).
     #[arg(long, value_name = "DT", value_parser = between(1e-4, 1.0))]
     delta_t: Option<f64>,
+    /// With --accuracy: along the accuracy's own run and plain-50's, each step's time against the least any stopping rule could spend (an oracle that knows plain-50's energy), drawn into FILE.png with the rows in FILE.csv.
+    #[arg(long, value_name = "FILE.png", requires = "accuracy")]
+    oracle: Option<PathBuf>,
+    /// With --accuracy: the kinetic energy and the centroid's speed after each step of three runs from rest, plain-50, the accuracy's and one solved to convergence, drawn into FILE.png.
+    #[arg(
+        long,
+        value_name = "FILE.png",
+        requires = "accuracy",
+        conflicts_with = "oracle"
+    )]
+    motion: Option<PathBuf>,
+    /// The most iterations each method may take on a step, the length of its curve (default 200; with --accuracy, the accuracy's).
+    #[arg(long, value_name = "N", value_parser = whole(1, usize::MAX))]
+    iterations: Option<usize>,
     #[command(flatten)]
     rules: StepRules,
     #[command(flatten)]
@@ -141,6 +126,13 @@ pub fn run(args: ConvergeArgs) -> Result<(), AppError> {
         if let Some(path) = path {
             plan.output(flag, path);
         }
+    }
+    if let Some(path) = &request.motion {
+        plan.output("--motion", path);
+    }
+    if let Some(path) = &request.oracle {
+        plan.output("--oracle", path);
+        plan.output("--oracle's table", &path.with_extension("csv"));
     }
     plan.output("the table", Path::new("-")).check()?;
     check_records(&request)?;
@@ -188,6 +180,7 @@ pub(super) fn parse(args: ConvergeArgs) -> Request {
     sim_options.step.iterations = 200;
     sim_options.step.measure = true; // every report compares energies
     args.rules.apply(&mut sim_options);
+    sim_options.step.iterations = args.iterations.unwrap_or(sim_options.step.iterations);
     let accuracy = args.rules.accuracy;
     let methods = match accuracy {
         Some(_) => vec![sim_options.step.method],
@@ -210,6 +203,8 @@ pub(super) fn parse(args: ConvergeArgs) -> Request {
         canonical,
         over_steps: args.steps,
         accuracy,
+        oracle: args.oracle,
+        motion: args.motion,
     }
 }
 
@@ -231,120 +226,6 @@ fn check_records(request: &Request) -> Result<(), AppError> {
         check_kept(rows, "step rows", each, "use fewer --steps")?;
     }
     Ok(())
-}
-
-/// The control of the yardstick runs (plain-50, plain-200): the
-/// assignment's iteration from the assignment's start, whatever `--start`
-/// says for the methods compared with it.
-fn yardstick(control: &StepControl) -> StepControl {
-    StepControl {
-        start: Start::Current,
-        ..*control
-    }
-}
-
-/// Step `simulation`'s next step by `method` for up to `iterations`,
-/// recording every iterate (on a copy: `simulation` does not move).
-fn trace(
-    simulation: &Simulation<Sparse>,
-    control: &StepControl,
-    method: StepMethod,
-    iterations: usize,
-) -> Result<Curve, AppError> {
-    let control = StepControl {
-        method,
-        iterations,
-        ..control.without_stopping_rules()
-    };
-    let failed = |e: masssprings::sim::SimulationError| AppError::Failed(format!("{method}: {e}"));
-    let mut copy = warmed_up(simulation, &control)?;
-    let mut samples = Vec::with_capacity(iterations.saturating_add(1));
-    let mut gradient = vec![[0.0; 3]; copy.positions().len()];
-    let mut previous = copy.positions().to_vec();
-    let mut initial_gradient = 0.0;
-    let mut rounding = 0.0;
-    let mut not_counted = Duration::ZERO;
-    let started = Instant::now();
-    let mut record = |iterate: &Iterate<'_>| {
-        let now = Instant::now();
-        let elapsed = now - started - not_counted;
-        if iterate.iteration == 0 {
-            // ‖∇E(pᵗ)‖: the step's start, which the first iterate need not be
-            iterate.energy.gradient(iterate.energy.start, &mut gradient);
-            initial_gradient = free_norm(&gradient, iterate.pinned);
-            rounding = iterate.energy.rounding();
-        }
-        iterate.energy.gradient(iterate.positions, &mut gradient);
-        let norm = free_norm(&gradient, iterate.pinned);
-        samples.push(Sample {
-            iteration: iterate.iteration,
-            energy: iterate.energy.change(iterate.positions).total(),
-            relative_gradient: if initial_gradient > 0.0 {
-                norm / initial_gradient
-            } else {
-                0.0
-            },
-            elapsed_ms: 1e3 * elapsed.as_secs_f64(),
-            step_norm: distance(iterate.positions, &previous),
-        });
-        previous.copy_from_slice(iterate.positions);
-        not_counted += now.elapsed();
-    };
-    let report = copy
-        .step_with(&control, Some(&mut record))
-        .map_err(failed)?;
-    Ok(Curve {
-        method,
-        samples,
-        stop: report.stop,
-        rounding,
-    })
-}
-
-/// A copy of `simulation` that has run one untimed iteration of `control`'s
-/// method and is back at `simulation`'s state: the iteration made the
-/// method's work arrays, so that a clock started just before the next step
-/// counts what every step pays: the step's setup (the first iterate, the
-/// initial gradient) and the iterations.
-fn warmed_up(
-    simulation: &Simulation<Sparse>,
-    control: &StepControl,
-) -> Result<Simulation<Sparse>, AppError> {
-    let method = control.method;
-    let failed = |e: masssprings::sim::SimulationError| AppError::Failed(format!("{method}: {e}"));
-    let mut copy = simulation.clone();
-    let warm_up = StepControl {
-        iterations: 1,
-        ..*control
-    };
-    copy.step_with(&warm_up, None).map_err(failed)?;
-    let (u_prev, u_cur) = (simulation.previous_positions(), simulation.positions());
-    copy.set_state(u_prev, u_cur, simulation.steps())
-        .map_err(failed)?;
-    Ok(copy)
-}
-
-/// The `ρ` Chebyshev's first step would measure, from a plain run's step
-/// norms.
-fn rho_from(plain: &Curve) -> f64 {
-    let norms: Vec<f64> = plain.samples[1..].iter().map(|s| s.step_norm).collect();
-    estimate_rho(&norms)
-}
-
-/// `‖a − b‖` over all coordinates.
-fn distance(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(p, q)| (0..3).map(|c| (p[c] - q[c]).powi(2)).sum::<f64>())
-        .sum::<f64>()
-        .sqrt()
-}
-
-/// The first sample at or below `energy` (with a relative slack of 1e-12
-/// for rounding).
-fn first_reaching(curve: &Curve, energy: f64) -> Option<&Sample> {
-    let slack = 1e-12 * energy.abs();
-    curve.samples.iter().find(|s| s.energy <= energy + slack)
 }
 
 fn print_table(request: &Request, curves: &[Curve], yardsticks: [Option<f64>; 2], rounding: f64) {
@@ -369,14 +250,14 @@ fn print_table(request: &Request, curves: &[Curve], yardsticks: [Option<f64>; 2]
             None => "not reached".into(),
         };
         println!(
-            "{:<10} {:>6} {:>14.6e} {:>10.2e} {:>20} {:>20}  {:?}",
+            "{:<10} {:>6} {:>14.6e} {:>10.2e} {:>20} {:>20}  {}",
             curve.method.name(),
             last.iteration,
             last.energy,
             last.relative_gradient,
             reach(yardsticks[0]),
             reach(yardsticks[1]),
-            curve.stop
+            curve.stop.name()
         );
     }
 }
@@ -419,6 +300,12 @@ fn curves_for_plot(curves: &[Curve]) -> Vec<convergence_plot::PlotCurve> {
 /// (the accuracy the assignment settles for); prints, per method, the
 /// median over the steps and its ratio to plain-50's median.
 fn run_over_steps(request: &Request, scene: &Scene, steps: usize) -> Result<(), AppError> {
+    if let (Some(_), Some(path)) = (request.accuracy, &request.oracle) {
+        return oracle::run(request, scene, steps, path);
+    }
+    if let (Some(_), Some(path)) = (request.accuracy, &request.motion) {
+        return motion::run(request, scene, steps, path);
+    }
     if let Some(accuracy) = request.accuracy {
         return accuracy::run(request, scene, steps, accuracy);
     }
@@ -431,6 +318,7 @@ fn run_over_steps(request: &Request, scene: &Scene, steps: usize) -> Result<(), 
     let mut iterations: Vec<Vec<f64>> = vec![Vec::new(); request.methods.len()];
     let mut plain_50_ms = Vec::new();
     let mut rows = Vec::new();
+    let mut progress = Progress::new(steps, true);
     for step in 1..=steps {
         let plain = trace(
             &simulation,
@@ -456,9 +344,9 @@ fn run_over_steps(request: &Request, scene: &Scene, steps: usize) -> Result<(), 
                 plain_50_ms: ms_of_plain,
             });
         }
-        advance(&mut simulation, step, steps)?;
+        advance(&mut simulation, step, &mut progress)?;
     }
-    eprintln!();
+    progress.finish();
     print_reach_table(request, steps, &mut plain_50_ms, &times, &iterations);
     if let Some(path) = &request.csv {
         write_file(path, |out| write_reach_csv(out, &rows))?;
@@ -632,172 +520,4 @@ fn run_over_steps_to_tolerance(
         draw_rule(path, title, &request.methods, &step_rows)?;
     }
     Ok(())
-}
-
-/// The rows of `--steps S` with a rule: for each of the canonical steps
-/// 1…S, plain-50 and then each method solve the step from the same
-/// state, each timed whole (interleaved, in one process), stopping by the
-/// request's rules; the scene's name beside them.
-fn rule_rows(
-    request: &Request,
-    scene: &Scene,
-    steps: usize,
-) -> Result<(String, Vec<RuleRow>), AppError> {
-    let mut simulation = precompute::<Sparse>(scene, &request.scene, request.canonical)?;
-    let plain_50 = StepControl {
-        method: StepMethod::Plain,
-        iterations: YARDSTICKS[0],
-        ..yardstick(&request.control).without_stopping_rules()
-    };
-    let mut control = request.control;
-    // One runner per method, kept across steps so that each method's work
-    // arrays are made once (as in a simulation), and set to the canonical
-    // state before each timed step.
-    let mut plain_runner = simulation.clone();
-    let mut runners = vec![simulation.clone(); request.methods.len()];
-    let mut step_rows = Vec::new();
-    for step in 1..=steps {
-        if control.rho.is_none() {
-            let plain = trace(&simulation, &control, StepMethod::Plain, YARDSTICKS[0])?;
-            control.rho = Some(rho_from(&plain));
-        }
-        let (plain_report, ms_of_plain) = timed_step(&mut plain_runner, &simulation, &plain_50)?;
-        let target = -measured_decrease(&plain_report);
-        for (&method, runner) in request.methods.iter().zip(&mut runners) {
-            let control = StepControl { method, ..control };
-            let (report, ms) = timed_step(runner, &simulation, &control)?;
-            step_rows.push(RuleRow {
-                step,
-                method,
-                iterations: report.iterations,
-                stop: report.stop,
-                energy: -measured_decrease(&report),
-                plain_50_energy: target,
-                ms,
-                plain_50_ms: ms_of_plain,
-            });
-        }
-        advance(&mut simulation, step, steps)?;
-    }
-    eprintln!();
-    Ok((scene.name.clone(), step_rows))
-}
-
-/// The canonical simulation's step `step` of `steps`, with progress.
-fn advance(simulation: &mut Simulation<Sparse>, step: usize, steps: usize) -> Result<(), AppError> {
-    simulation
-        .step()
-        .map_err(|e| AppError::Failed(format!("step {step}: {e}")))?;
-    eprint!("\rconverge: step {step}/{steps}");
-    Ok(())
-}
-
-/// One plot series per method, from the rows that give it a point
-/// (`point` says whose point a row is, if any).
-fn by_method<R>(
-    methods: &[StepMethod],
-    rows: &[R],
-    point: impl Fn(&R) -> Option<(StepMethod, (f64, f64, f64))>,
-) -> Vec<StepSeries> {
-    methods
-        .iter()
-        .map(|&method| {
-            let points = rows
-                .iter()
-                .filter_map(&point)
-                .filter(|&(m, _)| m == method)
-                .map(|(_, p)| p)
-                .collect();
-            (method.name().to_string(), points)
-        })
-        .collect()
-}
-
-/// The plot of `--steps S` with a rule: per step, the step's time and its
-/// energy decrease over plain-50's.
-fn draw_rule(
-    path: &std::path::Path,
-    title: String,
-    methods: &[StepMethod],
-    rows: &[RuleRow],
-) -> Result<(), AppError> {
-    let series = by_method(methods, rows, |r| {
-        let (time, decrease) = (r.ms / r.plain_50_ms, r.energy / r.plain_50_energy);
-        Some((r.method, (r.step as f64, time, decrease)))
-    });
-    let plot = StepPlot {
-        title,
-        caption: "left: step time / plain-50's; right: energy decrease / plain-50's \
-                  (at or above 1: the step ended at least as low as plain-50)"
-            .into(),
-        left: ("cost", "step time / plain-50's (log)", Scale::Log10),
-        right: ("accuracy", "decrease / plain-50's (log)", Scale::Log10),
-        plain_50_line: true,
-    };
-    steps_plot::draw(path, &plot, &series)
-}
-
-/// `--steps S --csv` with a stopping rule: one method's whole step, beside
-/// plain-50's.
-struct RuleRow {
-    step: usize,
-    method: StepMethod,
-    iterations: usize,
-    stop: Stop,
-    /// `E(p) − E(pᵗ)` where the method stopped, and where plain-50 does.
-    energy: f64,
-    plain_50_energy: f64,
-    ms: f64,
-    plain_50_ms: f64,
-}
-
-fn write_rule_csv(out: &mut dyn Write, rows: &[RuleRow]) -> std::io::Result<()> {
-    writeln!(
-        out,
-        "step,method,iterations,stop,energy,plain_50_energy,ms,plain_50_ms"
-    )?;
-    for r in rows {
-        writeln!(
-            out,
-            "{},{},{},{:?},{:e},{:e},{:.4},{:.4}",
-            r.step,
-            r.method.name(),
-            r.iterations,
-            r.stop,
-            r.energy,
-            r.plain_50_energy,
-            r.ms,
-            r.plain_50_ms
-        )?;
-    }
-    Ok(())
-}
-
-/// The next step from `simulation`'s state, solved by `runner` as
-/// `control` says, and its wall time in milliseconds.
-fn timed_step(
-    runner: &mut Simulation<Sparse>,
-    simulation: &Simulation<Sparse>,
-    control: &StepControl,
-) -> Result<(masssprings::sim::StepReport, f64), AppError> {
-    let failed =
-        |e: masssprings::sim::SimulationError| AppError::Failed(format!("{}: {e}", control.method));
-    runner
-        .set_state(
-            simulation.previous_positions(),
-            simulation.positions(),
-            simulation.steps(),
-        )
-        .map_err(failed)?;
-    let started = Instant::now();
-    let report = runner.step_with(control, None).map_err(failed)?;
-    Ok((report, 1e3 * started.elapsed().as_secs_f64()))
-}
-
-/// The energy decrease of a step whose control asked for it
-/// (`StepControl::measure`, set for every step `converge` runs).
-fn measured_decrease(report: &masssprings::sim::StepReport) -> f64 {
-    report
-        .energy_decrease
-        .expect("converge's steps measure their energy")
 }

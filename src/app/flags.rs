@@ -32,10 +32,11 @@ pub struct SimulationFlags {
     pub backend: Backend,
 }
 
-/// `--json`, the same in every command that reports numbers.
+/// `--json`, the same in every command that reports numbers (whether the
+/// progress stays on standard error is each command's to say).
 #[derive(Args, Debug, Clone, Copy)]
 pub struct JsonFlag {
-    /// Print one JSON object instead of the report (simulate and render: without progress).
+    /// Print one JSON object instead of the report.
     #[arg(long)]
     pub json: bool,
 }
@@ -49,11 +50,15 @@ impl SimulationFlags {
 }
 
 /// How each step is solved (`converge` compares every method, see its
-/// `--methods`, and takes [`StepRules`] alone).
+/// `--methods`, and takes [`StepRules`] alone, with an `--iterations` of
+/// its own: the length of its curves).
 #[derive(Args, Debug, Clone)]
 pub struct Solve {
     #[command(flatten)]
     pub method: StepMethodFlags,
+    /// The most iterations a step may take (default 50, the assignment's; with --accuracy, the accuracy's).
+    #[arg(long, value_name = "N", value_parser = whole(1, usize::MAX))]
+    pub iterations: Option<usize>,
     #[command(flatten)]
     pub rules: StepRules,
 }
@@ -88,10 +93,11 @@ const TEXTBOOK_REFUSES: [&str; 12] = [
 ];
 
 /// When a step stops, where it starts, how pins hold: shared by every
-/// command that steps a simulation.
+/// command that steps a simulation (the budget, `--iterations`, is each
+/// command's: [`Solve`] and `converge` give it different defaults).
 #[derive(Args, Debug, Clone)]
 pub struct StepRules {
-    /// Solve every step to a named accuracy, as fast as we know how: assignment (at least as low in energy as the assignment's 50 plain iterations: plain iterations while they converge fast, then L-BFGS with --energy-tolerance 0.15 above the energy plain-50 can reach at most, at most 20 iterations unless --iterations says otherwise; docs/convergence.md, section 6). Instead of --method and the stopping rules.
+    /// Solve every step to a named accuracy, as fast as we know how: assignment (at least as low in energy as the assignment's 50 plain iterations from the same state: at least three plain iterations, then L-BFGS from the lower of the plain iterate and the inertial prediction until the energy is past what plain-50 can reach and has stopped falling steeply, at most 20 L-BFGS iterations unless --iterations says otherwise; docs/convergence.md, section 6). Instead of choosing a method and stopping rules.
     #[arg(long, value_name = "A", value_parser = choice::<Accuracy>(&Accuracy::ALL.map(Accuracy::name)), conflicts_with_all = ["tolerance", "energy_tolerance", "at_least_plain"])]
     pub accuracy: Option<Accuracy>,
     /// Stop a step once its relative gradient is at most T (between 0 and 1; default: run every iteration).
@@ -103,9 +109,6 @@ pub struct StepRules {
     /// Let no rule stop a step before its energy has fallen by N times what the first plain iteration takes off (1 to 1e6; N plain iterations take off at most that while their decrease does not grow). With no other rule, stop there.
     #[arg(long, value_name = "N", value_parser = plain_multiple)]
     pub at_least_plain: Option<f64>,
-    /// The most iterations a step may take (default 50; converge: 200, the length of each curve).
-    #[arg(long, value_name = "N", value_parser = whole(1, usize::MAX))]
-    pub iterations: Option<usize>,
     /// Chebyshev's spectral radius, between 0 and 1 (default: estimated).
     #[arg(long, value_name = "R", value_parser = open_fraction)]
     pub rho: Option<f64>,
@@ -138,7 +141,7 @@ pub struct Backend {
 pub struct FactorFlags {
     #[command(flatten)]
     pub ordering: OrderingFlag,
-    /// The sparse Q's factorization and solves (simplicial: the textbook row-by-row method).
+    /// The sparse Cholesky factorization and its solves (simplicial: the textbook row-by-row method).
     #[arg(long, value_name = "F", default_value = "supernodal", value_parser = choice::<Method>(&["supernodal", "simplicial"]))]
     pub factorization: Method,
     /// The supernodal factorization's supernodes: small (those of at most three columns merged, storing a few zeros), fundamental (none merged) or relaxed (CHOLMOD's rule, many zeros).
@@ -150,7 +153,7 @@ pub struct FactorFlags {
 /// in the factor's order.
 #[derive(Args, Debug, Clone, Copy)]
 pub struct OrderingFlag {
-    /// The sparse Q's fill-reducing ordering (natural: none, the rows in the scene's order).
+    /// The sparse Cholesky factorization's fill-reducing ordering (natural: none, the rows in the order given).
     #[arg(long, value_name = "O", default_value = "amd", value_parser = choice::<Ordering>(&["amd", "natural"]))]
     pub ordering: Ordering,
 }
@@ -159,6 +162,7 @@ impl Solve {
     /// Sets `options` from the flags that were given.
     pub fn apply(&self, options: &mut SimulationOptions) {
         self.rules.apply(options);
+        options.step.iterations = self.iterations.unwrap_or(options.step.iterations);
         if let Some(method) = self.method.method {
             options.step.method = method;
         }
@@ -168,7 +172,8 @@ impl Solve {
 
 impl StepRules {
     /// Sets `options` from the flags that were given: `--accuracy` first
-    /// (its method and rules), then each flag given on top.
+    /// (its method, rules and budget), then each flag given on top (the
+    /// budget, `--iterations`, is set after this by the command).
     pub fn apply(&self, options: &mut SimulationOptions) {
         let step = &mut options.step;
         if let Some(accuracy) = self.accuracy {
@@ -180,7 +185,6 @@ impl StepRules {
         step.tolerance = self.tolerance.or(step.tolerance);
         step.energy_tolerance = self.energy_tolerance.or(step.energy_tolerance);
         step.at_least_plain = self.at_least_plain.or(step.at_least_plain);
-        step.iterations = self.iterations.unwrap_or(step.iterations);
         step.rho = self.rho.or(step.rho);
         step.relaxation = self.relaxation.unwrap_or(step.relaxation);
         step.window = self.window.unwrap_or(step.window);

@@ -90,7 +90,8 @@ struct Summary {
 Simulates N steps and draws step 0 and every K-th step with the viewer's
 look into a looping GIF that plays in real time, or draws the last step into
 a PNG. Cloths show their surface and pins; --springs adds every spring and
-point mass (always drawn for scenes made only of springs).
+point mass (always drawn for scenes made only of springs). Shows progress
+on standard error (none with --json).
 
 With --mistake NAME, draws the handout's step (left) beside the same step with
 one of the usual mistakes made in it (right), in one picture of --size:

@@ -59,7 +59,8 @@ struct Summary {
     accuracy: Option<&'static str>,
     iterations_median: f64,
     iterations_max: usize,
-    /// How many steps each rule stopped (`Iterations`, `EnergyTolerance`, …).
+    /// How many steps each rule stopped, by the rule's name in snake case
+    /// (`iterations`, `energy_tolerance`, …: `Stop::name`).
     stops: std::collections::BTreeMap<String, usize>,
     /// `None` when the steps did not measure it (the plain fixed-count
     /// step does not).
@@ -92,8 +93,8 @@ struct Run {
 Runs the simulation (sparse unless --dense) for N steps. With --out, writes
 DIR/frame-NNNNNN.obj for step 0 and every K-th step (with DIR/NAME.mtl and
 the texture when the scene has one, so Blender shows it). Shows progress on
-standard error; ends with n, springs, precomputation time, the median step
-time and the total time.")]
+standard error (none with --json); ends with n, springs, precomputation
+time, the median step time and the total time.")]
 pub struct SimulateArgs {
     /// The scene: JSON that names an OBJ (data/README.md).
     #[arg(value_name = "SCENE.json")]
@@ -324,7 +325,8 @@ fn run_steps<B: LinearAlgebra>(
         tally.step_times.push(t.elapsed().as_secs_f64());
         tally.iterations.push(report.iterations as f64);
         tally.iterations_max = tally.iterations_max.max(report.iterations);
-        *tally.stops.entry(format!("{:?}", report.stop)).or_insert(0) += 1;
+        let key = report.stop.name().replace('-', "_");
+        *tally.stops.entry(key).or_insert(0) += 1;
         if let Some(gradient) = report.relative_gradient {
             tally.gradients.push(gradient);
         }
@@ -570,7 +572,7 @@ fn print_iterations(s: &Summary) {
     let stops: Vec<String> = s
         .stops
         .iter()
-        .map(|(stop, n)| format!("{stop} {n}"))
+        .map(|(key, n)| format!("{} {n}", key.replace('_', "-")))
         .collect();
     println!(
         "iterations       {} per step (median), at most {}; stopped by {}",

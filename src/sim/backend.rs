@@ -11,9 +11,12 @@
 //! * [`Sparse`]: [`CscMatrix`] built from a triplet list and
 //!   [`SparseCholesky`], with the ordering and the numeric method of a
 //!   [`SparseFactorization`]: by default AMD and the supernodal method (the
-//!   fast path); `Ordering::Natural` and `Method::Simplicial` give the
-//!   textbook path, row-by-row factorization and column-by-column
-//!   substitution (`--ordering natural --factorization simplicial`).
+//!   fast path). `Method::Simplicial` is the textbook factorization, row by
+//!   row, with the substitutions of `triangular_solve.rs`: the one
+//!   [`textbook`](super::textbook) runs, after AMD as Eigen's
+//!   `SimplicialLLT` does (`Ordering::Natural` for none), and the one
+//!   `--factorization simplicial` gives the fast path (`--ordering natural`
+//!   for no ordering).
 
 use crate::linalg::dense::{DenseCholesky, DenseMatrix};
 use crate::linalg::sparse::{

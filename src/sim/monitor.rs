@@ -339,6 +339,41 @@ fn relative_gradient(norm: f64, initial: f64) -> f64 {
     }
 }
 
+/// The names of the reasons a step stops, as the command line and its
+/// output say them (the words of the flags behind the rules: `tolerance`,
+/// `energy-tolerance`, `at-least-plain`, the budget `iterations`), never
+/// Rust's names of the variants. [`Stop`] is declared with the rest of a
+/// step's vocabulary in `control.rs`; its names are given here, beside the
+/// rules that produce it.
+impl Stop {
+    /// Every reason, in the order of the enum.
+    pub const ALL: [Stop; 5] = [
+        Stop::Iterations,
+        Stop::Tolerance,
+        Stop::EnergyTolerance,
+        Stop::AtLeastPlain,
+        Stop::Stalled,
+    ];
+
+    /// The name in the output: the word of the flag whose rule stopped
+    /// the step (`Iterations`: the budget, `--iterations`), or `stalled`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stop::Iterations => "iterations",
+            Stop::Tolerance => "tolerance",
+            Stop::EnergyTolerance => "energy-tolerance",
+            Stop::AtLeastPlain => "at-least-plain",
+            Stop::Stalled => "stalled",
+        }
+    }
+}
+
+impl std::fmt::Display for Stop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::{relative_gradient, Monitor};
@@ -470,5 +505,22 @@ mod tests {
     fn the_relative_gradient_falls_back_to_the_norm_at_a_minimiser() {
         assert_eq!(relative_gradient(1.0, 4.0), 0.25);
         assert_eq!(relative_gradient(1e-20, 0.0), 1e-20);
+    }
+
+    #[test]
+    fn every_stop_has_a_name_of_its_own_in_the_command_lines_words() {
+        use crate::sim::control::Stop;
+        let names: Vec<&str> = Stop::ALL.iter().map(|s| s.name()).collect();
+        assert_eq!(
+            names,
+            [
+                "iterations",
+                "tolerance",
+                "energy-tolerance",
+                "at-least-plain",
+                "stalled"
+            ]
+        );
+        assert_eq!(Stop::EnergyTolerance.to_string(), "energy-tolerance");
     }
 }

@@ -33,7 +33,8 @@
 //!   own trajectory is not the assignment's, so each of its steps is
 //!   compared, too, with plain-50 from the same (its own) state.
 
-use super::{draw_rule, measured_decrease, rule_rows, timed_step, Request, RuleRow};
+use super::request::Request;
+use super::steps::{draw_rule, measured_decrease, rule_rows, timed_step, write_rule_csv, RuleRow};
 use crate::app::error::AppError;
 use crate::app::limits::precompute;
 use masssprings::mesh::Scene;
@@ -67,7 +68,7 @@ pub fn run(
         draw_rule(path, title, &request.methods, &rows)?;
     }
     if let Some(path) = &request.csv {
-        masssprings::files::write_file(path, |out| super::write_rule_csv(out, &rows))?;
+        masssprings::files::write_file(path, |out| write_rule_csv(out, &rows))?;
     }
     Ok(())
 }
@@ -118,12 +119,17 @@ impl Totals {
 
     /// The median of the steps' time ratios.
     fn median_ratio(&self) -> f64 {
-        let mut ratios = self.step_ratios.clone();
-        ratios.sort_by(f64::total_cmp);
-        match ratios.len() {
-            0 => f64::NAN,
-            n => 0.5 * (ratios[(n - 1) / 2] + ratios[n / 2]),
-        }
+        median(&self.step_ratios)
+    }
+}
+
+/// The median of `values` (NaN when there are none).
+pub(super) fn median(values: &[f64]) -> f64 {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    match sorted.len() {
+        0 => f64::NAN,
+        n => 0.5 * (sorted[(n - 1) / 2] + sorted[n / 2]),
     }
 }
 
@@ -193,9 +199,9 @@ struct Apart {
     max_vertex: f64,
     rms: f64,
     centroid: f64,
-    /// Wall time of each run on its own, steps only (ms).
-    plain_50_ms: f64,
-    ms: f64,
+    /// Wall time of each step of each run on its own (ms).
+    plain_50_ms: Vec<f64>,
+    ms: Vec<f64>,
     /// Along the settings' own trajectory: its steps, each against plain-50
     /// from its state, and the rounding of plain's energy there.
     own: Vec<RuleRow>,
@@ -229,8 +235,10 @@ fn trajectories(request: &Request, scene: &Scene, steps: usize) -> Result<Apart,
         let middle = Instant::now();
         let report = fast.step().map_err(failed)?;
         let ms = 1e3 * middle.elapsed().as_secs_f64();
-        apart.ms += ms;
-        apart.plain_50_ms += 1e3 * (middle - started).as_secs_f64();
+        apart.ms.push(ms);
+        apart
+            .plain_50_ms
+            .push(1e3 * (middle - started).as_secs_f64());
         apart.own.push(RuleRow {
             step,
             method: report.method,
@@ -273,9 +281,10 @@ fn print(request: &Request, accuracy: Accuracy, steps: usize, totals: &Totals, a
         request.scene.display(),
         accuracy.name()
     );
+    print_own(accuracy, steps, apart);
     println!(
-        "from the same states:  plain-50 {:.3} ms, {} {:.3} ms, ratio {:.3} ({} iterations), \
-         median step ratio {:.3}",
+        "from the same states (each step of both from plain-50's state): plain-50 {:.3} ms, \
+         {} {:.3} ms, ratio {:.3} ({} iterations), median step ratio {:.3}",
         totals.plain_50_ms,
         accuracy.name(),
         totals.ms,
@@ -283,42 +292,55 @@ fn print(request: &Request, accuracy: Accuracy, steps: usize, totals: &Totals, a
         totals.iterations,
         totals.median_ratio()
     );
-    let listed: Vec<String> = totals
-        .above
-        .iter()
-        .map(|(step, by)| format!("{step} (+{by:.3e})"))
-        .collect();
     println!(
-        "steps above plain-50's energy (by more than {ABOVE:e} of its decrease and its rounding): {} of {steps}{}",
+        "  {} of {steps} steps above plain-50's energy (by more than {ABOVE:e} of its decrease \
+         and its rounding){}, closest step {} ({:+.3e} of plain-50's decrease)",
         totals.above.len(),
-        match listed.is_empty() {
-            true => String::new(),
-            false => format!(": {}", listed.join(", ")),
-        }
+        listed(&totals.above),
+        totals.worst.0,
+        totals.worst.1
+    );
+}
+
+/// What a user gets: the two runs each on its own, and the accuracy's
+/// steps against plain-50 from its own states.
+fn print_own(accuracy: Accuracy, steps: usize, apart: &Apart) {
+    let (plain_total, total) = (
+        apart.plain_50_ms.iter().sum::<f64>(),
+        apart.ms.iter().sum::<f64>(),
     );
     println!(
-        "closest step: {} ({:+.3e} of plain-50's decrease)",
-        totals.worst.0, totals.worst.1
-    );
-    println!(
-        "each on its own:       plain-50 {:.3} ms, {} {:.3} ms, ratio {:.3}",
-        apart.plain_50_ms,
+        "each on its own (what a user gets): plain-50 {plain_total:.3} ms, {} {total:.3} ms, \
+         ratio {:.3}, median step ratio {:.3}",
         accuracy.name(),
-        apart.ms,
-        apart.ms / apart.plain_50_ms
+        total / plain_total,
+        median(&apart.ms) / median(&apart.plain_50_ms)
     );
     let own = Totals::of(&apart.own, &apart.own_rounding);
     println!(
-        "along its own trajectory, against plain-50 from each of its states: {} of {steps} \
-         steps above, closest step {} ({:+.3e}), {} iterations",
+        "  along its own trajectory, against plain-50 from each of its states: {} of {steps} \
+         steps above{}, closest step {} ({:+.3e}), {} iterations",
         own.above.len(),
+        listed(&own.above),
         own.worst.0,
         own.worst.1,
         own.iterations
     );
     println!(
-        "trajectories apart (largest over the steps): max vertex {:.3e}, RMS {:.3e}, \
+        "  the two trajectories apart (largest over the steps): max vertex {:.3e}, RMS {:.3e}, \
          centroid {:.3e}",
         apart.max_vertex, apart.rms, apart.centroid
     );
+}
+
+/// `": 3 (+1.2e-2), 7 (+4.0e-1)"` for steps above, or nothing.
+fn listed(above: &[(usize, f64)]) -> String {
+    let steps: Vec<String> = above
+        .iter()
+        .map(|(step, by)| format!("{step} (+{by:.3e})"))
+        .collect();
+    match steps.is_empty() {
+        true => String::new(),
+        false => format!(": {}", steps.join(", ")),
+    }
 }

@@ -1,0 +1,237 @@
+//! `masssprings converge SCENE --steps S --accuracy assignment --oracle
+//! FILE.png`: what the accuracy's rule spends on each step, beside the
+//! least any stopping rule could spend on it.
+//!
+//! A stopping rule does not know plain-50's energy `E₅₀` from the step's
+//! state: it has to bound it from what it measures. An oracle that knows
+//! it could stop every method at the first iterate at or below it. So, for
+//! each of the steps 1…S along two trajectories, the accuracy's own run
+//! and plain-50's, this solves the step from that state (untimed: plain-50
+//! itself, for `E₅₀`; timed: each of the methods below, recording every
+//! iterate) and writes, per step,
+//!
+//! ```text
+//! the rule       its iterations, time and ending energy, as simulate solves the step
+//! L-BFGS         from pᵗ, iterations and time to first reach E₅₀
+//! plain, ŷ       plain from the inertial prediction ŷ = 2pᵗ − pᵗ⁻¹, the same
+//! L-BFGS, ŷ      L-BFGS from ŷ, the same
+//! least          the fastest of the three: what an oracle rule would spend
+//! ```
+//!
+//! each time over plain-50's time from the same state. The plot draws the
+//! rule's time and the oracle's least per step, for both trajectories:
+//! where the rule spends more than the oracle, it wastes.
+
+use super::steps_plot::{StepPlot, StepSeries};
+use super::accuracy::median;
+use super::curve::{trace, Curve};
+use super::request::{Request, YARDSTICKS};
+use super::steps::timed_step;
+use crate::app::draw::plot::Scale;
+use crate::app::error::AppError;
+use crate::app::limits::precompute;
+use masssprings::files::write_file;
+use masssprings::mesh::Scene;
+use masssprings::sim::{Simulation, Sparse, Start, StepControl, StepMethod};
+use std::io::Write;
+use std::path::Path;
+
+/// The oracle's methods: a name, the method, and where it starts.
+const ORACLES: [(&str, StepMethod, Start); 3] = [
+    ("L-BFGS", StepMethod::Lbfgs, Start::Current),
+    ("plain, inertial start", StepMethod::Plain, Start::Inertial),
+    ("L-BFGS, inertial start", StepMethod::Lbfgs, Start::Inertial),
+];
+
+/// The most iterations an oracle method may take to reach `E₅₀`.
+const ORACLE_ITERATIONS: usize = 50;
+
+/// One step of one trajectory.
+struct OracleRow {
+    trajectory: &'static str,
+    step: usize,
+    plain_50_ms: f64,
+    /// `E₅₀ − E(pᵗ)`.
+    plain_50_energy: f64,
+    rule_iterations: usize,
+    rule_ms: f64,
+    rule_energy: f64,
+    /// Per oracle method: iterations and milliseconds to reach `E₅₀`, if
+    /// it did within [`ORACLE_ITERATIONS`].
+    reached: [Option<(usize, f64)>; 3],
+}
+
+impl OracleRow {
+    /// The least time any oracle method needed, over plain-50's.
+    fn least(&self) -> Option<f64> {
+        let least = self
+            .reached
+            .iter()
+            .flatten()
+            .map(|r| r.1)
+            .reduce(f64::min)?;
+        Some(least / self.plain_50_ms)
+    }
+}
+
+/// Measures both trajectories and writes the plot to `path` and the rows
+/// beside it (`path` with `.csv`).
+pub fn run(request: &Request, scene: &Scene, steps: usize, path: &Path) -> Result<(), AppError> {
+    let mut rows = trajectory(request, scene, steps, "own", request.control)?;
+    rows.extend(trajectory(
+        request,
+        scene,
+        steps,
+        "plain-50",
+        request.canonical.step,
+    )?);
+    print_summary(&rows);
+    write_file(&path.with_extension("csv"), |out| write_csv(out, &rows))?;
+    draw(path, &scene.name, &rows)
+}
+
+/// The rows of the steps 1…`steps` along the run advanced by `driver`.
+fn trajectory(
+    request: &Request,
+    scene: &Scene,
+    steps: usize,
+    name: &'static str,
+    driver: StepControl,
+) -> Result<Vec<OracleRow>, AppError> {
+    let options = masssprings::sim::SimulationOptions {
+        step: driver,
+        ..request.canonical
+    };
+    let mut simulation = precompute::<Sparse>(scene, &request.scene, options)?;
+    let mut runner = simulation.clone();
+    let mut rows = Vec::with_capacity(steps);
+    for step in 1..=steps {
+        rows.push(oracle_row(request, &simulation, &mut runner, name, step)?);
+        simulation
+            .step()
+            .map_err(|e| AppError::Failed(format!("{name}, step {step}: {e}")))?;
+        eprintln!("converge --oracle: {name} step {step}/{steps}");
+    }
+    Ok(rows)
+}
+
+/// The next step from `simulation`'s state: plain-50, the rule (timed in
+/// `runner`), and each oracle method until it reaches plain-50's energy.
+fn oracle_row(
+    request: &Request,
+    simulation: &Simulation<Sparse>,
+    runner: &mut Simulation<Sparse>,
+    trajectory: &'static str,
+    step: usize,
+) -> Result<OracleRow, AppError> {
+    let canonical = request.canonical.step;
+    let plain = trace(simulation, &canonical, StepMethod::Plain, YARDSTICKS[0])?;
+    let last = plain.samples.last().expect("an iterate at least");
+    let (target, plain_50_ms) = (last.energy, last.elapsed_ms);
+    let (report, rule_ms) = timed_step(runner, simulation, &request.control)?;
+    let mut reached = [None; 3];
+    for (slot, &(_, method, start)) in reached.iter_mut().zip(&ORACLES) {
+        let control = StepControl { start, ..canonical };
+        let curve = trace(simulation, &control, method, ORACLE_ITERATIONS)?;
+        *slot = first_reaching(&curve, target);
+    }
+    Ok(OracleRow {
+        trajectory,
+        step,
+        plain_50_ms,
+        plain_50_energy: target,
+        rule_iterations: report.iterations,
+        rule_ms,
+        rule_energy: -report.energy_decrease.unwrap_or(f64::NAN),
+        reached,
+    })
+}
+
+/// The iterations and milliseconds at which `curve` first reaches `target`.
+fn first_reaching(curve: &Curve, target: f64) -> Option<(usize, f64)> {
+    super::curve::first_reaching(curve, target).map(|s| (s.iteration, s.elapsed_ms))
+}
+
+/// Per trajectory: the medians of the rule's and the oracle's time over
+/// plain-50's.
+fn print_summary(rows: &[OracleRow]) {
+    for trajectory in ["own", "plain-50"] {
+        let of: Vec<&OracleRow> = rows.iter().filter(|r| r.trajectory == trajectory).collect();
+        let rule: Vec<f64> = of.iter().map(|r| r.rule_ms / r.plain_50_ms).collect();
+        let least: Vec<f64> = of.iter().filter_map(|r| r.least()).collect();
+        let iterations: usize = of.iter().map(|r| r.rule_iterations).sum();
+        println!(
+            "oracle, along {trajectory}'s trajectory: the rule's median step {:.3} of plain-50's \
+             ({iterations} iterations), the oracle's least {:.3} (reached on {} of {} steps)",
+            median(&rule),
+            median(&least),
+            least.len(),
+            of.len()
+        );
+    }
+}
+
+fn write_csv(out: &mut dyn Write, rows: &[OracleRow]) -> std::io::Result<()> {
+    write!(
+        out,
+        "trajectory,step,plain_50_energy,plain_50_ms,rule_iterations,rule_ms,rule_energy"
+    )?;
+    for name in ["lbfgs", "inertial_plain", "inertial_lbfgs"] {
+        write!(out, ",{name}_iterations,{name}_ms")?;
+    }
+    writeln!(out)?;
+    for r in rows {
+        write!(
+            out,
+            "{},{},{:e},{:.4},{},{:.4},{:e}",
+            r.trajectory,
+            r.step,
+            r.plain_50_energy,
+            r.plain_50_ms,
+            r.rule_iterations,
+            r.rule_ms,
+            r.rule_energy
+        )?;
+        for reached in &r.reached {
+            match reached {
+                Some((iterations, ms)) => write!(out, ",{iterations},{ms:.4}")?,
+                None => write!(out, ",,")?,
+            }
+        }
+        writeln!(out)?;
+    }
+    Ok(())
+}
+
+/// Left: along the rule's own trajectory; right: along plain-50's. Each
+/// the rule's step time and the oracle's least, over plain-50's.
+fn draw(path: &Path, scene: &str, rows: &[OracleRow]) -> Result<(), AppError> {
+    let series_of = |name: &str, value: &dyn Fn(&OracleRow) -> Option<f64>| -> StepSeries {
+        let point = |trajectory: &str, r: &OracleRow| {
+            (r.trajectory == trajectory).then(|| value(r)).flatten()
+        };
+        let mut points = Vec::new();
+        for r in rows.iter().filter(|r| r.trajectory == "own") {
+            let plain = rows
+                .iter()
+                .find(|q| q.trajectory == "plain-50" && q.step == r.step);
+            let right = plain.and_then(|q| point("plain-50", q)).unwrap_or(f64::NAN);
+            points.push((r.step as f64, point("own", r).unwrap_or(f64::NAN), right));
+        }
+        (name.to_string(), points)
+    };
+    let series = vec![
+        series_of("the rule", &|r| Some(r.rule_ms / r.plain_50_ms)),
+        series_of("oracle: least", &|r| r.least()),
+    ];
+    let plot = StepPlot {
+        title: format!("{scene}, --accuracy assignment: the rule against an oracle that knows plain-50's energy"),
+        caption: "each step's time over plain-50's from the same state; the oracle stops the fastest of \
+                  L-BFGS, plain and L-BFGS from the inertial start at plain-50's energy"
+            .into(),
+        left: ("along its own trajectory", "time / plain-50's (log)", Scale::Log10),
+        right: ("along plain-50's trajectory", "time / plain-50's (log)", Scale::Log10),
+        plain_50_line: true,
+    };
+    super::steps_plot::draw(path, &plot, &series)
+}
