@@ -17,8 +17,8 @@
 //! step is solved better: the converged run keeps swinging after plain-50
 //! has come to rest.
 
-use super::steps_plot::{StepPlot, StepSeries};
 use super::request::Request;
+use super::steps_plot::{StepPlot, StepSeries};
 use crate::app::draw::plot::Scale;
 use crate::app::error::AppError;
 use crate::app::limits::precompute;

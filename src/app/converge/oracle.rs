@@ -22,11 +22,11 @@
 //! rule's time and the oracle's least per step, for both trajectories:
 //! where the rule spends more than the oracle, it wastes.
 
-use super::steps_plot::{StepPlot, StepSeries};
 use super::accuracy::median;
 use super::curve::{trace, Curve};
 use super::request::{Request, YARDSTICKS};
 use super::steps::timed_step;
+use super::steps_plot::{StepPlot, StepSeries};
 use crate::app::draw::plot::Scale;
 use crate::app::error::AppError;
 use crate::app::limits::precompute;
