@@ -36,9 +36,9 @@
 //!   file beside the destination, flushed to disk and renamed into place,
 //!   so a failure never leaves a half-written file behind (a file replaced
 //!   keeps its permissions). The temporary is removed on every error; a
-//!   process killed while writing leaves it, named `.NAME.PID-COUNTER.tmp`,
-//!   and [`remove_stale_temporaries`] (run by the commands before they
-//!   write into a folder) removes it later.
+//!   process killed while writing leaves it, named
+//!   `.NAME.masssprings-PID-START-N.tmp` ([`temporaries`]), and the next
+//!   run that takes the folder's lock ([`FolderLock`]) removes it.
 //! * **a symbolic link**: followed; its target is replaced as above, and the
 //!   link stays a link.
 //! * **a FIFO, a device, `-`**: written to directly (a FIFO waits at most
@@ -48,16 +48,22 @@
 //! This module sits below every layer and knows nothing about what the
 //! files contain.
 
+mod lock;
 mod outputs;
 pub mod patient;
+mod temporaries;
 
+pub use lock::{FolderLock, LOCK_FILE};
 pub use outputs::{resolve, same_file, FilePlan};
+pub use temporaries::{
+    exchange_folders, remove_temporaries_of, temporary_folder, temporary_owner, temporary_path,
+    Owner,
+};
 
 use std::fmt;
 use std::fs;
 use std::io::{self, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// A file that could not be read, written or understood: which file, which
 /// line, and what went wrong. Displays as `path:line: problem`.
@@ -429,83 +435,9 @@ fn write_then_rename(
     fs::rename(temporary, path)
 }
 
-/// `.NAME.PID-COUNTER.tmp` beside `path`: unique per process and per call, so
-/// concurrent writers never share a temporary.
-fn temporary_path(path: &Path) -> io::Result<PathBuf> {
-    static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let name = path.file_name().ok_or_else(|| {
-        io::Error::new(
-            io::ErrorKind::InvalidInput,
-            format!("`{}` does not name a file", path.display()),
-        )
-    })?;
-    let unique = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let temporary = format!(
-        ".{}.{}-{unique}.tmp",
-        name.to_string_lossy(),
-        std::process::id()
-    );
-    Ok(path.with_file_name(temporary))
-}
-
-/// Removes the temporaries [`write_file`] left in `folder` when its process
-/// was killed (`.NAME.PID-COUNTER.tmp` whose process no longer runs);
-/// returns how many were removed. Temporaries of running processes, and
-/// every other file, are left alone. Where the running processes cannot be
-/// listed (no `/proc`), nothing is removed.
-///
-/// # Errors
-/// [`FileError`] naming the folder when it cannot be listed; a temporary
-/// that cannot be removed is skipped.
-pub fn remove_stale_temporaries(folder: &Path) -> Result<usize, FileError> {
-    if !Path::new("/proc/self").exists() {
-        return Ok(0);
-    }
-    let entries = fs::read_dir(folder).map_err(|e| FileError::unreadable(folder, e))?;
-    let mut removed = 0;
-    for entry in entries.flatten() {
-        let name = entry.file_name();
-        let Some(pid) = name.to_str().and_then(temporary_owner) else {
-            continue;
-        };
-        let running = Path::new("/proc").join(pid.to_string()).exists();
-        if !running && fs::remove_file(entry.path()).is_ok() {
-            removed += 1;
-        }
-    }
-    Ok(removed)
-}
-
-/// The process id in a temporary's name `.NAME.PID-COUNTER.tmp`, if `name`
-/// is one.
-fn temporary_owner(name: &str) -> Option<u32> {
-    let stem = name.strip_prefix('.')?.strip_suffix(".tmp")?;
-    let (_, unique) = stem.rsplit_once('.')?;
-    let (pid, counter) = unique.split_once('-')?;
-    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
-    (digits(pid) && digits(counter)).then(|| pid.parse().ok())?
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn temporaries_are_recognised_by_their_name_only() {
-        assert_eq!(temporary_owner(".frame-000001.obj.4242-7.tmp"), Some(4242));
-        assert_eq!(temporary_owner(".a.1-0.tmp"), Some(1));
-        for other in [
-            "frame-000001.obj",
-            ".frame.obj.tmp",
-            ".x.12-.tmp",
-            ".x.-3.tmp",
-            ".x.1a-3.tmp",
-            "x.1-3.tmp",
-            ".x.1-3.tmpx",
-        ] {
-            assert_eq!(temporary_owner(other), None, "{other}");
-        }
-    }
 
     #[test]
     fn line_of_offset_counts_line_breaks_before_it() {

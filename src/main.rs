@@ -9,6 +9,7 @@ mod app;
 mod mutate;
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    // as the system gives them: a name that is not UTF-8 is still a path
+    let args: Vec<std::ffi::OsString> = std::env::args_os().skip(1).collect();
     std::process::exit(app::run(&args));
 }

@@ -67,13 +67,52 @@ pub fn limit() -> Limit {
     *LIMIT.get_or_init(decide_limit)
 }
 
+/// The limit [`LIMIT_VARIABLE`] asks for, in GB: `Ok(None)` when it is
+/// not set.
+///
+/// # Errors
+/// A sentence naming the variable, its value and what is wrong with it
+/// (not a number, a unit written after it, a decimal comma, zero or less,
+/// not finite), so that a typo is not ignored in silence.
+pub fn limit_variable() -> Result<Option<f64>, String> {
+    match std::env::var_os(LIMIT_VARIABLE) {
+        None => Ok(None),
+        Some(value) => parse_limit(&value.to_string_lossy()).map(Some),
+    }
+}
+
+/// The GB of a value of [`LIMIT_VARIABLE`] (see [`limit_variable`]).
+fn parse_limit(text: &str) -> Result<f64, String> {
+    let problem = match text.trim().parse::<f64>() {
+        Ok(gb) if gb.is_finite() && gb > 0.0 => return Ok(gb),
+        Ok(gb) if gb.is_nan() || gb.is_infinite() => "it must be a finite number",
+        Ok(_) => "it must be above 0",
+        Err(_) if text.contains(',') => "write decimals with a point (2.5), not a comma",
+        Err(_) if starts_as_a_number(text) && ends_in_a_letter(text) => {
+            "give the number alone, in GB (3, not 3GB)"
+        }
+        Err(_) => "it is not a number",
+    };
+    Err(format!(
+        "{LIMIT_VARIABLE}={text:?} is not a memory limit: {problem}; give a number of GB above \
+         0 (decimals allowed), or unset it to use what the machine has"
+    ))
+}
+
+/// Does `text` start with a digit (or a point), as `3GB` does?
+fn starts_as_a_number(text: &str) -> bool {
+    text.trim_start()
+        .starts_with(|c: char| c.is_ascii_digit() || c == '.')
+}
+
+/// Does `text` end in a letter, as `3GB` does?
+fn ends_in_a_letter(text: &str) -> bool {
+    text.trim_end().ends_with(|c: char| c.is_ascii_alphabetic())
+}
+
 fn decide_limit() -> Limit {
     let read = |path: &str| std::fs::read_to_string(path).ok();
-    let mut limit = match std::env::var(LIMIT_VARIABLE)
-        .ok()
-        .and_then(|text| text.trim().parse::<f64>().ok())
-        .filter(|gb| gb.is_finite() && *gb > 0.0)
-    {
+    let mut limit = match limit_variable().ok().flatten() {
         Some(gb) => Limit {
             bytes: (gb * GB) as u64,
             source: LIMIT_VARIABLE,
@@ -308,9 +347,10 @@ pub fn check_against(
     })
 }
 
-/// `n` with thousands separators, for messages: `300,000`.
-pub fn thousands(n: u64) -> String {
-    let digits = n.to_string();
+/// `n` with thousands separators, for messages: `300,000` (any unsigned
+/// count up to 128 bits, so that `2³² × 2³²` is shown exactly).
+pub fn thousands(n: impl Into<u128>) -> String {
+    let digits = n.into().to_string();
     let mut out = String::with_capacity(digits.len() + digits.len() / 3);
     for (i, digit) in digits.chars().enumerate() {
         if i > 0 && (digits.len() - i).is_multiple_of(3) {
@@ -428,10 +468,31 @@ mod tests {
     }
 
     #[test]
+    fn a_limit_that_is_not_a_number_of_gb_is_named() {
+        for (bad, why) in [
+            ("3GB", "3, not 3GB"),
+            ("2,5", "not a comma"),
+            ("0", "above 0"),
+            ("-1", "above 0"),
+            ("nan", "finite"),
+            ("inf", "finite"),
+            ("abc", "not a number"),
+            ("", "not a number"),
+        ] {
+            let problem = parse_limit(bad).unwrap_err();
+            assert!(
+                problem.contains(why) && problem.contains(&format!("{LIMIT_VARIABLE}=\"{bad}\"")),
+                "{bad}: {problem}"
+            );
+        }
+        assert_eq!(parse_limit(" 2.5 "), Ok(2.5));
+    }
+
+    #[test]
     fn thousands_are_separated() {
-        assert_eq!(thousands(0), "0");
-        assert_eq!(thousands(999), "999");
-        assert_eq!(thousands(300_000), "300,000");
-        assert_eq!(thousands(1_234_567), "1,234,567");
+        assert_eq!(thousands(0u64), "0");
+        assert_eq!(thousands(999u64), "999");
+        assert_eq!(thousands(300_000u64), "300,000");
+        assert_eq!(thousands(1_234_567u64), "1,234,567");
     }
 }

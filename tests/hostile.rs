@@ -27,7 +27,7 @@ mod springs;
 #[path = "common/student_file.rs"]
 mod student_file;
 
-use cli::{data, temp_folder};
+use cli::{assert_fails, copy_scene, data, names_in, temp_folder};
 use masssprings::files::FileError;
 use masssprings::linalg::sparse::TripletMatrix;
 use masssprings::matrix_market::{self, write_array, write_coordinate, Symmetry};
@@ -80,28 +80,6 @@ fn corpus_path(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/hostile")
         .join(name)
-}
-
-/// Asserts a clean failure: exit code 1 (no panic, no abort) and every
-/// piece of `expected` in the message.
-fn assert_fails(output: &Output, expected: &[&str]) {
-    let message = stderr(output);
-    assert_eq!(output.status.code(), Some(1), "{message}");
-    assert!(!message.contains("panicked"), "{message}");
-    for piece in expected {
-        assert!(message.contains(piece), "`{piece}` not in: {message}");
-    }
-}
-
-fn names_in(folder: &Path) -> Vec<String> {
-    let mut names: Vec<String> = match std::fs::read_dir(folder) {
-        Ok(entries) => entries
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect(),
-        Err(_) => Vec::new(),
-    };
-    names.sort();
-    names
 }
 
 // ------------------------------------------ 1. silent wrong answers --
@@ -550,19 +528,25 @@ fn an_out_folder_with_frames_of_another_run_is_refused_unless_forced() {
         std::fs::read(folder.join("frame-000005.obj")).unwrap(),
         before
     );
-    // A killed run's temporary (its process is gone) and --force: the old
-    // frames and the temporary go, the new frames come.
+    // A file named as temporaries used to be, whose "process" is gone, is
+    // a user's file now; --force replaces the old frames (once the new run
+    // is complete) and leaves it.
     let dead = Command::new("true").spawn().unwrap();
     let dead_pid = dead.id();
     let mut dead = dead;
     dead.wait().unwrap();
-    let stale = format!(".frame-000009.obj.{dead_pid}-0.tmp");
-    std::fs::write(folder.join(&stale), "half a frame").unwrap();
+    let users = format!(".frame-000009.obj.{dead_pid}-0.tmp");
+    std::fs::write(folder.join(&users), "a user's file").unwrap();
     let forced = run(&["simulate", &scene, "--steps", "2", "--out", out, "--force"]);
     assert!(forced.status.success(), "{}", stderr(&forced));
     assert_eq!(
         names_in(&folder),
-        ["frame-000000.obj", "frame-000001.obj", "frame-000002.obj"]
+        [
+            users.as_str(),
+            "frame-000000.obj",
+            "frame-000001.obj",
+            "frame-000002.obj"
+        ]
     );
 }
 
@@ -814,18 +798,6 @@ fn the_mutator_is_deterministic_and_changes_its_input() {
 }
 
 // ------------------------------ 5. outputs that never destroy inputs --
-
-/// A copy of the bundled `name` scene (JSON and OBJ, and the texture when
-/// it has one) in `folder`; returns the JSON's path.
-fn copy_scene(folder: &Path, name: &str) -> PathBuf {
-    for extension in ["json", "obj", "png"] {
-        let file = format!("{name}.{extension}");
-        if Path::new(&data(&file)).exists() {
-            std::fs::copy(data(&file), folder.join(&file)).unwrap();
-        }
-    }
-    folder.join(format!("{name}.json"))
-}
 
 fn text(path: &Path) -> String {
     path.display().to_string()
@@ -1155,7 +1127,7 @@ fn empty_names_and_folders_given_as_files_are_named_as_such() {
     assert_eq!(empty_out.status.code(), Some(2));
     let message = stderr(&empty_out);
     assert!(
-        message.contains("--out <Q.mtx>") && message.contains("expected a file name"),
+        message.contains("--out <Q.mtx>") && message.contains("value is required"),
         "{message}"
     );
     // an empty path is refused by the parser, naming the flag
@@ -1454,4 +1426,175 @@ fn the_viewer_takes_as_many_iterations_from_the_command_line_as_from_its_page() 
     let output = run(&["view", &data("net.json"), "--iterations", "1000000000000"]);
     assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
     assert!(stderr(&output).contains("--iterations 1000000000000: the viewer takes at most 1000"));
+}
+
+// ------------------------------------ 8. counts, pictures, messages --
+
+#[test]
+fn render_steps_past_64_bits_of_frames_are_refused_not_wrapped() {
+    let folder = temp_folder("render-steps");
+    let out = folder.join("x.gif");
+    let output = run(&[
+        "render",
+        &data("net.json"),
+        "--steps",
+        "18446744073709551615",
+        "-o",
+        &text(&out),
+    ]);
+    assert_fails(
+        &output,
+        &[
+            "18446744073709551616 frames to keep",
+            "more than 64 bits count",
+        ],
+    );
+    let every = run(&[
+        "render",
+        &data("net.json"),
+        "--steps",
+        "18446744073709551615",
+        "--every",
+        "2",
+        "-o",
+        &text(&out),
+    ]);
+    assert_fails(&every, &["keeping 9,223,372,036,854,775,808 frames"]);
+    assert!(names_in(&folder).is_empty());
+}
+
+#[test]
+fn pictures_go_through_the_memory_rule() {
+    let folder = temp_folder("pictures");
+    let out = folder.join("p.png");
+    for (command, needs) in [("etree", "would need 2.6 GB"), ("spy", "would need 0.3")] {
+        let output = run_with_limit(
+            &[
+                command,
+                &data("net.json"),
+                "--size",
+                "4096x4096",
+                "-o",
+                &text(&out),
+            ],
+            "0.2",
+        );
+        assert_fails(
+            &output,
+            &["4096×4096 pixels", needs, "choose a smaller --size"],
+        );
+    }
+    let render = run_with_limit(
+        &[
+            "render",
+            &data("net.json"),
+            "--size",
+            "2048x2048",
+            "--steps",
+            "1",
+            "-o",
+            &text(&out),
+        ],
+        "0.2",
+    );
+    assert_fails(&render, &["drawing a 2048×2048 frame would need"]);
+    assert!(names_in(&folder).is_empty());
+}
+
+#[test]
+fn arguments_that_are_not_utf8_are_read_not_panicked_on() {
+    use std::os::unix::ffi::OsStrExt;
+    let folder = temp_folder("not-utf8");
+    let name = std::ffi::OsStr::from_bytes(b"sc\xffene.json");
+    std::fs::copy(data("net.obj"), folder.join("net.obj")).unwrap();
+    std::fs::copy(data("net.json"), folder.join(name)).unwrap();
+    let binary = env!("CARGO_BIN_EXE_masssprings");
+    let output = Command::new(binary)
+        .arg("simulate")
+        .arg(name)
+        .args(["--steps", "1", "--json"])
+        .current_dir(&folder)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", stderr(&output));
+    let bad_value = Command::new(binary)
+        .args(["simulate", "net.json", "--method"])
+        .arg(std::ffi::OsStr::from_bytes(b"\xff"))
+        .current_dir(&folder)
+        .output()
+        .unwrap();
+    assert_eq!(bad_value.status.code(), Some(2), "{}", stderr(&bad_value));
+    assert!(!stderr(&bad_value).contains("panicked"));
+}
+
+#[test]
+fn a_memory_limit_that_is_not_a_number_of_gb_is_refused() {
+    for (value, why) in [
+        ("3GB", "3, not 3GB"),
+        ("2,5", "not a comma"),
+        ("0", "above 0"),
+        ("-1", "above 0"),
+        ("nan", "finite"),
+        ("abc", "not a number"),
+    ] {
+        let output = run_with_limit(&["simulate", &data("net.json"), "--steps", "1"], value);
+        assert_fails(
+            &output,
+            &[&format!("MASSSPRINGS_MEMORY_LIMIT_GB=\"{value}\""), why],
+        );
+    }
+}
+
+#[test]
+fn each_message_names_the_real_problem() {
+    // no step: no median of nothing
+    let none = run(&["simulate", &data("net.json"), "--steps", "0"]);
+    assert!(none.status.success(), "{}", stderr(&none));
+    let report = String::from_utf8_lossy(&none.stdout);
+    assert!(
+        !report.contains("NaN") && report.contains("no step was run"),
+        "{report}"
+    );
+    // 2³² × 2³² vertices, exactly
+    let grid = run(&["generate", "grid", "4294967296", "--out", "/nonexistent/x"]);
+    assert_fails(&grid, &["(18,446,744,073,709,551,616 vertices)"]);
+    // a pin no vertex can have
+    let folder = temp_folder("messages");
+    std::fs::copy(data("net.obj"), folder.join("net.obj")).unwrap();
+    std::fs::write(
+        folder.join("s.json"),
+        r#"{"obj": "net.obj", "k": 1, "m": 1, "b": [18446744073709551615]}"#,
+    )
+    .unwrap();
+    let pin = run(&["simulate", &text(&folder.join("s.json"))]);
+    assert_fails(&pin, &["pin b[0] = 18446744073709551615 is not a vertex"]);
+    std::fs::write(
+        folder.join("s.json"),
+        r#"{"obj": "net.obj", "k": 1, "m": 1, "b": [1e30]}"#,
+    )
+    .unwrap();
+    let pin = run(&["simulate", &text(&folder.join("s.json"))]);
+    assert_fails(&pin, &["s.json:1:", "larger than any vertex index"]);
+    // --textbook refuses what it would ignore
+    for flags in [
+        &["--supernodes", "relaxed"][..],
+        &["--rho", "0.5"][..],
+        &["--relaxation", "1"][..],
+        &["--window", "3"][..],
+        &["--factorization", "simplicial"][..],
+        &["--tolerance", "0.1"][..],
+    ] {
+        let mut args = vec!["simulate", "--textbook"];
+        let net = data("net.json");
+        args.push(&net);
+        args.extend_from_slice(flags);
+        let output = run(&args);
+        assert_eq!(output.status.code(), Some(2), "{flags:?}");
+        assert!(
+            stderr(&output).contains("'--textbook' cannot be used with")
+                && stderr(&output).contains(flags[0]),
+            "{flags:?}: {}",
+            stderr(&output)
+        );
+    }
 }

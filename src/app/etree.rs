@@ -5,9 +5,10 @@
 //! the tree and the number of supernodes.
 
 use super::draw::encode::write_png;
-use super::draw::sparsity::{depths, draw_elimination_tree};
+use super::draw::sparsity::{depths, draw_elimination_tree, TREE_SUPERSAMPLING};
 use super::error::AppError;
 use super::flags::{size, Size};
+use super::limits::{check_picture, picture_bytes};
 use super::matrix_input::{file_name, load_lower, PatternArgs};
 use masssprings::files::{write_file, FilePlan};
 use masssprings::linalg::sparse::SymbolicCholesky;
@@ -37,6 +38,9 @@ pub fn run(args: EtreeArgs) -> Result<(), AppError> {
     } = args.pattern;
     let ordering = ordering.ordering;
     let Size { width, height } = args.size;
+    check_picture(picture_bytes(width, height, TREE_SUPERSAMPLING), || {
+        format!("an elimination tree of {width}×{height} pixels")
+    })?;
     let mut plan = FilePlan::default();
     let lower = load_lower(&path, &mut plan)?;
     plan.output("-o", &out).check()?;

@@ -6,7 +6,6 @@
 
 use super::error::AppError;
 use super::file_plan::{plan_scene_inputs, report};
-use super::flags::file_name_given;
 use super::matrix_input::scene_q;
 use masssprings::files::{write_file, FilePlan};
 use masssprings::linalg::sparse::Triangle;
@@ -25,7 +24,7 @@ pub struct ExportQArgs {
     #[arg(value_name = "SCENE.json")]
     scene: PathBuf,
     /// The file to write.
-    #[arg(short, long, value_name = "Q.mtx", required = true, value_parser = file_name_given)]
+    #[arg(short, long, value_name = "Q.mtx", required = true)]
     out: PathBuf,
 }
 

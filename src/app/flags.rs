@@ -20,7 +20,6 @@ use masssprings::sim::control::{
 };
 use masssprings::sim::simulation::{SimulationOptions, Solver};
 use masssprings::sim::StepMethod;
-use std::path::PathBuf;
 use std::str::FromStr;
 
 /// How a simulation runs: how each step is solved and on which backend
@@ -70,10 +69,28 @@ pub struct StepMethodFlags {
     /// How each step is solved (default plain).
     #[arg(long, value_name = "M", value_parser = choice::<StepMethod>(&StepMethod::ALL.map(StepMethod::name)), conflicts_with = "accuracy")]
     pub method: Option<StepMethod>,
-    /// Run the handout's precomputation and step as written (sim/textbook.rs): plain iterations, penalty pins, the simplicial factor; dense with --dense.
-    #[arg(long, conflicts_with = "accuracy")]
+    /// Run the handout's precomputation and step as written (sim/textbook.rs): plain iterations, penalty pins, the simplicial factor; dense with --dense. It takes --iterations, --ordering and --dense, and refuses the flags of the fast path.
+    #[arg(long, conflicts_with_all = TEXTBOOK_REFUSES)]
     pub textbook: bool,
 }
+
+/// The flags `--textbook` refuses: the handout's step has one method (plain
+/// iterations from `U_cur`, all of them), penalty pins and the simplicial
+/// factor, so each of these would be ignored.
+const TEXTBOOK_REFUSES: [&str; 12] = [
+    "method",
+    "accuracy",
+    "tolerance",
+    "energy_tolerance",
+    "at_least_plain",
+    "rho",
+    "relaxation",
+    "window",
+    "start",
+    "pins",
+    "factorization",
+    "supernodes",
+];
 
 /// When a step stops, where it starts, how pins hold: shared by every
 /// command that steps a simulation (the budget, `--iterations`, is each
@@ -253,15 +270,6 @@ pub fn between(least: f64, most: f64) -> impl Fn(&str) -> Result<f64, String> + 
     move |text| {
         let what = format!("a number from {least} to {most}");
         number(text, |x| (least..=most).contains(&x), &what)
-    }
-}
-
-/// An output path that names something (`-o ''` names nothing).
-pub fn file_name_given(text: &str) -> Result<PathBuf, String> {
-    if text.is_empty() {
-        Err("expected a file name, got an empty one".into())
-    } else {
-        Ok(PathBuf::from(text))
     }
 }
 

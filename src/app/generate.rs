@@ -3,14 +3,20 @@
 //!
 //! Each file is written all or nothing: into a temporary file in `DIR`,
 //! renamed into place once complete (`masssprings::files::write_file`).
+//! One run at a time writes into `DIR` (its lock); a file already there
+//! with the very bytes `generate` would write is kept as it is, and one
+//! with other bytes (a scene edited since, or a file of the user's that
+//! shares the name) is refused, before anything is written, unless
+//! `--force` (`super::file_plan`).
 
 use super::draw::encode::write_png;
 use super::error::AppError;
+use super::file_plan::{check_output_folder, occupied, refuse_foreign, unlink_link, writes_same};
 use super::flags::whole;
 use super::limits::check_grid;
-use masssprings::files::{remove_stale_temporaries, write_file};
+use masssprings::files::{write_file, FolderLock};
 use masssprings::mesh::procedural::{self, GeneratedScene};
-use std::fs;
+use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 /// Write the benchmark cloth grid-N, or the five bundled scenes.
@@ -26,6 +32,9 @@ pub struct GenerateArgs {
     /// Folder to write into.
     #[arg(short, long, value_name = "DIR", default_value = ".", global = true)]
     out: PathBuf,
+    /// Replace files of the same names whose content differs (edited scenes, say) instead of refusing.
+    #[arg(long, global = true)]
+    force: bool,
 }
 
 /// What `generate` writes.
@@ -50,31 +59,84 @@ pub fn run(args: GenerateArgs) -> Result<(), AppError> {
         What::Examples => procedural::examples(),
     };
     let folder = args.out;
-    super::file_plan::check_output_folder(&folder, "generate writes scene files into a folder")?;
-    fs::create_dir_all(&folder)
-        .map_err(|e| AppError::Failed(format!("{}: {e}", folder.display())))?;
-    remove_stale_temporaries(&folder)?;
-    for scene in &scenes {
-        write_scene(scene, &folder)?;
+    check_output_folder(&folder, "generate writes scene files into a folder")?;
+    let _lock = FolderLock::acquire(&folder, "generate")?;
+    let files: Vec<SceneFile> = scenes
+        .iter()
+        .flat_map(|s| scene_files(s, &folder))
+        .collect();
+    let same: Vec<bool> = files
+        .iter()
+        .map(|file| writes_same(&file.path, |out| file.write(out)))
+        .collect();
+    let foreign: Vec<PathBuf> = files
+        .iter()
+        .zip(&same)
+        .filter(|(file, &same)| occupied(&file.path) && !same)
+        .map(|(file, _)| file.path.clone())
+        .collect();
+    let flag = format!("--out {}", folder.display());
+    refuse_foreign(&flag, "generate", &foreign, args.force)?;
+    let (mut written, mut kept) = (Vec::new(), Vec::new());
+    for (file, same) in files.iter().zip(same) {
+        if same {
+            kept.push(file.path.display().to_string());
+        } else {
+            unlink_link(&file.path)?; // forced: the link goes, not its target
+            write_file(&file.path, |out| file.write(out))?;
+            written.push(file.path.display().to_string());
+        }
+    }
+    if !written.is_empty() {
+        println!("wrote {}", written.join(", "));
+    }
+    if !kept.is_empty() {
+        println!("unchanged {}", kept.join(", "));
     }
     Ok(())
 }
 
-/// Writes `NAME.obj`, `NAME.json` and the texture, if any, into `folder`.
-fn write_scene(scene: &GeneratedScene, folder: &Path) -> Result<(), AppError> {
-    let obj_path = folder.join(scene.obj_file_name());
-    write_file(&obj_path, |out| scene.write_obj(out))?;
-    let json_path = folder.join(scene.json_file_name());
-    write_file(&json_path, |out| {
-        out.write_all(scene.json_text().as_bytes())
-    })?;
-    let mut written = vec![obj_path, json_path];
-    if let Some(texture) = &scene.texture {
-        let png_path = folder.join(&texture.file_name);
-        write_file(&png_path, |out| write_png(out, &texture.image))?;
-        written.push(png_path);
+/// One file of a generated scene: where it goes and what it holds.
+struct SceneFile<'a> {
+    path: PathBuf,
+    scene: &'a GeneratedScene,
+    part: Part,
+}
+
+/// Which file of a scene.
+enum Part {
+    Obj,
+    Json,
+    Texture,
+}
+
+impl SceneFile<'_> {
+    /// Writes the file's content to `out`.
+    fn write(&self, out: &mut dyn Write) -> io::Result<()> {
+        match self.part {
+            Part::Obj => self.scene.write_obj(out),
+            Part::Json => out.write_all(self.scene.json_text().as_bytes()),
+            Part::Texture => match &self.scene.texture {
+                Some(texture) => write_png(out, &texture.image),
+                None => Ok(()),
+            },
+        }
     }
-    let names: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
-    println!("wrote {}", names.join(", "));
-    Ok(())
+}
+
+/// `NAME.obj`, `NAME.json` and the texture, if any, of `scene` in `folder`.
+fn scene_files<'a>(scene: &'a GeneratedScene, folder: &Path) -> Vec<SceneFile<'a>> {
+    let file = |name: &str, part| SceneFile {
+        path: folder.join(name),
+        scene,
+        part,
+    };
+    let mut files = vec![
+        file(&scene.obj_file_name(), Part::Obj),
+        file(&scene.json_file_name(), Part::Json),
+    ];
+    if let Some(texture) = &scene.texture {
+        files.push(file(&texture.file_name, Part::Texture));
+    }
+    files
 }

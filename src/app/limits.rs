@@ -161,6 +161,30 @@ pub fn check_kept(count: u64, items: &str, each: u64, advice: &str) -> Result<()
     Ok(())
 }
 
+/// Pixels left below a picture for its caption (two lines of text at
+/// twice its size, and their gaps, take less).
+pub const CAPTION_PIXELS: u64 = 64;
+
+/// The bytes of a `width × height` picture (its caption below) drawn with
+/// `supersampling` samples a side: each sample its colour and depth (16
+/// bytes), each pixel 3 bytes for the picture and as many again for the
+/// PNG encoder; saturating.
+pub fn picture_bytes(width: usize, height: usize, supersampling: usize) -> u64 {
+    let pixels = (width as u64).saturating_mul((height as u64).saturating_add(CAPTION_PIXELS));
+    let samples = pixels.saturating_mul((supersampling as u64).saturating_pow(2));
+    bytes_for(samples, 16).saturating_add(bytes_for(pixels, 6))
+}
+
+/// Refuses to draw a picture of `bytes` ([`picture_bytes`], and what else
+/// it keeps), `what` saying which.
+///
+/// # Errors
+/// A failure with the estimate and the limit.
+pub fn check_picture(bytes: u64, what: impl FnOnce() -> String) -> Result<(), AppError> {
+    memory::check(bytes, what, "choose a smaller --size")?;
+    Ok(())
+}
+
 /// The bytes of the `grid N` mesh: `N²` vertices (24 bytes) and `(N−1)²`
 /// quads (4 indices of 8 bytes), saturating.
 pub fn grid_bytes(n: usize) -> u64 {
@@ -176,15 +200,16 @@ pub fn grid_bytes(n: usize) -> u64 {
 pub fn check_grid(n: usize) -> Result<(), AppError> {
     memory::check(
         grid_bytes(n),
-        || {
-            format!(
-                "grid {n} ({} vertices)",
-                thousands((n as u64).saturating_mul(n as u64))
-            )
-        },
+        || format!("grid {n} ({} vertices)", squared(n)),
         "choose a smaller N",
     )?;
     Ok(())
+}
+
+/// `n²`, exactly (a `u64` would overflow from `n = 2³²`), with thousands
+/// separated: the vertex count of `grid n`.
+fn squared(n: usize) -> String {
+    thousands((n as u128) * (n as u128))
 }
 
 #[cfg(test)]
@@ -198,5 +223,12 @@ mod tests {
         assert_eq!(dense_bytes(usize::MAX, usize::MAX, usize::MAX), u64::MAX);
         assert_eq!(grid_bytes(2), 4 * 24 + 32);
         assert_eq!(grid_bytes(usize::MAX), u64::MAX);
+        assert_eq!(squared(4_294_967_296), "18,446,744,073,709,551,616");
+        assert_eq!(squared(300), "90,000");
+        assert_eq!(
+            picture_bytes(10, 6, 3),
+            (10 * 70 * 9 * 16 + 10 * 70 * 6) as u64
+        );
+        assert_eq!(picture_bytes(usize::MAX, 2, 3), u64::MAX);
     }
 }

@@ -4,7 +4,7 @@
 
 use super::error::AppError;
 use super::file_plan::plan_scene_inputs;
-use super::flags::{file_name_given, OrderingFlag};
+use super::flags::OrderingFlag;
 use super::limits::check_q_overflow;
 use masssprings::files::FilePlan;
 use masssprings::linalg::sparse::{CscMatrix, Triangle};
@@ -22,7 +22,7 @@ pub struct PatternArgs {
     #[arg(value_name = "MATRIX.mtx|SCENE.json")]
     pub matrix: PathBuf,
     /// The picture to write.
-    #[arg(short, long, value_name = "OUT.png", required = true, value_parser = file_name_given)]
+    #[arg(short, long, value_name = "OUT.png", required = true)]
     pub out: PathBuf,
     #[command(flatten)]
     pub ordering: OrderingFlag,

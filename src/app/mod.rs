@@ -11,7 +11,8 @@
 //! subsystems         draw/ (rasterizer, plots, PNG/GIF), matrix_input (the matrix
 //!                    of analyze, spy, etree, export-q), analysis (the timed
 //!                    sparse Cholesky of analyze and bench)
-//! shared plumbing    flags, limits, progress, timing, resume (frames), file_plan
+//! frames             resume/ (the frames' format and folder, resuming from them)
+//! shared plumbing    flags, limits, progress, timing, file_plan
 //! the error          error (AppError)
 //! library            masssprings::{sim, mesh, linalg, files, memory}
 //! ```
@@ -43,6 +44,7 @@ mod view;
 use clap::error::ErrorKind;
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use error::AppError;
+use std::ffi::{OsStr, OsString};
 
 /// `masssprings`: its version, and one subcommand per command, each
 /// declared in its own file.
@@ -111,8 +113,9 @@ impl Command {
 
 /// Parses `args`; help asked for anywhere before a `--` wins over any
 /// error on the line (`simulate x --bogus -h` shows `simulate`'s help).
-fn parse(args: &[String]) -> Result<Cli, clap::Error> {
-    let line = std::iter::once("masssprings").chain(args.iter().map(String::as_str));
+fn parse(args: &[OsString]) -> Result<Cli, clap::Error> {
+    let line =
+        std::iter::once(OsStr::new("masssprings")).chain(args.iter().map(OsString::as_os_str));
     // `--energy-tolerance -0.1` is a bad value, not an unknown flag `-0`
     let command = Cli::command().mut_subcommands(|c| c.allow_negative_numbers(true));
     let matches = command.try_get_matches_from(line);
@@ -125,19 +128,22 @@ fn parse(args: &[String]) -> Result<Cli, clap::Error> {
                 .any(|arg| arg == "-h" || arg == "--help");
             match args.first() {
                 Some(command) if asks_for_help && error.kind() != ErrorKind::DisplayHelp => {
-                    Cli::try_parse_from(["masssprings", command, "--help"])
-                        .err()
-                        .unwrap_or(error)
+                    let help = [
+                        OsStr::new("masssprings"),
+                        command.as_os_str(),
+                        OsStr::new("--help"),
+                    ];
+                    Cli::try_parse_from(help).err().unwrap_or(error)
                 }
                 _ => error,
             }
         })
 }
 
-/// Runs the command line `args` (without the program name); returns the
-/// exit code: 0, 2 for a usage error (clap's or a command's), 1 for a
-/// failure.
-pub fn run(args: &[String]) -> i32 {
+/// Runs the command line `args` (without the program name, as the system
+/// gives them: not UTF-8 perhaps); returns the exit code: 0, 2 for a usage
+/// error (clap's or a command's), 1 for a failure.
+pub fn run(args: &[OsString]) -> i32 {
     let command = match parse(args) {
         Ok(cli) => cli.command,
         Err(error) => {
@@ -145,10 +151,16 @@ pub fn run(args: &[String]) -> i32 {
             return error.exit_code();
         }
     };
+    if let Err(problem) = masssprings::memory::limit_variable() {
+        eprintln!("masssprings: error: {problem}");
+        return 1;
+    }
     match command.run() {
         Ok(()) => 0,
         Err(AppError::Usage(message)) => {
-            let name = args.first().map_or("", String::as_str);
+            let name = args
+                .first()
+                .map_or("".into(), |name| name.to_string_lossy());
             eprintln!("masssprings: {message}\n(see `masssprings {name} --help`)");
             2
         }
@@ -165,7 +177,7 @@ mod tests {
 
     /// The command `line` parses into.
     fn command(line: &[&str]) -> Command {
-        let args: Vec<String> = line.iter().map(|s| s.to_string()).collect();
+        let args: Vec<OsString> = line.iter().map(OsString::from).collect();
         parse(&args).expect("a valid line").command
     }
 

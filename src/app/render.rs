@@ -24,8 +24,8 @@ use super::draw::look::SUPERSAMPLING;
 use super::draw::texture::Texture;
 use super::error::AppError;
 use super::file_plan::{load_scene, plan_scene_inputs};
-use super::flags::{choice, file_name_given, size, whole, JsonFlag, SimulationFlags, Size};
-use super::limits::{check_frames, precompute};
+use super::flags::{choice, size, whole, JsonFlag, SimulationFlags, Size};
+use super::limits::{check_frames, check_picture, picture_bytes, precompute};
 use super::progress::Progress;
 use super::timing::median;
 use masssprings::files::{write_file, FilePlan};
@@ -101,7 +101,7 @@ pub struct RenderArgs {
     #[arg(value_name = "SCENE.json")]
     scene: PathBuf,
     /// The picture: .gif (an animation) or .png (the last step).
-    #[arg(short, long, value_name = "OUT", required = true, value_parser = file_name_given)]
+    #[arg(short, long, value_name = "OUT", required = true)]
     out: PathBuf,
     /// Time steps to simulate.
     #[arg(long, value_name = "N", default_value = "100", value_parser = whole(0, usize::MAX))]
@@ -172,11 +172,7 @@ fn check_files(request: &Request, scene: &Scene) -> Result<(), AppError> {
     let mut plan = FilePlan::default();
     plan_scene_inputs(&mut plan, &request.scene, scene);
     plan.output("-o", &request.out).check()?;
-    check_frames(
-        request.kept_frames(),
-        frame_bytes(scene.vertices.len(), request.width, request.height),
-        "draw fewer frames (fewer --steps, a larger --every, or a .png of the last step)",
-    )
+    check_memory(request, scene.vertices.len())
 }
 
 /// The scene's texture, when it has one and texture coordinates to use it.
@@ -303,15 +299,51 @@ fn picture(request: &Request) -> mistake::Picture<'_> {
 }
 
 impl Request {
-    /// The frames kept for the whole run: step 0 and every `every`-th step
-    /// (GIF), or the last step (PNG); twice that beside a mistake.
-    fn kept_frames(&self) -> u64 {
-        let runs = if self.mistake.is_some() { 2 } else { 1 };
-        runs * match self.format {
-            Format::Gif => (self.steps / self.every) as u64 + 1,
-            Format::Png => 1,
+    /// The runs drawn: one, or two beside a mistake.
+    fn runs(&self) -> u128 {
+        if self.mistake.is_some() {
+            2
+        } else {
+            1
         }
     }
+
+    /// The frames kept for the whole run: step 0 and every `every`-th step
+    /// (GIF), or the last step (PNG); twice that beside a mistake; `None`
+    /// past 64 bits.
+    fn kept_frames(&self) -> Option<u64> {
+        let runs = self.runs() as u64;
+        let one_run = match self.format {
+            Format::Gif => ((self.steps / self.every) as u64).checked_add(1)?,
+            Format::Png => 1,
+        };
+        one_run.checked_mul(runs)
+    }
+}
+
+/// Refuses, before any work, a run whose kept frames (of `n` vertices each)
+/// or whose drawing canvas would not fit in memory.
+fn check_memory(request: &Request, n: usize) -> Result<(), AppError> {
+    let kept = request.kept_frames().ok_or_else(|| {
+        AppError::Failed(format!(
+            "--steps {} --every {}: {} frames to keep (step 0, then one every {} steps), \
+             more than 64 bits count; draw fewer frames",
+            request.steps,
+            request.every,
+            ((request.steps / request.every) as u128 + 1) * request.runs(),
+            request.every
+        ))
+    })?;
+    check_frames(
+        kept,
+        frame_bytes(n, request.width, request.height),
+        "draw fewer frames (fewer --steps, a larger --every, or a .png of the last step)",
+    )?;
+    let (width, height) = (request.width, request.height);
+    check_picture(picture_bytes(width, height, SUPERSAMPLING), || {
+        format!("drawing a {width}×{height} frame")
+    })?;
+    Ok(())
 }
 
 /// The bytes one kept frame costs: its positions (24 bytes a vertex) and its

@@ -11,23 +11,33 @@
 //! * their numbers are exact: without `--precision` each coordinate is the
 //!   shortest decimal that reads back to the same `f64`, so parsing it
 //!   gives back the very bits. The frame writer says which on each frame's
-//!   first line ([`frame_header`]); a rounded frame would continue a
+//!   first line ([`frames`]); a rounded frame would continue a
 //!   slightly different run.
 //!
-//! With both, `Simulation::set_state(U_prev, U_cur, step)` puts the
-//! simulation where the run stopped, and the next step gives the same bits
-//! as a run that never stopped (`tests/cli.rs`). Step 0 alone resumes as
-//! the start: before step 0 the cloth was at rest, `U_prev = U_cur`.
+//! Some methods also carry something from one step to the next: Chebyshev
+//! its estimate of `ρ`, Newton its damping. Each frame's second line, the
+//! run's record, holds it as it was after the frame's step, with what the
+//! run must share with the run it continues: the vertex count, `k`, `Δt`,
+//! the masses, the pins and the flags that decide the step. A resume whose
+//! scene or flags differ in any of them is refused, naming each.
 //!
-//! The options are not in the frames: give `--resume` the flags of the run
-//! it continues.
+//! With all of it, `Simulation::set_state(U_prev, U_cur, step)` and
+//! `Simulation::carry` put the simulation where the run stopped, and the
+//! next step gives the same bits as a run that never stopped
+//! (`tests/resume.rs`, every method). Step 0 alone resumes as the start:
+//! before step 0 the cloth was at rest, `U_prev = U_cur`.
+
+pub mod folder;
+pub mod frames;
 
 use super::error::AppError;
+use folder::{earlier_frames, not_a_file, not_a_folder};
+use frames::{check_carried, frame_name, frame_step, parse_frame, RunRecord};
 use masssprings::files::read_text;
-use masssprings::mesh::obj::parse_obj;
 use masssprings::mesh::Scene;
-use std::io;
-use std::path::{Path, PathBuf};
+use masssprings::sim::methods::Carried;
+use std::fs;
+use std::path::Path;
 
 /// The state a run stopped in.
 pub struct Resumed {
@@ -37,47 +47,39 @@ pub struct Resumed {
     pub u_prev: Vec<[f64; 3]>,
     /// The last frame's positions.
     pub u_cur: Vec<[f64; 3]>,
-}
-
-/// The first line of a frame: the scene, the step, and whether its
-/// positions are exact (`precision` `None`) or rounded to `precision`
-/// digits after the point.
-pub fn frame_header(scene: &str, step: usize, precision: Option<usize>) -> String {
-    match precision {
-        None => format!("# {scene} — masssprings frame, step {step}, exact positions"),
-        Some(digits) => format!(
-            "# {scene} — masssprings frame, step {step}, positions rounded to {digits} digits after the point"
-        ),
-    }
+    /// What the step's methods carried after the last frame's step.
+    pub carried: Carried,
 }
 
 /// The state of the run whose frames are in `folder`: its last frame and
-/// the one a step before it, both exact frames of `scene`.
+/// the one a step before it, both exact frames of `scene` written by a run
+/// whose record is `record` (the resumed run's, before any step).
 ///
 /// # Errors
-/// A sentence naming the folder or the frame: no folder, no frames, the frame a step
-/// before the last missing (written with `--every K > 1`), a rounded frame
-/// (written with `--precision`), a frame of another scene or step, a
-/// vertex count unlike the scene's, or the OBJ reader's error (file, line).
-pub fn last_state(folder: &Path, scene: &Scene) -> Result<Resumed, AppError> {
+/// A sentence naming the folder or the frame: no folder, no frames, a
+/// frame that is not a regular file, the frame a step before the last
+/// missing (written with `--every K > 1`), a rounded frame (written with
+/// `--precision`), a frame of another scene, step or run (another `k`,
+/// `Δt`, masses, pins or flags, each named), or the OBJ reader's error
+/// (file, line).
+pub fn last_state(folder: &Path, scene: &Scene, record: &RunRecord) -> Result<Resumed, AppError> {
     if !folder.is_dir() {
-        return Err(AppError::Failed(format!(
-            "--resume {}: no such folder",
-            folder.display()
-        )));
+        return Err(not_a_folder(folder));
     }
     let frames = earlier_frames(folder)?;
-    let Some(step) = frames.iter().filter_map(|path| frame_step(path)).max() else {
+    let last = frames.iter().filter_map(|path| step_of(path)).max();
+    let Some(step) = last else {
         return Err(AppError::Failed(format!(
             "--resume {}: no frames (frame-NNNNNN.obj) to continue from",
             folder.display()
         )));
     };
-    let u_cur = read_exact_frame(folder, step, scene)?;
+    let (u_cur, carried) = read_exact_frame(folder, step, scene, record)?;
     let u_prev = match step.checked_sub(1) {
         None => u_cur.clone(),
         Some(before) => {
-            if !folder.join(frame_name(before)).is_file() {
+            let path = folder.join(frame_name(before));
+            if fs::symlink_metadata(&path).is_err() {
                 return Err(AppError::Failed(format!(
                     "--resume {}: {} is missing: a step needs the last frame ({}) and the one a \
                      step before it; a run written with --every K > 1 keeps only every K-th step \
@@ -87,79 +89,95 @@ pub fn last_state(folder: &Path, scene: &Scene) -> Result<Resumed, AppError> {
                     frame_name(step)
                 )));
             }
-            read_exact_frame(folder, before, scene)?
+            read_exact_frame(folder, before, scene, record)?.0
         }
     };
     Ok(Resumed {
         step,
         u_prev,
         u_cur,
+        carried,
     })
 }
 
-/// `frame-NNNNNN.obj`, the name the frame writer gives `step`.
-pub fn frame_name(step: usize) -> String {
-    format!("frame-{step:06}.obj")
+/// The last step of a run resumed at `step` for `more` steps.
+///
+/// # Errors
+/// When it would pass the largest step a frame can be numbered with
+/// (`usize::MAX`), before any work.
+pub fn last_step(folder: &Path, step: usize, more: usize) -> Result<usize, AppError> {
+    step.checked_add(more).ok_or_else(|| {
+        AppError::Failed(format!(
+            "--resume {}: the run is at step {step}; {more} more steps would pass the largest \
+             step number, {}; give --steps {} or fewer",
+            folder.display(),
+            usize::MAX,
+            usize::MAX - step
+        ))
+    })
 }
 
-/// The positions of frame `step` in `folder`, if the frame says they are
-/// exact and it has one per vertex of `scene`.
-fn read_exact_frame(folder: &Path, step: usize, scene: &Scene) -> Result<Vec<[f64; 3]>, AppError> {
+/// The positions of frame `step` in `folder` and what the methods carried
+/// after its step, if it is a regular file, an exact frame of `scene`'s
+/// run with `record`, and has one position per vertex.
+fn read_exact_frame(
+    folder: &Path,
+    step: usize,
+    scene: &Scene,
+    record: &RunRecord,
+) -> Result<(Vec<[f64; 3]>, Carried), AppError> {
     let path = folder.join(frame_name(step));
+    let refuse = |why: String| Err(AppError::Failed(format!("{}: {why}", path.display())));
+    if let Some(kind) = not_a_file(&path) {
+        return refuse(format!("this is {kind}, not a frame"));
+    }
     let text = read_text(&path)?;
-    let first = text.lines().next().unwrap_or("");
-    let expected = frame_header(&scene.name, step, None);
-    if first != expected {
-        let why = if first.contains("positions rounded to") {
+    let frame = parse_frame(&text).map_err(|e| e.in_file(&path))?;
+    if frame.scene != scene.name || frame.step != step {
+        return refuse(format!(
+            "a frame of another scene or step ({} at step {}), not of {} at step {step}",
+            frame.scene, frame.step, scene.name
+        ));
+    }
+    if frame.precision.is_some() {
+        return refuse(
             "its positions are rounded (written with --precision), so the run cannot be resumed \
              exactly; write frames without --precision to resume"
-                .to_string()
-        } else {
-            format!("its first line is not `{expected}` (a frame of another scene or program)")
-        };
-        return Err(AppError::Failed(format!("{}: {why}", path.display())));
+                .into(),
+        );
     }
-    let mesh = parse_obj(&text).map_err(|e| e.in_file(&path))?;
-    if mesh.vertices.len() != scene.vertices.len() {
-        return Err(AppError::Failed(format!(
-            "{}: {} vertices, but the scene {} has {}",
-            path.display(),
-            mesh.vertices.len(),
+    let Some(written) = frame.record else {
+        return refuse(
+            "it has no run record on its second line, so nothing says which k, Δt, \
+                       masses, pins and flags the run had"
+                .into(),
+        );
+    };
+    let differences = written.differences(record);
+    if !differences.is_empty() {
+        return refuse(format!(
+            "the frames are of a run with other settings: {}; resume with the scene and the \
+             flags of that run",
+            differences.join(", ")
+        ));
+    }
+    if let Err(problem) = check_carried(&written.carried) {
+        return refuse(format!(
+            "its run record holds what no run carries: {problem} (the file was edited?)"
+        ));
+    }
+    if frame.positions.len() != scene.vertices.len() {
+        return refuse(format!(
+            "{} vertices, but the scene {} has {}",
+            frame.positions.len(),
             scene.name,
             scene.vertices.len()
-        )));
+        ));
     }
-    Ok(mesh.vertices)
-}
-
-/// Is `name` a frame of the frame writer, `frame-NNNNNN.obj` (6 digits or more)?
-pub(super) fn is_frame_name(name: &str) -> bool {
-    name.strip_prefix("frame-")
-        .and_then(|rest| rest.strip_suffix(".obj"))
-        .is_some_and(|digits| digits.len() >= 6 && digits.bytes().all(|b| b.is_ascii_digit()))
+    Ok((frame.positions, written.carried))
 }
 
 /// The step of the frame at `path` (`frame-000012.obj`: 12).
-fn frame_step(path: &Path) -> Option<usize> {
-    let name = path.file_name()?.to_str()?;
-    if !is_frame_name(name) {
-        return None;
-    }
-    name["frame-".len()..name.len() - ".obj".len()].parse().ok()
-}
-
-/// The frames already in `folder` (none when it does not exist), sorted.
-pub(super) fn earlier_frames(folder: &Path) -> Result<Vec<PathBuf>, AppError> {
-    let entries = match std::fs::read_dir(folder) {
-        Ok(entries) => entries,
-        Err(error) if error.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(error) => return Err(AppError::Failed(format!("{}: {error}", folder.display()))),
-    };
-    let mut frames: Vec<PathBuf> = entries
-        .flatten()
-        .filter(|entry| entry.file_name().to_str().is_some_and(is_frame_name))
-        .map(|entry| entry.path())
-        .collect();
-    frames.sort();
-    Ok(frames)
+fn step_of(path: &Path) -> Option<usize> {
+    frame_step(path.file_name()?.to_str()?)
 }

@@ -1,12 +1,14 @@
 //! `masssprings simulate SCENE.json`: run the simulation headless, write
 //! OBJ frames, report timings.
 //!
-//! `--out DIR` refuses a folder that already holds frames (`frame-*.obj`,
-//! from another run: mixing the two would be wrong without a warning)
-//! unless `--force` is given, which removes those frames first. Each frame
-//! is written all or nothing; the temporaries of a run that was killed are
-//! removed by the next run into the same folder. Nothing is written before
-//! the precomputation succeeds. Memory does not grow with `--steps`: the
+//! `--out DIR` is held by one run at a time, and refuses a folder that
+//! already holds frames (`frame-*.obj`, from another run: mixing the two
+//! would be wrong without a warning) unless `--force` is given, whose new
+//! frames replace those once the run is complete (`super::resume::folder`).
+//! Each frame is written all or nothing, with the run's record on its
+//! second line (`super::resume::frames`); the temporaries of a run that was killed
+//! are removed by the next run into the same folder. No frame is written
+//! before the precomputation succeeds. Memory does not grow with `--steps`: the
 //! median step time comes from a bounded sample. Nor does the scene stay in
 //! memory beside the simulation: its faces are dropped before the
 //! precomputation when no frames are written, and its vertices, springs
@@ -18,14 +20,17 @@
 
 use super::draw::texture::{read_png_file, Texture};
 use super::error::AppError;
-use super::file_plan::load_scene;
+use super::file_plan::{load_scene, unlink_link};
 use super::flags::{whole, JsonFlag, SimulationFlags};
 use super::limits::precompute;
 use super::progress::{duration, Progress};
-use super::resume::{self, earlier_frames, frame_header, frame_name, is_frame_name, Resumed};
+use super::resume::folder::{not_a_folder, Extras, FrameFolder, Use};
+use super::resume::frames::{frame_name, header as frame_header, is_frame_name, RunRecord};
+use super::resume::{self, Resumed};
 use super::timing::BoundedSample;
-use masssprings::files::{remove_stale_temporaries, same_file, write_file, FilePlan};
+use masssprings::files::{same_file, write_file, FilePlan};
 use masssprings::mesh::Scene;
+use masssprings::sim::methods::Carried;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Accuracy, Dense, LinearAlgebra, Simulation, Sparse};
 use std::io::{self, Write};
@@ -75,9 +80,11 @@ struct Run {
     /// Digits after the decimal point in frame files; `None`: the shortest
     /// form that reads back to the same `f64`.
     precision: Option<usize>,
-    /// Remove the frames already in `out` instead of refusing.
+    /// Replace the frames already in `out` instead of refusing.
     force: bool,
     progress: bool,
+    /// What the frames' second line records (`super::resume::frames`).
+    record: RunRecord,
 }
 
 /// Run a scene headless, write OBJ frames, report timings.
@@ -115,7 +122,7 @@ struct FrameOutput {
     /// Write OBJ frames into DIR.
     #[arg(short, long, value_name = "DIR")]
     out: Option<PathBuf>,
-    /// Remove the frames of an earlier run in --out first (otherwise such a folder is refused).
+    /// Replace the frames of an earlier run in --out once the new run is complete, and files in the way not written by simulate (otherwise such a folder is refused).
     #[arg(long, requires = "out")]
     force: bool,
     /// Write every K-th step.
@@ -128,6 +135,19 @@ struct FrameOutput {
 
 pub fn run(args: SimulateArgs) -> Result<(), AppError> {
     let scene_path = args.scene;
+    let scene = load_scene(&scene_path)?;
+    let mut options = SimulationOptions {
+        wind: args.wind,
+        ..SimulationOptions::default()
+    };
+    args.simulation.apply(&mut options);
+    let dense = args.simulation.backend.dense;
+    let physics = (
+        scene.vertices.len(),
+        scene.k,
+        &scene.masses[..],
+        &scene.pinned[..],
+    );
     let run = Run {
         steps: args.steps,
         every: args.frames.every,
@@ -135,28 +155,22 @@ pub fn run(args: SimulateArgs) -> Result<(), AppError> {
         precision: args.frames.precision,
         force: args.frames.force,
         progress: !args.json.json,
+        record: RunRecord::new(physics, &options, dense),
     };
-    let scene = load_scene(&scene_path)?;
-    check_files(&scene_path, &scene, run.out.as_deref())?;
-    let resumed = match &args.resume {
-        Some(folder) => Some(resume::last_state(folder, &scene)?),
-        None => None,
-    };
-    if let (Some(folder), None) = (&run.out, &resumed) {
-        if !run.force {
-            refuse_earlier_frames(folder)?;
-        }
+    if let Some(folder) = args.resume.as_deref().filter(|folder| !folder.is_dir()) {
+        return Err(not_a_folder(folder));
     }
-    let mut options = SimulationOptions {
-        wind: args.wind,
-        ..SimulationOptions::default()
-    };
-    args.simulation.apply(&mut options);
-    let summary = if args.simulation.backend.dense {
-        simulate::<Dense>(scene, &scene_path, options, &run, resumed)?
+    check_files(&scene_path, &scene, run.out.as_deref())?;
+    let (frames, resumed) = open_frames(&run, &scene, args.resume.as_deref())?;
+    let written = (frames.as_ref(), resumed);
+    let summary = if dense {
+        simulate::<Dense>(scene, &scene_path, options, &run, written)?
     } else {
-        simulate::<Sparse>(scene, &scene_path, options, &run, resumed)?
+        simulate::<Sparse>(scene, &scene_path, options, &run, written)?
     };
+    if let Some(frames) = frames {
+        frames.commit()?;
+    }
     if args.json.json {
         println!(
             "{}",
@@ -168,14 +182,59 @@ pub fn run(args: SimulateArgs) -> Result<(), AppError> {
     Ok(())
 }
 
-/// Precompute, then step (on from `resumed`, if given), writing frames and
-/// reporting progress.
+/// The frames' folder, locked and checked, and with `--resume` (that
+/// folder) the state its run stopped in, checked against the run to come.
+fn open_frames(
+    run: &Run,
+    scene: &Scene,
+    resume: Option<&Path>,
+) -> Result<(Option<FrameFolder>, Option<Resumed>), AppError> {
+    let Some(out) = &run.out else {
+        return Ok((None, None));
+    };
+    let frames = open_frame_folder(out, scene, run, resume.is_some())?;
+    let resumed = match resume {
+        Some(folder) => {
+            let state = resume::last_state(folder, scene, &run.record)?;
+            resume::last_step(folder, state.step, run.steps)?;
+            Some(state)
+        }
+        None => None,
+    };
+    Ok((Some(frames), resumed))
+}
+
+/// Locks the frames' folder and checks what is in it ([`FrameFolder`]).
+fn open_frame_folder(
+    folder: &Path,
+    scene: &Scene,
+    run: &Run,
+    resume: bool,
+) -> Result<FrameFolder, AppError> {
+    let how = if resume {
+        Use::Resume
+    } else {
+        Use::Fresh { force: run.force }
+    };
+    let textured = texture_copy(folder, scene);
+    let extras = Extras {
+        material: textured.as_ref().map(|_| {
+            let path = folder.join(format!("{}.mtl", scene.name));
+            (path, material_header(&scene.name))
+        }),
+        texture: textured,
+    };
+    FrameFolder::open(folder, how, &extras)
+}
+
+/// Precompute, then step (on from `resumed`, if given), writing frames
+/// into `frames` and reporting progress.
 fn simulate<B: LinearAlgebra>(
     mut scene: Scene,
     scene_path: &Path,
     options: SimulationOptions,
     run: &Run,
-    resumed: Option<Resumed>,
+    (frames, resumed): (Option<&FrameFolder>, Option<Resumed>),
 ) -> Result<Summary, AppError> {
     let (n, springs) = (scene.vertices.len(), scene.springs.len());
     if run.out.is_none() {
@@ -192,10 +251,13 @@ fn simulate<B: LinearAlgebra>(
     let resumed_from = resumed.as_ref().map(|state| state.step);
     if let Some(state) = resumed {
         simulation.set_state(&state.u_prev, &state.u_cur, state.step)?;
+        simulation.carry(state.carried);
     }
-    let material = start_frames(run, &scene, texture, &simulation, resumed_from.is_some())?;
+    let resumed = resumed_from.is_some();
+    let material = start_frames(frames, run, &scene, texture, &simulation, resumed)?;
     let first = resumed_from.unwrap_or(0);
-    let tally = run_steps(&mut simulation, &scene, run, first, material.as_deref())?;
+    let written = (frames, material.as_deref());
+    let tally = run_steps(&mut simulation, &scene, run, first, written)?;
     let times = [precompute_s, started.elapsed().as_secs_f64()];
     let summary = summarize(tally, &options, B::NAME, [n, springs, run.steps], times);
     Ok(Summary {
@@ -204,28 +266,26 @@ fn simulate<B: LinearAlgebra>(
     })
 }
 
-/// Readies `--out` for the frames: a new run's folder is prepared and gets
-/// the material and frame 0; a resumed run's own folder keeps its frames
-/// (they number on) and gets the material again. Returns the material's
-/// name, if any.
+/// Readies the frames' folder (locked and checked already,
+/// [`FrameFolder`]): it gets the material, and a new run's frames get
+/// frame 0; a resumed run's frames number on. Returns the material's name,
+/// if any.
 fn start_frames<B: LinearAlgebra>(
+    frames: Option<&FrameFolder>,
     run: &Run,
     scene: &Scene,
     texture: Option<(Vec<u8>, PathBuf)>,
     simulation: &Simulation<B>,
     resumed: bool,
 ) -> Result<Option<String>, AppError> {
-    let Some(folder) = &run.out else {
+    let Some(frames) = frames else {
         return Ok(None);
     };
-    if resumed {
-        remove_stale_temporaries(folder)?;
-        return write_material(folder, scene, texture);
+    let material = write_material(frames.folder(), scene, texture)?;
+    if !resumed {
+        let frame = (0, simulation.positions(), simulation.carried());
+        write_frame(frames.frames(), frame, scene, run, material.as_deref())?;
     }
-    prepare_out_folder(folder)?;
-    let material = write_material(folder, scene, texture)?;
-    let positions = simulation.positions();
-    write_frame(folder, 0, scene, positions, run, material.as_deref())?;
     Ok(material)
 }
 
@@ -239,13 +299,14 @@ struct Tally {
 }
 
 /// Steps `run.steps` times on from step `first`, writing every
-/// `run.every`-th frame and showing progress.
+/// `run.every`-th frame into `frames` (with `material`) and showing
+/// progress.
 fn run_steps<B: LinearAlgebra>(
     simulation: &mut Simulation<B>,
     scene: &Scene,
     run: &Run,
     first: usize,
-    material: Option<&str>,
+    (frames, material): (Option<&FrameFolder>, Option<&str>),
 ) -> Result<Tally, AppError> {
     let mut tally = Tally {
         step_times: BoundedSample::new(),
@@ -269,10 +330,10 @@ fn run_steps<B: LinearAlgebra>(
         if let Some(gradient) = report.relative_gradient {
             tally.gradients.push(gradient);
         }
-        if let Some(folder) = &run.out {
+        if let Some(frames) = frames {
             if step.is_multiple_of(run.every) {
-                let positions = simulation.positions();
-                write_frame(folder, step, scene, positions, run, material)?;
+                let frame = (step, simulation.positions(), simulation.carried());
+                write_frame(frames.frames(), frame, scene, run, material)?;
             }
         }
         progress.step_done(done);
@@ -404,12 +465,15 @@ fn write_material(
         .as_deref()
         .is_some_and(|t| same_file(t, &copy))
     {
+        unlink_link(&copy)?; // a link there is replaced, not written through
         write_file(&copy, |out| out.write_all(&bytes))?;
     }
     let texture_name = copy.file_name().unwrap_or_default().to_owned();
     let name = scene.name.clone();
-    write_file(&folder.join(format!("{name}.mtl")), |out| {
-        writeln!(out, "# {name} — masssprings frames")?;
+    let material = folder.join(format!("{name}.mtl"));
+    unlink_link(&material)?;
+    write_file(&material, |out| {
+        writeln!(out, "{}", material_header(&name))?;
         writeln!(out, "newmtl {name}")?;
         writeln!(out, "Kd 1 1 1")?;
         writeln!(out, "map_Kd {}", texture_name.to_string_lossy())
@@ -417,55 +481,34 @@ fn write_material(
     Ok(Some(name))
 }
 
-/// Refuses an `--out` folder holding frames of another run (before any
-/// work is done).
-fn refuse_earlier_frames(folder: &Path) -> Result<(), AppError> {
-    let frames = earlier_frames(folder)?;
-    match frames.first() {
-        None => Ok(()),
-        Some(first) => Err(AppError::Failed(format!(
-            "--out {}: the folder already holds {} frame(s) of another run ({}, ...); \
-             give --force to remove them first, or choose another folder",
-            folder.display(),
-            frames.len(),
-            first.file_name().unwrap_or_default().to_string_lossy()
-        ))),
-    }
+/// The first line of the frames' material `NAME.mtl`.
+fn material_header(name: &str) -> String {
+    format!("# {name} — masssprings frames")
 }
 
-/// Creates the `--out` folder, removes the temporaries of killed runs and
-/// the frames of an earlier run (with `--force`; without it they were
-/// refused already).
-fn prepare_out_folder(folder: &Path) -> Result<(), AppError> {
-    let failed = |e: &dyn std::fmt::Display| AppError::Failed(format!("{}: {e}", folder.display()));
-    std::fs::create_dir_all(folder).map_err(|e| failed(&e))?;
-    remove_stale_temporaries(folder)?;
-    for frame in earlier_frames(folder)? {
-        std::fs::remove_file(&frame).map_err(|e| failed(&e))?;
-    }
-    Ok(())
-}
-
-/// `folder/frame-NNNNNN.obj`: the positions and the scene's faces, written
-/// all or nothing.
+/// `folder/frame-NNNNNN.obj` of `step`: the header, the run's record with
+/// what the methods `carried` after the step, the positions and the
+/// scene's faces, written all or nothing.
 fn write_frame(
     folder: &Path,
-    step: usize,
+    (step, positions, carried): (usize, &[[f64; 3]], Carried),
     scene: &Scene,
-    positions: &[[f64; 3]],
     run: &Run,
     material: Option<&str>,
 ) -> Result<(), AppError> {
     let path = folder.join(frame_name(step));
     let header = frame_header(&scene.name, step, run.precision);
+    let mut record = run.record.clone();
+    record.carried = carried;
     write_file(&path, |out| {
         writeln!(out, "{header}")?;
+        writeln!(out, "{}", record.line())?;
         write_obj(out, scene, positions, run.precision, material)
     })?;
     Ok(())
 }
 
-/// An OBJ (after its first line, [`frame_header`]) with `v` lines for
+/// An OBJ (after its first two lines, [`frame_header`] and the record) with `v` lines for
 /// `positions` (with `precision` digits after the point, or the shortest
 /// decimal form that reads back to the same `f64`), the scene's `vt` lines,
 /// the material, and the faces (with texture indices when the scene has
@@ -524,31 +567,8 @@ fn without_negative_zero(x: f64, digits: usize) -> f64 {
     }
 }
 
-fn print_summary(scene_path: &Path, s: &Summary) {
-    println!("scene            {}", scene_path.display());
-    println!("vertices         {}", s.n);
-    println!("springs          {}", s.springs);
-    println!("backend          {}", s.backend);
-    println!("precomputation   {:.6} s", s.precompute_s);
-    println!("steps            {}", s.steps);
-    if let Some(step) = s.resumed_from {
-        println!("resumed from     step {step}");
-    }
-    println!("step (median)    {:.6} s", s.step_median_s);
-    let tolerance = s.tolerance.map_or("none".into(), |t| format!("{t:e}"));
-    let energy_tolerance = s
-        .energy_tolerance
-        .map_or(String::new(), |t| format!(", energy tolerance {t:e}"));
-    let at_least_plain = s
-        .at_least_plain
-        .map_or(String::new(), |n| format!(", at least plain-{n}"));
-    println!(
-        "method           {} (tolerance {tolerance}{energy_tolerance}{at_least_plain}, start {})",
-        s.method, s.start
-    );
-    if let Some(accuracy) = s.accuracy {
-        println!("accuracy         {accuracy}");
-    }
+/// The iterations of the steps and where they stopped.
+fn print_iterations(s: &Summary) {
     let stops: Vec<String> = s
         .stops
         .iter()
@@ -563,6 +583,40 @@ fn print_summary(scene_path: &Path, s: &Summary) {
     match s.relative_gradient_median {
         Some(median) => println!("rel. gradient    {median:.3e} at the end of a step (median)"),
         None => println!("rel. gradient    not measured (no stopping rule asked for it)"),
+    }
+}
+
+fn print_summary(scene_path: &Path, s: &Summary) {
+    println!("scene            {}", scene_path.display());
+    println!("vertices         {}", s.n);
+    println!("springs          {}", s.springs);
+    println!("backend          {}", s.backend);
+    println!("precomputation   {:.6} s", s.precompute_s);
+    println!("steps            {}", s.steps);
+    if let Some(step) = s.resumed_from {
+        println!("resumed from     step {step}");
+    }
+    if s.steps == 0 {
+        println!("step (median)    none: no step was run");
+    } else {
+        println!("step (median)    {:.6} s", s.step_median_s);
+    }
+    let tolerance = s.tolerance.map_or("none".into(), |t| format!("{t:e}"));
+    let energy_tolerance = s
+        .energy_tolerance
+        .map_or(String::new(), |t| format!(", energy tolerance {t:e}"));
+    let at_least_plain = s
+        .at_least_plain
+        .map_or(String::new(), |n| format!(", at least plain-{n}"));
+    println!(
+        "method           {} (tolerance {tolerance}{energy_tolerance}{at_least_plain}, start {})",
+        s.method, s.start
+    );
+    if let Some(accuracy) = s.accuracy {
+        println!("accuracy         {accuracy}");
+    }
+    if s.steps > 0 {
+        print_iterations(s);
     }
     println!("path             {}", s.path);
     println!("total            {}", duration(s.total_s));

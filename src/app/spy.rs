@@ -10,6 +10,7 @@ use super::draw::sparsity::{spy, Mark};
 use super::error::AppError;
 use super::file_plan::report;
 use super::flags::{size, Size};
+use super::limits::{check_picture, picture_bytes};
 use super::matrix_input::{file_name, load_lower, PatternArgs};
 use masssprings::files::{write_file, FilePlan};
 use masssprings::linalg::sparse::{
@@ -59,6 +60,11 @@ pub fn run(args: SpyArgs) -> Result<(), AppError> {
             "--size {size}x{height}: spy draws a square matrix; give --size {size}x{size} or --size {size}"
         )));
     }
+    let full = size + 2 * MARGIN + 2;
+    let marks = (size as u64).saturating_mul(size as u64);
+    check_picture(picture_bytes(full, full, 1).saturating_add(marks), || {
+        format!("a spy plot of {size}×{size} pixels")
+    })?;
     let picture = Picture {
         label: file_name(&path),
         ordering: ordering.ordering,

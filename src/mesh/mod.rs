@@ -143,7 +143,7 @@ fn masses(
 }
 
 /// `b` converted to 0-based vertex indices, duplicates kept.
-fn pinned_vertices(one_based: &[i64], vertex_count: usize) -> Result<Vec<usize>, SceneError> {
+fn pinned_vertices(one_based: &[u64], vertex_count: usize) -> Result<Vec<usize>, SceneError> {
     one_based
         .iter()
         .enumerate()

@@ -39,7 +39,7 @@ pub(crate) struct SceneFile {
     #[serde(deserialize_with = "stiffness")]
     pub k: f64,
     #[serde(deserialize_with = "pins")]
-    pub b: Vec<i64>,
+    pub b: Vec<u64>,
     #[serde(default, deserialize_with = "uniform_mass")]
     pub m: Option<f64>,
     #[serde(default, deserialize_with = "texture_file")]
@@ -126,7 +126,7 @@ fn uniform_mass<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Option<f64
         .map(Some)
 }
 
-fn pins<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Vec<i64>, D::Error> {
+fn pins<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Vec<u64>, D::Error> {
     let pins = Vec::<Pin>::deserialize(deserializer)?;
     Ok(pins.into_iter().map(|Pin(index)| index).collect())
 }
@@ -196,8 +196,10 @@ impl PositiveNumber {
     }
 }
 
-/// One entry of `b`: a 1-based vertex index, an integer ≥ 1.
-struct Pin(i64);
+/// One entry of `b`: a 1-based vertex index, an integer ≥ 1 (that it
+/// names a vertex of the OBJ is checked once the OBJ is read, which then
+/// names a pin of 2⁶⁴ − 1 as what it is: no vertex).
+struct Pin(u64);
 
 impl<'de> Deserialize<'de> for Pin {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Pin, D::Error> {
@@ -208,24 +210,35 @@ impl<'de> Deserialize<'de> for Pin {
 struct PinVisitor;
 
 impl Visitor<'_> for PinVisitor {
-    type Value = i64;
+    type Value = u64;
 
     fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
         f.write_str("a pin in \"b\": a 1-based vertex index (an integer ≥ 1)")
     }
 
-    fn visit_u64<E: de::Error>(self, value: u64) -> Result<i64, E> {
-        match i64::try_from(value) {
-            Ok(index) if index >= 1 => Ok(index),
-            _ => Err(E::invalid_value(Unexpected::Unsigned(value), &self)),
-        }
-    }
-
-    fn visit_i64<E: de::Error>(self, value: i64) -> Result<i64, E> {
+    fn visit_u64<E: de::Error>(self, value: u64) -> Result<u64, E> {
         if value >= 1 {
             Ok(value)
         } else {
-            Err(E::invalid_value(Unexpected::Signed(value), &self))
+            Err(E::invalid_value(Unexpected::Unsigned(value), &self))
         }
+    }
+
+    fn visit_i64<E: de::Error>(self, value: i64) -> Result<u64, E> {
+        match u64::try_from(value) {
+            Ok(index) if index >= 1 => Ok(index),
+            _ => Err(E::invalid_value(Unexpected::Signed(value), &self)),
+        }
+    }
+
+    fn visit_f64<E: de::Error>(self, value: f64) -> Result<u64, E> {
+        if value.fract() == 0.0 && value >= 1.0 {
+            // an integer past 2⁶⁴, which JSON reads as a float
+            return Err(E::custom(format!(
+                "the pin {value:e} in \"b\" is larger than any vertex index (pins are 1-based \
+                 vertex indices)"
+            )));
+        }
+        Err(E::invalid_type(Unexpected::Float(value), &self))
     }
 }

@@ -12,6 +12,7 @@ use super::control::{Accuracy, Pins, Start, StepControl, StepMethod};
 use super::engine::{Engine, Network};
 use super::error::SimulationError;
 use super::forces::{bounding_box_diagonal, external_forces, GRAVITY};
+use super::methods::Carried;
 use super::monitor::Observer;
 use super::precomputation::{MassSpringSystem, DELTA_T};
 use super::step::{StepReport, StepState};
@@ -587,6 +588,26 @@ impl<B: LinearAlgebra> Simulation<B> {
         self.u_cur.copy_from_slice(u_cur);
         self.steps = steps;
         Ok(())
+    }
+
+    /// What the step's methods carry from one step to the next besides
+    /// the state (Chebyshev's `ρ`, Newton's damping; nothing on the
+    /// textbook path): with [`Simulation::set_state`] and
+    /// [`Simulation::carry`], a run continued elsewhere steps to the same
+    /// bits.
+    pub fn carried(&self) -> Carried {
+        match &self.engine {
+            Engine::Fast { workspace, .. } => workspace.carried(),
+            Engine::Textbook { .. } => Carried::default(),
+        }
+    }
+
+    /// Takes up what the methods of an earlier run carried
+    /// ([`Simulation::carried`]).
+    pub fn carry(&mut self, carried: Carried) {
+        if let Engine::Fast { workspace, .. } = &mut self.engine {
+            workspace.carry(carried);
+        }
     }
 
     /// Starts dragging `vertex` (0-based) toward `target`: it becomes an

@@ -100,6 +100,16 @@ impl StepWorkspace {
         }
     }
 
+    /// What the methods carry to the next step ([`MethodWorkspaces::carried`]).
+    pub fn carried(&self) -> methods::Carried {
+        self.methods.carried()
+    }
+
+    /// Takes up what an earlier run carried ([`MethodWorkspaces::carry`]).
+    pub fn carry(&mut self, carried: methods::Carried) {
+        self.methods.carry(carried);
+    }
+
     /// What the workspace holds, in bytes (arrays' lengths), item by item.
     /// The work arrays of a method other than `plain`, made when it first
     /// runs, are not counted; `plain`'s renumbered springs are, once a

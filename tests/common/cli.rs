@@ -85,3 +85,64 @@ pub fn data(name: &str) -> String {
         .display()
         .to_string()
 }
+
+/// Runs the binary with `args` in `folder` (its current folder).
+pub fn masssprings_in(folder: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_masssprings"))
+        .args(args)
+        .current_dir(folder)
+        .output()
+        .expect("the binary runs")
+}
+
+/// The names in `folder`, sorted (none when it does not exist).
+pub fn names_in(folder: &Path) -> Vec<String> {
+    let mut names: Vec<String> = match std::fs::read_dir(folder) {
+        Ok(entries) => entries
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect(),
+        Err(_) => Vec::new(),
+    };
+    names.sort();
+    names
+}
+
+/// A copy of the bundled `name` scene (JSON and OBJ, and the texture when
+/// it has one) in `folder`; returns the JSON's path.
+pub fn copy_scene(folder: &Path, name: &str) -> PathBuf {
+    for extension in ["json", "obj", "png"] {
+        let file = format!("{name}.{extension}");
+        if Path::new(&data(&file)).exists() {
+            std::fs::copy(data(&file), folder.join(&file)).unwrap();
+        }
+    }
+    folder.join(format!("{name}.json"))
+}
+
+/// Asserts a clean failure: exit code 1 (no panic, no abort) and every
+/// piece of `expected` in the message.
+pub fn assert_fails(output: &Output, expected: &[&str]) {
+    let message = stderr(output);
+    assert_eq!(output.status.code(), Some(1), "{message}");
+    assert!(!message.contains("panicked"), "{message}");
+    for piece in expected {
+        assert!(message.contains(piece), "`{piece}` not in: {message}");
+    }
+}
+
+/// A scene whose first step blows up, `s.json` and `s.obj` in `folder`:
+/// `y = M (2U − U_prev)/Δt²` overflows (1000 · 1e306 · 900 is beyond f64).
+/// Returns the JSON's path.
+pub fn blow_up_scene(folder: &Path) -> PathBuf {
+    std::fs::write(
+        folder.join("s.json"),
+        r#"{"obj": "s.obj", "k": 1, "b": [1], "m": 1000}"#,
+    )
+    .unwrap();
+    std::fs::write(
+        folder.join("s.obj"),
+        "v 0 0 0\nv 1e306 0 0\nv 0 1e306 0\nf 1 2\nf 2 3\n",
+    )
+    .unwrap();
+    folder.join("s.json")
+}

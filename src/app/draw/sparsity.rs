@@ -145,7 +145,7 @@ fn draw_caption(canvas: &mut Canvas, caption: &[String], top: usize, scale: usiz
 }
 
 /// Supersampling of the tree picture (samples per pixel along each axis).
-const TREE_SUPERSAMPLING: usize = 3;
+pub const TREE_SUPERSAMPLING: usize = 3;
 
 /// The elimination tree `parent` (postordered: `parent[j] > j`) with its
 /// supernodes (`supernode_of[j]`), `width × height` pixels, the `caption`

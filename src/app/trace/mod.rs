@@ -21,15 +21,17 @@
 
 mod compare;
 mod compute;
+mod folder;
 mod mistaken;
 mod quantities;
 mod readme;
 
 use super::error::AppError;
 use super::file_plan::load_scene;
-use super::flags::{choice, file_name_given, whole, OrderingFlag};
+use super::flags::{choice, whole, OrderingFlag};
 use compute::{labelled, trace, TraceOptions, Value};
-use masssprings::files::{remove_stale_temporaries, write_file};
+use folder::TraceFolder;
+use masssprings::files::write_file;
 use masssprings::matrix_market::{write_array, write_coordinate, Symmetry};
 use masssprings::mesh::Scene;
 use masssprings::sim::mistakes::Mistake;
@@ -60,7 +62,7 @@ pub struct TraceArgs {
     #[arg(value_name = "SCENE.json", required_unless_present = "compare")]
     scene: Option<PathBuf>,
     /// The folder to write.
-    #[arg(short, long, value_name = "DIR", required_unless_present = "compare", value_parser = file_name_given)]
+    #[arg(short, long, value_name = "DIR", required_unless_present = "compare")]
     out: Option<PathBuf>,
     /// The step to trace, from 1 (3: the first whose U_prev, U_cur and V all
     /// differ, so that no term of the step hides; DIR/README.md says why).
@@ -71,6 +73,9 @@ pub struct TraceArgs {
     iterations: usize,
     #[command(flatten)]
     ordering: OrderingFlag,
+    /// Write into DIR even though it holds files trace did not write, replacing those of trace's names.
+    #[arg(long, conflicts_with = "compare")]
+    force: bool,
     /// Write what a student with one of the usual mistakes writes, from our state at step K, to --compare with a trace (docs/mistakes.md).
     #[arg(long, value_name = "NAME", value_parser = choice::<Mistake>(&Mistake::ALL.map(Mistake::name)))]
     mistake: Option<Mistake>,
@@ -114,7 +119,7 @@ pub fn run(args: TraceArgs) -> Result<(), AppError> {
         mistake: args.mistake,
     };
     let scene = load_scene(&scene_path)?;
-    prepare_folder(&out, &scene_path, &scene)?;
+    let folder = TraceFolder::open(&out, &scene_path, &scene, args.force)?;
     let start = std::time::Instant::now();
     let values = match options.mistake {
         Some(mistake) => mistaken::trace(&scene, options, mistake)?,
@@ -122,7 +127,11 @@ pub fn run(args: TraceArgs) -> Result<(), AppError> {
     };
     let values = labelled(values, options.iterations);
     let manifest = manifest(&scene_path, &scene, options, &values);
-    write_all(&out, &scene_path, &values, &manifest)?;
+    folder.begin()?;
+    write_all(folder.target(), &scene_path, &values, &manifest)?;
+    let mut written = manifest.files.clone();
+    written.extend(["README.md".to_string(), MANIFEST.to_string()]);
+    folder.commit(&written)?;
     println!(
         "{}: {} files of {}{} (n = {}, m = {}), step {}, {} iteration(s), {} ordering, in {:.2} s",
         out.display(),
@@ -138,53 +147,6 @@ pub fn run(args: TraceArgs) -> Result<(), AppError> {
         options.ordering.name(),
         start.elapsed().as_secs_f64()
     );
-    Ok(())
-}
-
-/// Creates `out` (refusing a file), removes the temporaries of killed
-/// runs, refuses to overwrite the scene's own files, and removes the files
-/// of an earlier trace there (its `trace.json` lists them) so none of them
-/// is mistaken for this one's.
-fn prepare_folder(out: &Path, scene_path: &Path, scene: &Scene) -> Result<(), AppError> {
-    if out.exists() && !out.is_dir() {
-        return Err(AppError::Failed(format!(
-            "-o {}: this is a file; trace writes a folder of files (give a new or empty folder)",
-            out.display()
-        )));
-    }
-    std::fs::create_dir_all(out)
-        .map_err(|e| AppError::Failed(format!("-o {}: cannot create it: {e}", out.display())))?;
-    remove_stale_temporaries(out)?;
-    let inputs: Vec<PathBuf> = std::iter::once(scene_path)
-        .chain(scene.texture.as_deref())
-        .filter_map(|path| std::fs::canonicalize(path).ok())
-        .collect();
-    let ours = quantities::quantities(ITERATIONS).into_iter();
-    let names = ours
-        .map(|q| q.file_name())
-        .chain(["README.md".into(), MANIFEST.into()]);
-    for name in names {
-        let target = std::fs::canonicalize(out.join(&name));
-        if target.is_ok_and(|target| inputs.contains(&target)) {
-            return Err(AppError::Failed(format!(
-                "-o {}: trace would overwrite {name}, an input of the scene; choose another folder",
-                out.display()
-            )));
-        }
-    }
-    remove_earlier_trace(out)
-}
-
-/// Removes the files an earlier trace in `out` listed in its manifest.
-fn remove_earlier_trace(out: &Path) -> Result<(), AppError> {
-    let Ok(manifest) = read_manifest(out) else {
-        return Ok(()); // no earlier trace (or not one of ours): leave everything
-    };
-    for name in manifest.files {
-        if is_trace_file(&name) {
-            let _ = std::fs::remove_file(out.join(name)); // already gone is fine
-        }
-    }
     Ok(())
 }
 
@@ -238,12 +200,13 @@ fn write_all(
 ) -> Result<(), AppError> {
     for (quantity, value) in values {
         let comment = format!(
-            "{}: {} ({}) of {}, step {}\nwritten by masssprings trace; see README.md",
+            "{}: {} ({}) of {}, step {}\n{}; see README.md",
             quantity.name(),
             quantity.spec.equation,
             quantity.spec.shape,
             scene_path.display(),
             manifest.step,
+            folder::WRITTEN_BY,
         );
         write_file(&out.join(quantity.file_name()), |file| match value {
             Value::Sparse(matrix) => write_coordinate(file, matrix, Symmetry::General, &comment),

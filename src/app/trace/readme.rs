@@ -4,6 +4,7 @@
 //! shapes and sizes).
 
 use super::compute::Value;
+use super::folder::README_START;
 use super::quantities::{Check, Quantity, SPECS};
 use super::Manifest;
 use masssprings::sim::mistakes::Mistake;
@@ -49,7 +50,7 @@ fn gallery(text: &mut String) {
 fn header(text: &mut String, m: &Manifest) {
     let _ = write!(
         text,
-        "# Every quantity of the handout: {scene}, step {step}\n\n\
+        "{README_START}{scene}, step {step}\n\n\
          Written by `masssprings trace {scene} --step {step} --iterations {iterations} \
          --ordering {ordering}{mistake} -o DIR`: the handout's precomputation and step \
          (`sim::textbook`), run exactly in the handout's order. The state of step {step} \

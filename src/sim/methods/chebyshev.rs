@@ -250,6 +250,37 @@ fn extrapolate<B: LinearAlgebra>(
     context.global.hold_pins(&mut work.previous);
 }
 
+/// What Chebyshev carries from step to step: `ρ` once estimated, and the
+/// measurement while it lasts (a resumed run needs both to give the same
+/// bits as a run that never stopped).
+#[derive(Debug, Default, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Carried {
+    /// `ρ` as estimated (`None` while it is measured).
+    pub rho: Option<f64>,
+    /// Plain iterations recorded toward the estimate.
+    pub recorded: usize,
+    /// The largest ratio of successive plain steps among them.
+    pub largest_ratio: f64,
+}
+
+impl Workspace {
+    /// What this workspace carries to the next step.
+    pub fn carried(&self) -> Carried {
+        Carried {
+            rho: self.estimated_rho,
+            recorded: self.estimate.recorded,
+            largest_ratio: self.estimate.largest_ratio,
+        }
+    }
+
+    /// Takes up what an earlier run carried ([`Workspace::carried`]).
+    pub fn carry(&mut self, carried: Carried) {
+        self.estimated_rho = carried.rho;
+        self.estimate.recorded = carried.recorded;
+        self.estimate.largest_ratio = carried.largest_ratio;
+    }
+}
+
 /// The measurement of `ρ` from the first plain iterations.
 #[derive(Debug, Default, Clone)]
 struct RhoEstimate {

@@ -49,6 +49,17 @@ use super::error::SimulationError;
 use super::global_step::StepContext;
 use super::monitor::Monitor;
 
+/// What the methods carry from one step to the next besides the two
+/// states every step starts from: Chebyshev's estimate of `ρ` and Newton's
+/// damping `μ`. A run continued from its last two frames takes it up
+/// ([`Simulation::carry`](crate::sim::Simulation::carry)), so that its
+/// next step gives the same bits as in a run that never stopped.
+#[derive(Debug, Default, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Carried {
+    pub chebyshev: chebyshev::Carried,
+    pub newton_damping: f64,
+}
+
 /// The work arrays of each method, made the first time it runs.
 #[derive(Debug, Clone, Default)]
 pub struct MethodWorkspaces {
@@ -58,9 +69,35 @@ pub struct MethodWorkspaces {
     pub anderson: Option<anderson::Workspace>,
     pub lbfgs: Option<lbfgs::Workspace>,
     pub newton: Option<newton::Workspace>,
+    /// What an earlier run carried ([`MethodWorkspaces::carry`]), for the
+    /// workspaces made after it was taken up.
+    carried: Carried,
 }
 
 impl MethodWorkspaces {
+    /// What the methods carry to the next step.
+    pub fn carried(&self) -> Carried {
+        let mut carried = self.carried;
+        if let Some(work) = &self.chebyshev {
+            carried.chebyshev = work.carried();
+        }
+        if let Some(work) = &self.newton {
+            carried.newton_damping = work.damping;
+        }
+        carried
+    }
+
+    /// Takes up what an earlier run carried ([`MethodWorkspaces::carried`]).
+    pub fn carry(&mut self, carried: Carried) {
+        self.carried = carried;
+        if let Some(work) = &mut self.chebyshev {
+            work.carry(carried.chebyshev);
+        }
+        if let Some(work) = &mut self.newton {
+            work.damping = carried.newton_damping;
+        }
+    }
+
     /// Bytes held by `plain`'s renumbered springs (the other methods'
     /// arrays are not counted: `docs/performance.md`, memory).
     pub fn bytes(&self) -> usize {
@@ -94,9 +131,12 @@ pub fn prepare<B: LinearAlgebra>(
     match control.method {
         StepMethod::Plain => prepare_plain::<B>(workspaces, problem, control),
         StepMethod::Chebyshev => {
-            workspaces
-                .chebyshev
-                .get_or_insert_with(|| chebyshev::Workspace::new(n));
+            let carried = workspaces.carried.chebyshev;
+            workspaces.chebyshev.get_or_insert_with(|| {
+                let mut work = chebyshev::Workspace::new(n);
+                work.carry(carried);
+                work
+            });
         }
         StepMethod::Anderson => {
             let window = control.window.max(1);
@@ -120,7 +160,9 @@ pub fn prepare<B: LinearAlgebra>(
         }
         StepMethod::Newton => {
             if workspaces.newton.is_none() {
-                workspaces.newton = Some(newton::Workspace::new(n, problem.springs)?);
+                let mut work = newton::Workspace::new(n, problem.springs)?;
+                work.damping = workspaces.carried.newton_damping;
+                workspaces.newton = Some(work);
             }
         }
     }

@@ -1,0 +1,405 @@
+//! The frames `simulate --out` writes, and reading one back (for
+//! `--resume`): `frame-NNNNNN.obj`, an OBJ whose first two lines say what
+//! it is.
+//!
+//! ```text
+//! # net — masssprings frame, step 12, exact positions
+//! # masssprings run {"vertices":81,"k":500.0,"delta_t":0.03333333333333333,"masses":"fnv1a64:…","pins":"fnv1a64:…","options":{"--method":"chebyshev",…},"carried":{…}}
+//! v 0.5 -0.25 0
+//! …
+//! ```
+//!
+//! * The first line names the scene, the step, and whether the positions
+//!   are exact (each coordinate the shortest decimal that reads back to
+//!   the same `f64`) or rounded (`--precision D`).
+//! * The second, the run's record ([`RunRecord`]), holds what a run must
+//!   share with the run it continues: the vertex count, `k`, `Δt`, a
+//!   fingerprint of the masses and of the pins (64-bit FNV-1a of their
+//!   bits), the flags that decide the step, and what the step's methods
+//!   carry from one step to the next (`sim::methods::Carried`: Chebyshev's
+//!   `ρ`, Newton's damping), as it was after this frame's step.
+//!
+//! This file knows the format only: [`parse_frame`] takes a frame's text to
+//! its parts or to an error saying what is wrong on which line, for any
+//! text at all (`fuzz/fuzz_targets/frame.rs`).
+
+use masssprings::files::FileError;
+use masssprings::linalg::sparse::SupernodeMerging;
+use masssprings::mesh::obj::parse_obj;
+use masssprings::sim::methods::chebyshev::{ESTIMATION_ITERATIONS, RHO_CAP};
+use masssprings::sim::methods::newton::LARGEST_DAMPING;
+use masssprings::sim::methods::Carried;
+use masssprings::sim::simulation::SimulationOptions;
+use masssprings::sim::{Accuracy, StepMethod};
+use std::collections::BTreeMap;
+
+/// `frame-NNNNNN.obj`, the name of the frame of `step`.
+pub fn frame_name(step: usize) -> String {
+    format!("frame-{step:06}.obj")
+}
+
+/// Is `name` a frame's name, `frame-NNNNNN.obj` (6 digits or more)?
+pub fn is_frame_name(name: &str) -> bool {
+    frame_step(name).is_some()
+}
+
+/// The step of the frame named `name` (`frame-000012.obj`: 12).
+pub fn frame_step(name: &str) -> Option<usize> {
+    let digits = name.strip_prefix("frame-")?.strip_suffix(".obj")?;
+    if digits.len() < 6 || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    digits.parse().ok()
+}
+
+/// The words between the scene's name and the step on a frame's first line.
+const FRAME_MARK: &str = " — masssprings frame, step ";
+/// The start of a frame's second line.
+const RECORD_MARK: &str = "# masssprings run ";
+
+/// The first line of a frame: the scene, the step, and whether its
+/// positions are exact (`precision` `None`) or rounded to `precision`
+/// digits after the point.
+pub fn header(scene: &str, step: usize, precision: Option<usize>) -> String {
+    match precision {
+        None => format!("# {scene}{FRAME_MARK}{step}, exact positions"),
+        Some(digits) => format!(
+            "# {scene}{FRAME_MARK}{step}, positions rounded to {digits} digits after the point"
+        ),
+    }
+}
+
+/// What a run must share with the run it continues, and what its methods
+/// carried after a frame's step.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunRecord {
+    pub vertices: usize,
+    pub k: f64,
+    pub delta_t: f64,
+    /// A fingerprint of the masses' bits: `fnv1a64:` (16 hex digits) `of`
+    /// how many.
+    pub masses: String,
+    /// A fingerprint of the pinned vertices, the same way.
+    pub pins: String,
+    /// Each flag that decides the step, and its value.
+    pub options: BTreeMap<String, String>,
+    /// What the methods carried after this frame's step.
+    pub carried: Carried,
+}
+
+impl RunRecord {
+    /// The record of a run of a scene (`vertices`, `k`, `masses`, `pinned`)
+    /// with `options` (`dense`: on the dense backend), before any step.
+    pub fn new(
+        scene: (usize, f64, &[f64], &[usize]),
+        options: &SimulationOptions,
+        dense: bool,
+    ) -> RunRecord {
+        let (vertices, k, masses, pinned) = scene;
+        let mass_bits = masses.iter().map(|m| m.to_bits());
+        RunRecord {
+            vertices,
+            k,
+            delta_t: options.delta_t,
+            masses: fingerprint(mass_bits),
+            pins: fingerprint(pinned.iter().map(|&p| p as u64)),
+            options: option_values(options, dense),
+            carried: Carried::default(),
+        }
+    }
+
+    /// The frame's second line.
+    pub fn line(&self) -> String {
+        let json = serde_json::to_string(self).expect("plain values serialise");
+        format!("{RECORD_MARK}{json}")
+    }
+
+    /// What differs between the run that wrote this record and `other`
+    /// (what carries over from step to step aside), one phrase each:
+    /// empty when `other` continues the same run.
+    pub fn differences(&self, other: &RunRecord) -> Vec<String> {
+        let mut differ = Vec::new();
+        let mut compare = |what: &str, ours: String, theirs: String| {
+            if ours != theirs {
+                differ.push(format!("{what} (the frames': {ours}; now: {theirs})"));
+            }
+        };
+        compare(
+            "vertices",
+            self.vertices.to_string(),
+            other.vertices.to_string(),
+        );
+        compare("k", self.k.to_string(), other.k.to_string());
+        compare("Δt", self.delta_t.to_string(), other.delta_t.to_string());
+        compare("the masses", self.masses.clone(), other.masses.clone());
+        compare("the pins", self.pins.clone(), other.pins.clone());
+        let flags = self.options.keys().chain(other.options.keys());
+        let flags: std::collections::BTreeSet<&String> = flags.collect();
+        for flag in flags {
+            let value = |options: &BTreeMap<String, String>| {
+                options.get(flag).cloned().unwrap_or("not used".into())
+            };
+            compare(flag, value(&self.options), value(&other.options));
+        }
+        differ
+    }
+}
+
+/// Refuses what carries over that no run carries (a record edited by
+/// hand): a `ρ` outside `[0, 0.995]`, more plain iterations recorded than
+/// the estimate takes, a ratio or a damping that is negative, not finite,
+/// or beyond what the damping ever grows to.
+///
+/// # Errors
+/// A sentence naming the value and its range.
+pub fn check_carried(carried: &Carried) -> Result<(), String> {
+    let chebyshev = &carried.chebyshev;
+    if let Some(rho) = chebyshev.rho.filter(|&rho| !(0.0..=RHO_CAP).contains(&rho)) {
+        return Err(format!("Chebyshev's ρ = {rho} is outside [0, {RHO_CAP}]"));
+    }
+    if chebyshev.recorded > ESTIMATION_ITERATIONS {
+        return Err(format!(
+            "{} plain iterations recorded toward ρ, more than the {ESTIMATION_ITERATIONS} the \
+             estimate takes",
+            chebyshev.recorded
+        ));
+    }
+    let ratio = chebyshev.largest_ratio;
+    if !(ratio.is_finite() && ratio >= 0.0) {
+        return Err(format!(
+            "the largest ratio {ratio} is not a finite number ≥ 0"
+        ));
+    }
+    let damping = carried.newton_damping;
+    let most = 10.0 * LARGEST_DAMPING;
+    if !(damping.is_finite() && (0.0..=most).contains(&damping)) {
+        return Err(format!(
+            "Newton's damping {damping} is outside [0, {most:e}]"
+        ));
+    }
+    Ok(())
+}
+
+/// 64-bit FNV-1a of `words` (each as 8 little-endian bytes), and their
+/// count: `fnv1a64:…` (a fingerprint, to tell two lists apart).
+fn fingerprint(words: impl Iterator<Item = u64>) -> String {
+    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut count = 0u64;
+    for word in words {
+        for byte in word.to_le_bytes() {
+            hash ^= u64::from(byte);
+            hash = hash.wrapping_mul(0x0100_0000_01b3);
+        }
+        count += 1;
+    }
+    format!("fnv1a64:{hash:016x} of {count}")
+}
+
+/// The flags that decide a step of `options`, each with its value (those
+/// of another method or backend left out).
+fn option_values(options: &SimulationOptions, dense: bool) -> BTreeMap<String, String> {
+    let step = &options.step;
+    let shown = |value: Option<f64>| value.map_or("none".to_string(), |v| v.to_string());
+    let accuracy = Accuracy::of(step).map_or("none", Accuracy::name);
+    let mut values = vec![
+        ("--method", step.method.name().to_string()),
+        ("--accuracy", accuracy.to_string()),
+        ("--iterations", step.iterations.to_string()),
+        ("--tolerance", shown(step.tolerance)),
+        ("--energy-tolerance", shown(step.energy_tolerance)),
+        ("--at-least-plain", shown(step.at_least_plain)),
+        ("--start", step.start.name().to_string()),
+        ("--pins", format!("{:?}", options.pins).to_lowercase()),
+        ("--wind", options.wind.to_string()),
+        ("--dense", dense.to_string()),
+        ("--textbook", options.textbook.to_string()),
+    ];
+    match step.method {
+        StepMethod::Chebyshev => {
+            values.push(("--rho", shown(step.rho)));
+            values.push(("--relaxation", step.relaxation.to_string()));
+        }
+        StepMethod::Anderson | StepMethod::Lbfgs => {
+            values.push(("--window", step.window.to_string()));
+        }
+        StepMethod::Plain | StepMethod::Newton => {}
+    }
+    if !dense {
+        let supernodes = match options.supernodes {
+            SupernodeMerging::Small => "small",
+            SupernodeMerging::Fundamental => "fundamental",
+            SupernodeMerging::Relaxed => "relaxed",
+        };
+        values.push(("--ordering", options.ordering.name().to_string()));
+        values.push(("--factorization", options.factorization.name().to_string()));
+        values.push(("--supernodes", supernodes.to_string()));
+    }
+    values
+        .into_iter()
+        .map(|(flag, value)| (flag.to_string(), value))
+        .collect()
+}
+
+/// A frame read back.
+#[derive(Debug)]
+pub struct Frame {
+    /// The scene's name on its first line.
+    pub scene: String,
+    pub step: usize,
+    /// Digits after the point of rounded positions; `None`: exact.
+    pub precision: Option<usize>,
+    /// Its second line, when it has one.
+    pub record: Option<RunRecord>,
+    pub positions: Vec<[f64; 3]>,
+}
+
+/// The parts of a frame's `text`.
+///
+/// # Errors
+/// A [`FileError`] saying what is wrong, on its line: a first line that is
+/// not a frame's, a record that cannot be read (line 2), or the OBJ
+/// reader's error.
+pub fn parse_frame(text: &str) -> Result<Frame, FileError> {
+    let mut lines = text.lines();
+    let first = lines.next().unwrap_or("");
+    let (scene, step, precision) = parse_header(first).ok_or_else(|| {
+        FileError::invalid(format!(
+            "`{}` is not the first line of a masssprings frame",
+            shorten(first)
+        ))
+        .at_line(1)
+    })?;
+    let record = match lines.next().and_then(|line| line.strip_prefix(RECORD_MARK)) {
+        None => None,
+        Some(json) => Some(serde_json::from_str(json).map_err(|e| {
+            FileError::invalid(format!("the run's record cannot be read: {e}")).at_line(2)
+        })?),
+    };
+    let mesh = parse_obj(text)?;
+    Ok(Frame {
+        scene,
+        step,
+        precision,
+        record,
+        positions: mesh.vertices,
+    })
+}
+
+/// The scene, step and precision of a frame's first line.
+fn parse_header(line: &str) -> Option<(String, usize, Option<usize>)> {
+    let (scene, rest) = line.strip_prefix("# ")?.rsplit_once(FRAME_MARK)?;
+    let (step, how) = rest.split_once(", ")?;
+    let step = step.parse().ok()?;
+    let precision = match how {
+        "exact positions" => None,
+        _ => Some(
+            how.strip_prefix("positions rounded to ")?
+                .strip_suffix(" digits after the point")?
+                .parse()
+                .ok()?,
+        ),
+    };
+    Some((scene.to_string(), step, precision))
+}
+
+/// At most 80 characters of `line`, for a message.
+fn shorten(line: &str) -> String {
+    match line.char_indices().nth(80) {
+        Some((end, _)) => format!("{}…", &line[..end]),
+        None => line.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_frame_reads_back_its_header_record_and_positions() {
+        let options = SimulationOptions::default();
+        let mut record = RunRecord::new((2, 500.0, &[1.0, 0.5], &[0]), &options, false);
+        record.carried.chebyshev.rho = Some(0.995);
+        let text = format!(
+            "{}\n{}\nv 0.1 0.2 0.3\nv 1 2 3\n",
+            header("net", 12, None),
+            record.line()
+        );
+        let frame = parse_frame(&text).unwrap();
+        assert_eq!((frame.scene.as_str(), frame.step), ("net", 12));
+        assert_eq!(frame.precision, None);
+        assert_eq!(frame.record, Some(record.clone()));
+        assert_eq!(frame.positions, vec![[0.1, 0.2, 0.3], [1.0, 2.0, 3.0]]);
+        let rounded = format!("{}\nv 0 0 0\n", header("a — b", 3, Some(9)));
+        let frame = parse_frame(&rounded).unwrap();
+        assert_eq!((frame.scene.as_str(), frame.precision), ("a — b", Some(9)));
+        assert!(frame.record.is_none());
+    }
+
+    #[test]
+    fn what_no_run_carries_is_refused() {
+        let mut carried = Carried::default();
+        assert!(check_carried(&carried).is_ok());
+        carried.chebyshev.rho = Some(0.995);
+        carried.newton_damping = 1e-6;
+        assert!(check_carried(&carried).is_ok());
+        for (rho, damping, recorded, ratio) in [
+            (Some(2.0), 0.0, 0, 0.0),
+            (Some(-0.5), 0.0, 0, 0.0),
+            (Some(f64::NAN), 0.0, 0, 0.0),
+            (None, -1.0, 0, 0.0),
+            (None, f64::INFINITY, 0, 0.0),
+            (None, 0.0, 21, 0.0),
+            (None, 0.0, 0, f64::NAN),
+        ] {
+            carried.chebyshev.rho = rho;
+            carried.newton_damping = damping;
+            carried.chebyshev.recorded = recorded;
+            carried.chebyshev.largest_ratio = ratio;
+            assert!(check_carried(&carried).is_err(), "{carried:?}");
+        }
+    }
+
+    #[test]
+    fn records_name_what_differs() {
+        let options = SimulationOptions::default();
+        let ours = RunRecord::new((2, 500.0, &[1.0, 0.5], &[0]), &options, false);
+        assert!(ours.differences(&ours).is_empty());
+        let mut chebyshev = options;
+        chebyshev.step.method = StepMethod::Chebyshev;
+        let theirs = RunRecord::new((2, 600.0, &[1.0, 0.25], &[1]), &chebyshev, false);
+        let differ = ours.differences(&theirs).join("; ");
+        for what in ["k (the frames': 500; now: 600)", "the masses", "the pins"] {
+            assert!(differ.contains(what), "{differ}");
+        }
+        assert!(differ.contains("--method (the frames': plain; now: chebyshev)"));
+        assert!(differ.contains("--rho (the frames': not used; now: none)"));
+    }
+
+    #[test]
+    fn anything_that_is_not_a_frame_is_named_with_its_line() {
+        for (text, line) in [
+            ("", 1),
+            ("v 0 0 0\n", 1),
+            ("# net — masssprings frame, step -1, exact positions\n", 1),
+            (
+                "# net — masssprings frame, step 99999999999999999999999, exact positions\n",
+                1,
+            ),
+            (
+                "# n — masssprings frame, step 1, exact positions\n# masssprings run {",
+                2,
+            ),
+            (
+                "# n — masssprings frame, step 1, exact positions\nv 0 x 0\n",
+                2,
+            ),
+        ] {
+            let error = parse_frame(text).unwrap_err();
+            assert_eq!(error.line(), Some(line), "{text:?}: {error}");
+        }
+        assert_eq!(frame_step("frame-000012.obj"), Some(12));
+        assert_eq!(frame_step("frame-12.obj"), None);
+        assert_eq!(frame_step("frame-99999999999999999999999.obj"), None);
+    }
+}
