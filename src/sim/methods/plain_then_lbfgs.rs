@@ -195,9 +195,14 @@ fn plain_while_fast<B: LinearAlgebra>(
     for j in 1..=ITERATIONS {
         context.global_step(p);
         let new_energy = context.local_step_measuring(p, None);
-        monitor.after(j, context, p, Gradient::Unknown, Some(new_energy)); // no floor yet: observed only
+        // No floor yet: the monitor only shows the iterate, or says the
+        // step was cancelled.
+        let cancelled = monitor.after(j, context, p, Gradient::Unknown, Some(new_energy));
         let decrease = energy - new_energy;
         energy = new_energy;
+        if cancelled == Some(Stop::Cancelled) {
+            return Plain::Done(Outcome::measured(j, Stop::Cancelled, energy));
+        }
         let left = (ITERATIONS - j) as f64 * decrease;
         if decrease <= 0.0 {
             return Plain::Done(Outcome::measured(j, Stop::Stalled, energy));
