@@ -26,12 +26,14 @@
 //!   never does), measured in an untimed pass, and the rounding `η` that
 //!   [`StepEnergy::rounding`](masssprings::sim::energy::StepEnergy::rounding)
 //!   estimates from the springs' forces (which plain's jitter matches).
-//! * **each on its own**: two simulations from rest, one by plain-50, one
-//!   by the accuracy's settings, and after every step how far apart their
-//!   vertices are: the largest distance `maxᵢ ‖aᵢ − bᵢ‖`, the RMS
-//!   `√(Σᵢ ‖aᵢ − bᵢ‖² / n)` and the distance between the centroids. Its
-//!   own trajectory is not the assignment's, so each of its steps is
-//!   compared, too, with plain-50 from the same (its own) state.
+//! * **each on its own** (what a user gets, printed first): two
+//!   simulations from rest, one by plain-50, one by the accuracy's
+//!   settings, each stepped alone as `simulate` steps it: the median step time of
+//!   each, and after every step how far apart their vertices are: the
+//!   largest distance `maxᵢ ‖aᵢ − bᵢ‖`, the RMS `√(Σᵢ ‖aᵢ − bᵢ‖² / n)` and
+//!   the distance between the centroids. Its own trajectory is not the
+//!   assignment's, so each of its steps is compared, too, in an untimed
+//!   second pass, with plain-50 from the same (its own) state.
 
 use super::request::Request;
 use super::steps::{draw_rule, measured_decrease, rule_rows, timed_step, write_rule_csv, RuleRow};
@@ -209,36 +211,82 @@ struct Apart {
 }
 
 /// Runs plain-50 and the request's settings from rest, each on its own,
-/// `steps` steps, and measures how far apart they are after each.
+/// `steps` steps, timing each step and measuring how far apart they are after
+/// each; then runs the settings' trajectory again, untimed, to solve each
+/// of its steps by plain-50 too.
 fn trajectories(request: &Request, scene: &Scene, steps: usize) -> Result<Apart, AppError> {
+    let mut apart = timed_runs(request, scene, steps)?;
+    own_steps(request, scene, steps, &mut apart)?;
+    Ok(apart)
+}
+
+/// The timed part of [`trajectories`]: each run stepped as `simulate`
+/// steps it, alone (plain-50's whole run, then the settings' whole run:
+/// interleaving them step by step would evict each one's factor from the
+/// caches before its next step, which a user's run does not do).
+fn timed_runs(request: &Request, scene: &Scene, steps: usize) -> Result<Apart, AppError> {
+    let fast_options = SimulationOptions {
+        step: StepControl {
+            measure: false,
+            ..request.control
+        },
+        ..request.canonical
+    };
+    Ok(Apart {
+        plain_50_ms: timed_run(request, scene, steps, request.canonical)?,
+        ms: timed_run(request, scene, steps, fast_options)?,
+        ..Apart::default()
+    })
+}
+
+/// The milliseconds each of `steps` steps from rest by `options` took.
+fn timed_run(
+    request: &Request,
+    scene: &Scene,
+    steps: usize,
+    options: SimulationOptions,
+) -> Result<Vec<f64>, AppError> {
+    let mut simulation = precompute::<Sparse>(scene, &request.scene, options)?;
+    let mut ms = Vec::with_capacity(steps);
+    for step in 1..=steps {
+        let started = Instant::now();
+        simulation
+            .step()
+            .map_err(|e| AppError::Failed(format!("step {step}: {e}")))?;
+        ms.push(1e3 * started.elapsed().as_secs_f64());
+    }
+    Ok(ms)
+}
+
+/// The untimed part of [`trajectories`]: each step of the settings' own
+/// run, and plain-50 from the same state with the rounding of its energy
+/// there, into `apart.own` and `apart.own_rounding`; and, beside it,
+/// plain-50's own run, to measure how far apart the two are.
+fn own_steps(
+    request: &Request,
+    scene: &Scene,
+    steps: usize,
+    apart: &mut Apart,
+) -> Result<(), AppError> {
     let fast_options = SimulationOptions {
         step: request.control,
         ..request.canonical
     };
-    let mut plain = precompute::<Sparse>(scene, &request.scene, request.canonical)?;
     let mut fast = precompute::<Sparse>(scene, &request.scene, fast_options)?;
-    let mut apart = Apart::default();
     let plain_50 = StepControl {
         measure: true,
         ..request.canonical.step
     };
-    let mut plain_from_fast = plain.clone();
+    let mut plain_from_fast = precompute::<Sparse>(scene, &request.scene, request.canonical)?;
+    let mut plain = plain_from_fast.clone();
     for step in 1..=steps {
-        let failed =
-            |e: masssprings::sim::SimulationError| AppError::Failed(format!("step {step}: {e}"));
         let (plain_report, _) = timed_step(&mut plain_from_fast, &fast, &plain_50)?;
         apart
             .own_rounding
             .push(plain_rounding_at(&fast, &plain_50)?);
-        let started = Instant::now();
-        plain.step().map_err(failed)?;
-        let middle = Instant::now();
-        let report = fast.step().map_err(failed)?;
-        let ms = 1e3 * middle.elapsed().as_secs_f64();
-        apart.ms.push(ms);
-        apart
-            .plain_50_ms
-            .push(1e3 * (middle - started).as_secs_f64());
+        let report = fast
+            .step()
+            .map_err(|e| AppError::Failed(format!("step {step}: {e}")))?;
         apart.own.push(RuleRow {
             step,
             method: report.method,
@@ -246,15 +294,18 @@ fn trajectories(request: &Request, scene: &Scene, steps: usize) -> Result<Apart,
             stop: report.stop,
             energy: -measured_decrease(&report),
             plain_50_energy: -measured_decrease(&plain_report),
-            ms,
+            ms: apart.ms.get(step - 1).copied().unwrap_or(f64::NAN),
             plain_50_ms: f64::NAN,
         });
+        plain
+            .step()
+            .map_err(|e| AppError::Failed(format!("plain-50, step {step}: {e}")))?;
         let [max_vertex, rms, centroid] = distances(plain.positions(), fast.positions());
         apart.max_vertex = apart.max_vertex.max(max_vertex);
         apart.rms = apart.rms.max(rms);
         apart.centroid = apart.centroid.max(centroid);
     }
-    Ok(apart)
+    Ok(())
 }
 
 /// `[maxᵢ ‖aᵢ − bᵢ‖, √(Σᵢ ‖aᵢ − bᵢ‖² / n), ‖ā − b̄‖]`.
