@@ -244,7 +244,7 @@ fn converge_measures_the_rule_against_an_oracle_and_draws_the_motion() {
         assert_eq!(&std::fs::read(png).unwrap()[..4], b"\x89PNG", "{flag}");
         let text = stdout(&output);
         let expected = match flag {
-            "--oracle" => "oracle, along own's trajectory: the rule's median step ",
+            "--oracle" => "oracle, along the accuracy's own run: the rule's median step ",
             _ => "plain-50: mean kinetic energy ",
         };
         assert!(

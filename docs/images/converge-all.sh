@@ -19,3 +19,13 @@ for name in flag skirt; do
   "$bin" converge "data/$name.json" --steps 30 --energy-tolerance 0.15 --at-least-plain 50 \
     --methods chebyshev,anderson,lbfgs --iterations 50 --plot "docs/images/steps-$name-floor.png"
 done
+# What --accuracy assignment spends against an oracle that knows plain-50's
+# energy, and how much the flag moves by plain-50, the accuracy and
+# converged steps (docs/convergence.md, "How to choose"). They time steps:
+# run on a quiet machine.
+for name in flag skirt; do
+  "$bin" converge "data/$name.json" --steps 100 --accuracy assignment \
+    --oracle "docs/images/oracle-$name.png"
+  rm "docs/images/oracle-$name.csv"
+done
+"$bin" converge data/flag.json --steps 300 --accuracy assignment --motion docs/images/motion-flag.png

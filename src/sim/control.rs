@@ -236,9 +236,9 @@ impl FromStr for Accuracy {
 /// The energy rule's `F` of [`Accuracy::Assignment`]: past the floor, stop
 /// once an L-BFGS iteration takes off at most 0.15 of all the descent has
 /// taken off. Tuned on each run's own trajectory (`docs/convergence.md`,
-/// "How to choose"): 0.1 costs a tenth more on the flag and the skirt and
-/// misses the same steps; 0.3 stops short on the skirt's swing and on the
-/// flag with `k` ×0.1.
+/// "How to choose"): 0.1 cost about a tenth more on the flag and the skirt,
+/// and 0.3 stopped short of plain-50's energy on the skirt's swing and on
+/// the flag with `k` ×0.1.
 pub const ASSIGNMENT_ENERGY_TOLERANCE: f64 = 0.15;
 
 /// The budget of [`Accuracy::Assignment`]: at most 20 L-BFGS iterations a

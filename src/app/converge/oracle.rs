@@ -56,6 +56,9 @@ struct OracleRow {
     rule_iterations: usize,
     rule_ms: f64,
     rule_energy: f64,
+    /// How far below `E₅₀` the floor `Eⱼ − (50 − j) δⱼ` lies after plain's
+    /// first and after its third iteration, over plain-50's decrease.
+    floors_below: [f64; 2],
     /// Per oracle method: iterations and milliseconds to reach `E₅₀`, if
     /// it did within [`ORACLE_ITERATIONS`].
     reached: [Option<(usize, f64)>; 3],
@@ -128,6 +131,7 @@ fn oracle_row(
     let plain = trace(simulation, &canonical, StepMethod::Plain, YARDSTICKS[0])?;
     let last = plain.samples.last().expect("an iterate at least");
     let (target, plain_50_ms) = (last.energy, last.elapsed_ms);
+    let floors_below = [1, 3].map(|j| floor_below(&plain, j, target));
     let (report, rule_ms) = timed_step(runner, simulation, &request.control)?;
     let mut reached = [None; 3];
     for (slot, &(_, method, start)) in reached.iter_mut().zip(&ORACLES) {
@@ -143,8 +147,17 @@ fn oracle_row(
         rule_iterations: report.iterations,
         rule_ms,
         rule_energy: -report.energy_decrease.unwrap_or(f64::NAN),
+        floors_below,
         reached,
     })
+}
+
+/// How far below `target` (`E₅₀`) the floor `Eⱼ − (50 − j) δⱼ` of plain's
+/// `j`-th iterate lies, over plain-50's decrease `−target` (negative: above).
+fn floor_below(plain: &Curve, j: usize, target: f64) -> f64 {
+    let energy = |i: usize| plain.samples.get(i).map_or(f64::NAN, |s| s.energy);
+    let floor = energy(j) - (YARDSTICKS[0] - j) as f64 * (energy(j - 1) - energy(j));
+    (target - floor) / -target
 }
 
 /// The iterations and milliseconds at which `curve` first reaches `target`.
@@ -160,13 +173,22 @@ fn print_summary(rows: &[OracleRow]) {
         let rule: Vec<f64> = of.iter().map(|r| r.rule_ms / r.plain_50_ms).collect();
         let least: Vec<f64> = of.iter().filter_map(|r| r.least()).collect();
         let iterations: usize = of.iter().map(|r| r.rule_iterations).sum();
+        let below = |j: usize| median(&of.iter().map(|r| r.floors_below[j]).collect::<Vec<_>>());
+        let along = match trajectory {
+            "own" => "the accuracy's own run",
+            _ => "plain-50's run",
+        };
         println!(
-            "oracle, along {trajectory}'s trajectory: the rule's median step {:.3} of plain-50's \
-             ({iterations} iterations), the oracle's least {:.3} (reached on {} of {} steps)",
+            "oracle, along {along}: the rule's median step {:.3} of plain-50's \
+             ({iterations} iterations), the oracle's least {:.3} (reached on {} of {} steps); \
+             the floor after plain's first iteration {:.2}, after its third {:.2} of plain-50's \
+             decrease below plain-50's energy (medians)",
             median(&rule),
             median(&least),
             least.len(),
-            of.len()
+            of.len(),
+            below(0),
+            below(1)
         );
     }
 }
@@ -174,7 +196,8 @@ fn print_summary(rows: &[OracleRow]) {
 fn write_csv(out: &mut dyn Write, rows: &[OracleRow]) -> std::io::Result<()> {
     write!(
         out,
-        "trajectory,step,plain_50_energy,plain_50_ms,rule_iterations,rule_ms,rule_energy"
+        "trajectory,step,plain_50_energy,plain_50_ms,rule_iterations,rule_ms,rule_energy,\
+         floor_1_below,floor_3_below"
     )?;
     for name in ["lbfgs", "inertial_plain", "inertial_lbfgs"] {
         write!(out, ",{name}_iterations,{name}_ms")?;
@@ -183,14 +206,16 @@ fn write_csv(out: &mut dyn Write, rows: &[OracleRow]) -> std::io::Result<()> {
     for r in rows {
         write!(
             out,
-            "{},{},{:e},{:.4},{},{:.4},{:e}",
+            "{},{},{:e},{:.4},{},{:.4},{:e},{:.4},{:.4}",
             r.trajectory,
             r.step,
             r.plain_50_energy,
             r.plain_50_ms,
             r.rule_iterations,
             r.rule_ms,
-            r.rule_energy
+            r.rule_energy,
+            r.floors_below[0],
+            r.floors_below[1]
         )?;
         for reached in &r.reached {
             match reached {
@@ -226,8 +251,8 @@ fn draw(path: &Path, scene: &str, rows: &[OracleRow]) -> Result<(), AppError> {
     ];
     let plot = StepPlot {
         title: format!("{scene}, --accuracy assignment: the rule against an oracle that knows plain-50's energy"),
-        caption: "each step's time over plain-50's from the same state; the oracle stops the fastest of \
-                  L-BFGS, plain and L-BFGS from the inertial start at plain-50's energy"
+        caption: "each step's time over plain-50's from the same state; oracle: the fastest \
+                  method, stopped at plain-50's energy"
             .into(),
         left: ("along its own trajectory", "time / plain-50's (log)", Scale::Log10),
         right: ("along plain-50's trajectory", "time / plain-50's (log)", Scale::Log10),
