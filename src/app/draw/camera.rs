@@ -73,19 +73,25 @@ pub struct Camera {
     centre: [f64; 2],
 }
 
+/// The camera's axes `[right, up, back]` (back: from the target toward the
+/// eye) for a view from the direction of `azimuth` and `elevation`
+/// (radians, as in the module header).
+fn axes(azimuth: f64, elevation: f64) -> [[f64; 3]; 3] {
+    let back = [
+        elevation.cos() * azimuth.sin(),
+        elevation.sin(),
+        elevation.cos() * azimuth.cos(),
+    ];
+    let right = normalize(cross([0.0, 1.0, 0.0], back));
+    [right, cross(back, right), back]
+}
+
 impl Camera {
     /// The camera of the shared look (azimuth 30°, elevation 20°, vertical
     /// field of view 35°) at the smallest distance from which `bounds` fits
     /// in a `width × height` image with a 10% margin.
     pub fn framing(bounds: &BoundingBox, width: usize, height: usize) -> Camera {
-        let (azimuth, elevation) = (AZIMUTH_DEGREES.to_radians(), ELEVATION_DEGREES.to_radians());
-        let back = [
-            elevation.cos() * azimuth.sin(),
-            elevation.sin(),
-            elevation.cos() * azimuth.cos(),
-        ];
-        let right = normalize(cross([0.0, 1.0, 0.0], back));
-        let up = cross(back, right);
+        let [right, up, back] = axes(AZIMUTH_DEGREES.to_radians(), ELEVATION_DEGREES.to_radians());
         let (width, height) = (width as f64, height as f64);
         let tan_y = (0.5 * FIELD_OF_VIEW_DEGREES.to_radians()).tan();
         let tan_x = tan_y * width / height;
@@ -128,14 +134,7 @@ impl Camera {
     /// height, right and up: the page frames the scene in the free part of
     /// its window).
     pub fn orbit(view: &Orbit, width: usize, height: usize) -> Camera {
-        let (azimuth, elevation) = (view.azimuth, view.elevation);
-        let back = [
-            elevation.cos() * azimuth.sin(),
-            elevation.sin(),
-            elevation.cos() * azimuth.cos(),
-        ];
-        let right = normalize(cross([0.0, 1.0, 0.0], back));
-        let up = cross(back, right);
+        let [right, up, back] = axes(view.azimuth, view.elevation);
         let (width, height) = (width as f64, height as f64);
         Camera {
             eye: std::array::from_fn(|k| view.target[k] + view.distance * back[k]),
