@@ -34,8 +34,8 @@ mod sum;
 
 pub use factor::inverse;
 
+use super::manifest::{read_manifest, Manifest, MANIFEST};
 use super::quantities::{quantities, Axis, Check, Quantity};
-use super::{read_manifest, Manifest, MANIFEST};
 use crate::app::error::AppError;
 use entries::{
     conform, dense_difference, sparse_difference, to_dense, to_sparse, Largest, RowKind,

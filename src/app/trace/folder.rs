@@ -25,8 +25,8 @@
 //!   removed first, so a run that fails there leaves a folder `--compare`
 //!   refuses, never a manifest over a mixture.
 
+use super::manifest::{is_trace_file, read_manifest, MANIFEST};
 use super::quantities::quantities;
-use super::{is_trace_file, read_manifest, MANIFEST};
 use crate::app::error::AppError;
 use crate::app::file_plan::{
     begins_with, plan_scene_inputs, refuse_foreign, start_holds, unlink_link,

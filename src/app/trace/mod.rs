@@ -22,6 +22,7 @@
 mod compare;
 mod compute;
 mod folder;
+mod manifest;
 mod mistaken;
 mod quantities;
 mod readme;
@@ -31,6 +32,7 @@ use super::file_plan::load_scene;
 use super::flags::{choice, whole, OrderingFlag};
 use compute::{labelled, trace, TraceOptions, Value};
 use folder::TraceFolder;
+use manifest::{Manifest, MANIFEST};
 use masssprings::files::write_file;
 use masssprings::matrix_market::{write_array, write_coordinate, Symmetry};
 use masssprings::mesh::Scene;
@@ -84,27 +86,6 @@ pub struct TraceArgs {
     compare: Option<Vec<PathBuf>>,
 }
 
-/// What `trace.json` records about a trace, for `--compare`.
-#[derive(Debug, serde::Serialize, serde::Deserialize)]
-pub struct Manifest {
-    pub scene: String,
-    pub step: usize,
-    pub iterations: usize,
-    pub ordering: String,
-    pub vertices: usize,
-    pub springs: usize,
-    pub pins: usize,
-    /// The stiffness `k`, which `--compare` needs for the size of `b`'s terms.
-    pub k: f64,
-    pub files: Vec<String>,
-    /// The mistake made on purpose (`--mistake`), if any.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub mistake: Option<String>,
-}
-
-/// The file `--compare` reads first.
-const MANIFEST: &str = "trace.json";
-
 pub fn run(args: TraceArgs) -> Result<(), AppError> {
     if let Some([ours, theirs]) = args.compare.as_deref() {
         return compare::run(ours, theirs);
@@ -148,26 +129,6 @@ pub fn run(args: TraceArgs) -> Result<(), AppError> {
         start.elapsed().as_secs_f64()
     );
     Ok(())
-}
-
-/// A name `trace` writes: `A.mtx`, `d_12.mtx` (never a path).
-fn is_trace_file(name: &str) -> bool {
-    quantities::quantities(ITERATIONS)
-        .iter()
-        .any(|q| q.file_name() == name)
-}
-
-/// The manifest of the trace in `folder`.
-pub fn read_manifest(folder: &Path) -> Result<Manifest, AppError> {
-    let path = folder.join(MANIFEST);
-    let text = masssprings::files::read_text(&path).map_err(|e| {
-        AppError::Failed(format!(
-            "{e} ({} is not a folder written by masssprings trace)",
-            folder.display()
-        ))
-    })?;
-    serde_json::from_str(&text)
-        .map_err(|e| AppError::Failed(format!("{}:{}: {e}", path.display(), e.line())))
 }
 
 fn manifest(

@@ -5,8 +5,8 @@
 
 use super::compute::Value;
 use super::folder::README_START;
+use super::manifest::Manifest;
 use super::quantities::{Check, Quantity, SPECS};
-use super::Manifest;
 use masssprings::sim::mistakes::Mistake;
 use std::fmt::Write;
 
