@@ -180,13 +180,24 @@ impl<'a, 'o> Monitor<'a, 'o> {
 
     /// From now on, stop the step, past the floor or not, at an iteration
     /// that takes off at most `fraction` of all the step has taken off, or
-    /// at most `rounding` (the energy's own rounding, below which no
-    /// decrease can be told from it): with `fraction` far below any rule's,
-    /// the iterate has converged (`methods/plain_then_lbfgs.rs` says when
-    /// it is safe). Only beside the energy rule, which records each
-    /// iterate's energy.
+    /// once the next descent direction `d` promises at most `rounding`,
+    /// `−∇Eᵀd ≤ rounding` ([`Monitor::direction_converged`]): with
+    /// `fraction` far below any rule's and `rounding` below the energy's
+    /// own rounding, the iterate has converged
+    /// (`methods/plain_then_lbfgs.rs` says when it is safe). Only beside
+    /// the energy rule, which records each iterate's energy.
     pub fn stop_when_converged(&mut self, fraction: f64, rounding: f64) {
         self.converged = Some((fraction, rounding));
+    }
+
+    /// Has the descent converged to rounding ([`Monitor::stop_when_converged`])
+    /// when its next direction has the slope `∇Eᵀd`? The slope, unlike a
+    /// decrease measured between two energies, is not itself rounded to
+    /// `η`: a decrease at rounding may be noise over a step that still has
+    /// a few `η` to go, a slope below it says none is left.
+    pub fn direction_converged(&self, slope: f64) -> bool {
+        self.converged
+            .is_some_and(|(_, rounding)| -slope <= rounding)
     }
 
     /// Room for `∇E` at the next iterate, when the stopping rule will test
@@ -303,11 +314,11 @@ impl<'a, 'o> Monitor<'a, 'o> {
     /// iterate `iteration` of energy `energy`? The last energy is the one
     /// the energy rule recorded.
     fn converged_at(&self, iteration: usize, energy: Option<f64>) -> bool {
-        let (Some((fraction, rounding)), Some(energy)) = (self.converged, energy) else {
+        let (Some((fraction, _)), Some(energy)) = (self.converged, energy) else {
             return false;
         };
         let decrease = self.last_energy - energy;
-        let small = (fraction * (self.first_energy - energy)).max(rounding);
+        let small = fraction * (self.first_energy - energy);
         iteration > 0 && (0.0..=small).contains(&decrease)
     }
 
@@ -479,9 +490,11 @@ mod tests {
         );
         monitor.stop_when_converged(1e-11, 1e-9);
         assert!(
-            monitor.converged_at(2, Some(-10.0 - 1e-10)),
-            "a decrease below the rounding"
+            !monitor.converged_at(2, Some(-10.0 - 1e-10)),
+            "a decrease below the rounding may be rounding's"
         );
+        assert!(monitor.direction_converged(-1e-9));
+        assert!(!monitor.direction_converged(-2e-9));
     }
 
     #[test]

@@ -219,6 +219,9 @@ pub(crate) fn solve<B: LinearAlgebra>(
         let Some(slope) = descent_direction(context, work) else {
             return Outcome::measured(iteration - 1, Stop::Stalled, energy);
         };
+        if monitor.direction_converged(slope) {
+            return Outcome::measured(iteration - 1, Stop::EnergyTolerance, energy);
+        }
         let Some((t, new_energy)) =
             search_along_direction(context, work, p, slope, energy, rounding)
         else {

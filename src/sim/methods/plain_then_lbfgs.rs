@@ -65,8 +65,9 @@
 //! rule also waits for a decrease no larger than plain's last, `δⱼ` (a
 //! pace that plain-50 itself keeps, or passes). And the descent stops,
 //! floor or not, at an iteration that takes off at most [`CONVERGED`] of
-//! the step's decrease or [`ROUNDING_SHARE`] of `η`: it is then at the
-//! minimiser, which plain-`N` cannot pass.
+//! the step's decrease, or once its next direction `d` promises at most
+//! [`ROUNDING_SHARE`] of `η` (`−∇Eᵀd`): it is then at the minimiser, which
+//! plain-`N` cannot pass.
 //!
 //! The hand-over ratio [`HANDOVER`] comes from the cost: at a rate `ρ`,
 //! plain needs about `ln(2·10⁻¹¹) / ln ρ` iterations for the second rule
@@ -104,13 +105,17 @@ pub const PLAIN_MARGIN: f64 = 1e-9;
 /// [`PLAIN_MARGIN`] of the decrease for any `ρ ≤ 0.99`.
 pub const CONVERGED: f64 = 1e-11;
 
-/// An L-BFGS iteration taking off at most this share of the energy's
-/// rounding `η` ([`StepEnergy::rounding`]) also ends the step: at a rate
-/// up to 0.9 what is left after it is at most nine times its decrease,
-/// below `η`, where no comparison of energies can see it. (Stopping at
-/// `η` itself left steps of cloths near rest a few `η` above plain-50's.)
+/// An L-BFGS direction `d` whose slope promises at most this share of the
+/// energy's rounding `η` ([`StepEnergy::rounding`]), `−∇Eᵀd ≤ 0.1 η`, also
+/// ends the step: a quadratic model along it has `−∇Eᵀd / 2` left to take
+/// off, below what any comparison of energies can see. The test is on the
+/// slope, not on a decrease: a decrease measured between two energies is
+/// itself rounded to about `η`, and one that looked like nothing stopped
+/// steps of the net at rest three `η` short of plain-50 (`Δt` ×2, steps
+/// 74 and 76). (A share of 1 lets the line search, which accepts a step it
+/// cannot judge, wander up by rounding before the stop: grid 32's step 11
+/// ended 1.3% of its tiny decrease above.)
 ///
-/// [`StepEnergy::rounding`]: crate::sim::energy::StepEnergy::rounding
 pub const ROUNDING_SHARE: f64 = 0.1;
 
 /// How the plain iterations ended.
