@@ -278,7 +278,8 @@ fn the_step_counter_never_wraps() {
     let error = resume_error(&net, &folder, &["--steps", "1"], 1);
     assert!(
         error.contains("the run is at step 18446744073709551615")
-            && error.contains("would pass the largest step number"),
+            && error.contains("would pass the largest step number")
+            && error.contains("the run cannot go on"),
         "{error}"
     );
     assert_eq!(

@@ -107,12 +107,15 @@ pub fn last_state(folder: &Path, scene: &Scene, record: &RunRecord) -> Result<Re
 /// (`usize::MAX`), before any work.
 pub fn last_step(folder: &Path, step: usize, more: usize) -> Result<usize, AppError> {
     step.checked_add(more).ok_or_else(|| {
+        let room = match usize::MAX - step {
+            0 => "the run cannot go on".to_string(),
+            left => format!("give --steps {left} or fewer"),
+        };
         AppError::Failed(format!(
-            "--resume {}: the run is at step {step}; {more} more steps would pass the largest \
-             step number, {}; give --steps {} or fewer",
+            "--resume {}: the run is at step {step}; --steps {more} would pass the largest \
+             step number a frame can carry, {}; {room}",
             folder.display(),
             usize::MAX,
-            usize::MAX - step
         ))
     })
 }
