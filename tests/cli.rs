@@ -430,3 +430,27 @@ fn bench_rejects_a_grid_side_below_two() {
         "{error}"
     );
 }
+
+#[test]
+fn a_reader_that_goes_away_ends_a_command_quietly_not_with_a_panic() {
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::{Command, Stdio};
+    // `masssprings converge net.json | head -0`: the pipe's reader is gone
+    // before the command prints its first line
+    let mut child = Command::new(env!("CARGO_BIN_EXE_masssprings"))
+        .args(["converge", &data("net.json"), "--methods", "plain"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let output = child.wait_with_output().unwrap();
+    let errors = String::from_utf8_lossy(&output.stderr);
+    assert!(!errors.contains("panicked"), "{errors}");
+    assert_eq!(
+        output.status.signal(),
+        Some(13),
+        "ended by SIGPIPE, as `cat` would be: {:?}",
+        output.status
+    );
+}

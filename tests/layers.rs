@@ -288,7 +288,14 @@ const APP_FLOORS: [&[&str]; 6] = [
     // the error every layer returns
     &["error"],
     // shared plumbing
-    &["flags", "limits", "progress", "timing", "file_plan"],
+    &[
+        "flags",
+        "limits",
+        "progress",
+        "timing",
+        "file_plan",
+        "closed_pipe",
+    ],
     // the frames of simulate: their format, their folder (its lock, what it
     // may replace: file_plan) and resuming from them
     &["resume"],

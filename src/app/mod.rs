@@ -20,6 +20,7 @@
 mod analysis;
 mod analyze;
 mod bench;
+mod closed_pipe;
 mod converge;
 
 mod draw;
@@ -154,6 +155,9 @@ pub fn run(args: &[OsString]) -> i32 {
     if let Err(problem) = masssprings::memory::limit_variable() {
         eprintln!("masssprings: error: {problem}");
         return 1;
+    }
+    if !matches!(command, Command::View(_)) {
+        closed_pipe::end_quietly_when_the_reader_goes();
     }
     match command.run() {
         Ok(()) => 0,
