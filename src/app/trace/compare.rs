@@ -487,7 +487,60 @@ fn print_ignored(theirs: &Path, all: &[Quantity], iterations: usize) {
     if !ignored.is_empty() {
         println!(
             "\nignored (not a file of this trace of {iterations} iteration(s)): {}",
-            ignored.join(", ")
+            in_runs(&ignored).join(", ")
+        );
+    }
+}
+
+/// `names` with each run of three or more numbered files of one quantity
+/// (`b_3.mtx`, `b_4.mtx`, … `b_50.mtx`) written as its ends, `b_3.mtx …
+/// b_50.mtx`: a student's trace of 50 iterations against ours of 2 is
+/// three short runs, not 144 names.
+fn in_runs(names: &[String]) -> Vec<String> {
+    let mut numbered: std::collections::BTreeMap<&str, Vec<usize>> = Default::default();
+    let mut listed = Vec::new();
+    for name in names {
+        let split = name
+            .strip_suffix(".mtx")
+            .and_then(|stem| stem.rsplit_once('_'));
+        match split.and_then(|(quantity, n)| Some((quantity, n.parse::<usize>().ok()?))) {
+            Some((quantity, n)) => numbered.entry(quantity).or_default().push(n),
+            None => listed.push(name.clone()),
+        }
+    }
+    for (quantity, mut numbers) in numbered {
+        numbers.sort_unstable();
+        for run in numbers.chunk_by(|a, b| b.checked_sub(*a) == Some(1)) {
+            let name = |n: usize| format!("{quantity}_{n}.mtx");
+            match run {
+                [first, .., last] if run.len() >= 3 => {
+                    listed.push(format!("{} … {}", name(*first), name(*last)))
+                }
+                _ => listed.extend(run.iter().map(|&n| name(n))),
+            }
+        }
+    }
+    listed
+}
+
+#[cfg(test)]
+mod tests {
+    use super::in_runs;
+
+    #[test]
+    fn numbered_files_are_listed_by_their_runs() {
+        let mut names: Vec<String> = (3..=50).map(|n| format!("b_{n}.mtx")).collect();
+        names.extend(["d_3.mtx", "d_4.mtx", "d_9.mtx", "notes.mtx", "x_y.mtx"].map(String::from));
+        assert_eq!(
+            in_runs(&names),
+            [
+                "notes.mtx",
+                "x_y.mtx",
+                "b_3.mtx … b_50.mtx",
+                "d_3.mtx",
+                "d_4.mtx",
+                "d_9.mtx"
+            ]
         );
     }
 }
