@@ -29,7 +29,7 @@
 //!
 //! Every writer (matrices, frames, scenes, images, CSV) goes through
 //! [`write_file`], after the command has checked its [`FilePlan`] (no
-//! output is an input or another output, [`outputs`]). What it does
+//! output is an input or another output, `outputs`). What it does
 //! depends on what is at the path:
 //!
 //! * **nothing, or a regular file**: the content is written to a temporary
@@ -37,7 +37,7 @@
 //!   so a failure never leaves a half-written file behind (a file replaced
 //!   keeps its permissions). The temporary is removed on every error; a
 //!   process killed while writing leaves it, named
-//!   `.NAME.masssprings-PID-START-N.tmp` ([`temporaries`]), and the next
+//!   `.NAME.masssprings-PID-START-N.tmp` (`temporaries`), and the next
 //!   run that takes the folder's lock ([`FolderLock`]) removes it.
 //! * **a symbolic link**: followed; its target is replaced as above, and the
 //!   link stays a link.

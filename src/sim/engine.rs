@@ -5,7 +5,7 @@
 //!   precomputation and the step's own [`StepWorkspace`]; every method,
 //!   stopping rule and kind of pin ([`step`](super::step)).
 //! * [`Engine::Textbook`]: the handout's precomputation and step
-//!   ([`textbook`](super::textbook)), dense or sparse as the backend is:
+//!   ([`textbook`]), dense or sparse as the backend is:
 //!   plain iterations, penalty pins, nothing measured. Changing the pins or
 //!   the parameters redoes its precomputation, as the handout would.
 //!

@@ -1,6 +1,6 @@
 //! Scenes the project generates itself, as the text of their files.
 //!
-//! * [`grid`]: the `grid-N` cloth of the benchmarks (defined in its module),
+//! * [`grid()`]: the `grid-N` cloth of the benchmarks (defined in its module),
 //!   byte for byte what the reference tool's `ref grid N` writes.
 //! * [`examples`]: our own versions of the assignment's five teaching scenes
 //!   (a single spring, a hanging chain, a net, a flag, a skirt), built by

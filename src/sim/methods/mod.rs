@@ -28,7 +28,7 @@
 //! ([`MethodWorkspaces`], [`prepare`]) and hands a step to its method
 //! ([`solve`]). What every method uses lives below this folder:
 //! [`GlobalStep`](super::global_step::GlobalStep) (the plain iteration and
-//! solves with `Q`) and [`Monitor`](super::monitor::Monitor) (the stopping
+//! solves with `Q`) and [`Monitor`] (the stopping
 //! rules and the observer). [`factor_order`] runs `plain`'s iterations, to
 //! the bit, with the positions kept in the sparse factor's order, when
 //! nothing watches them.

@@ -75,7 +75,7 @@
 //! of plain-50; slower than that, L-BFGS is cheaper.
 //!
 //! Source: the floor and the energy rule of `Monitor::after`; L-BFGS of
-//! [`lbfgs`](super::lbfgs); the inertial start of projective dynamics
+//! [`lbfgs`]; the inertial start of projective dynamics
 //! (Bouaziz et al. 2014, Algorithm 1); the plain iteration of Liu et al.
 //! 2013.
 //!
@@ -116,6 +116,7 @@ pub const CONVERGED: f64 = 1e-11;
 /// cannot judge, wander up by rounding before the stop: grid 32's step 11
 /// ended 1.3% of its tiny decrease above.)
 ///
+/// [`StepEnergy::rounding`]: crate::sim::energy::StepEnergy::rounding
 pub const ROUNDING_SHARE: f64 = 0.1;
 
 /// How the plain iterations ended.

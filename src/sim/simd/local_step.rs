@@ -1,6 +1,6 @@
 //! The local step, four springs per instruction (AVX2).
 //!
-//! [`local_step::project_springs`](crate::sim::local_step::project_springs)
+//! [`local_step::project_springs`]
 //! is the formula, one spring at a time. On a CPU with AVX2 (checked at run
 //! time) [`project_springs`] here takes the springs four at a time instead, one per lane of a 256-bit register, so that the
 //! square roots and divisions, the slow part, run four to an instruction.
@@ -22,7 +22,7 @@
 //! [`project_springs_into_transpose`] does the same for the local step
 //! fused with `Aᵀd` (the plain iteration's pass). Without AVX2 both fall
 //! back to the one-spring-at-a-time functions of
-//! [`local_step`](crate::sim::local_step), whose bits they reproduce.
+//! [`local_step`], whose bits they reproduce.
 //!
 //! Cost `O(m)`: one square root and three divisions per spring, four to an
 //! instruction.

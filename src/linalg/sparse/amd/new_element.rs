@@ -17,7 +17,7 @@
 //! **Where.** If `p` is adjacent to no element, `Lp ⊆ Ap` and the element
 //! overwrites `p`'s own list. Otherwise it is written at the free end of the
 //! workspace; should that fill, the workspace is compressed first (see
-//! [`compress`](super::quotient_graph::compress)), keeping the parts of the
+//! [`compress`]), keeping the parts of the
 //! lists not yet read.
 //!
 //! **Cost.** `O(|Ap| + Σ_{e ∈ Ep} |Le|)`; every entry read belongs to a
