@@ -519,8 +519,9 @@ fn an_out_folder_with_frames_of_another_run_is_refused_unless_forced() {
     assert_fails(
         &again,
         &[
-            "the folder already holds 6 frame(s) of another run (frame-000000.obj, ...)",
+            "the folder already holds 6 frame(s) of an earlier run (frame-000000.obj, ...)",
             "--force",
+            "--resume",
         ],
     );
     assert_eq!(names_in(&folder).len(), 6, "nothing removed or written");

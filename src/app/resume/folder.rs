@@ -7,7 +7,7 @@
 //!   folder, or a `--resume` beside a live run, is refused instead of
 //!   mixing its frames with the first one's; the lock also removes the
 //!   temporaries of a killed run;
-//! * **frames of another run** (`frame-*.obj`) are refused, unless
+//! * **frames of an earlier run** (`frame-*.obj`) are refused, unless
 //!   `--force`: then the new frames are written into a staging folder
 //!   inside `DIR` and take the old ones' place only once the run is
 //!   complete ([`FrameFolder::commit`]); a run that fails or is killed
@@ -87,9 +87,9 @@ impl FrameFolder {
         let staging = match (how, earlier.first()) {
             (Use::Fresh { force: false }, Some(first)) => {
                 return Err(AppError::Failed(format!(
-                    "--out {}: the folder already holds {} frame(s) of another run ({}, ...); \
-                     give --force to replace them once the new run is complete, or choose \
-                     another folder",
+                    "--out {0}: the folder already holds {1} frame(s) of an earlier run ({2}, \
+                     ...); give --force to replace them once the new run is complete, \
+                     --resume {0} to continue that run, or choose another folder",
                     folder.display(),
                     earlier.len(),
                     first.file_name().unwrap_or_default().to_string_lossy()
