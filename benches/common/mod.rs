@@ -6,10 +6,8 @@
 use masssprings::linalg::sparse::{CscMatrix, Triangle};
 use masssprings::mesh::procedural::grid;
 use masssprings::mesh::{load_scene, Scene};
-use masssprings::sim::precomputation::network_q;
-use masssprings::sim::precomputation::selection_matrix;
+use masssprings::sim::precomputation::scene_q;
 use masssprings::sim::DELTA_T;
-use masssprings::sim::{Sparse, PIN_WEIGHT};
 use std::path::{Path, PathBuf};
 
 /// The grid-N scene (`masssprings generate grid N`), read back from a
@@ -45,16 +43,7 @@ pub fn assignment_scene(name: &str) -> Scene {
 /// `Q = k AᵀA + M/Δt² + w CᵀC` of a scene, lower triangle, assembled
 /// without factoring it.
 pub fn q_matrix(scene: &Scene) -> CscMatrix {
-    let c = selection_matrix::<Sparse>(scene.vertices.len(), &scene.pinned);
-    let q = network_q::<Sparse>(
-        &scene.springs,
-        &scene.masses,
-        &c,
-        scene.k,
-        DELTA_T,
-        PIN_WEIGHT,
-    );
-    q.triangle(Triangle::Lower)
+    scene_q(scene, DELTA_T).triangle(Triangle::Lower)
 }
 
 /// Grid sizes to run: 32, 100, 316, and 1000 when

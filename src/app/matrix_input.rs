@@ -10,8 +10,7 @@ use masssprings::files::FilePlan;
 use masssprings::linalg::sparse::{CscMatrix, Triangle};
 use masssprings::matrix_market;
 use masssprings::mesh::{load_scene, Scene};
-use masssprings::sim::precomputation::{network_q, selection_matrix, DELTA_T, PIN_WEIGHT};
-use masssprings::sim::Sparse;
+use masssprings::sim::precomputation::{self, DELTA_T};
 use std::path::{Path, PathBuf};
 
 /// A picture of `Q`'s structure (`spy`, `etree`): the matrix, the picture,
@@ -60,15 +59,7 @@ pub fn load_lower(path: &Path, plan: &mut FilePlan) -> Result<CscMatrix, AppErro
 /// refused first, naming the quantity.
 pub fn scene_q(scene: &Scene, scene_path: &Path) -> Result<CscMatrix, AppError> {
     check_q_overflow(scene, scene_path, DELTA_T)?;
-    let c = selection_matrix::<Sparse>(scene.vertices.len(), &scene.pinned);
-    Ok(network_q::<Sparse>(
-        &scene.springs,
-        &scene.masses,
-        &c,
-        scene.k,
-        DELTA_T,
-        PIN_WEIGHT,
-    ))
+    Ok(precomputation::scene_q(scene, DELTA_T))
 }
 
 /// The file name of `path`, for captions.

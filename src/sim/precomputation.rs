@@ -38,10 +38,12 @@
 //! Source: Liu et al. 2013, §3–4; the assignment, "Matrices" and "Pinned
 //! Vertices" (`fast_mass_springs_precomputation_dense.cpp` / `_sparse.cpp`).
 
-use super::backend::{LinearAlgebra, SparseFactorization};
+use super::backend::{LinearAlgebra, Sparse, SparseFactorization};
 use super::error::SimulationError;
 use super::exact_pins::{ExactPins, PinnedNetwork};
 use super::signed_incidence::signed_incidence_matrix;
+use crate::linalg::sparse::CscMatrix;
+use crate::mesh::Scene;
 
 /// The pinning penalty weight `w` (large: pins move by about `f/w`).
 pub const PIN_WEIGHT: f64 = 1e10;
@@ -443,6 +445,22 @@ pub fn network_q<B: LinearAlgebra>(
     let A = signed_incidence_matrix::<B>(m.len(), springs);
     let M = mass_matrix::<B>(m);
     assemble_q::<B>(k, &A, &M, delta_t, w, c)
+}
+
+/// [`network_q`] of a scene at the time step `delta_t`, pins weighted by
+/// [`PIN_WEIGHT`], on the sparse backend: the `Q` a simulation of the
+/// scene factors, without factoring it (`export-q`, `spy`, `etree` and the
+/// benchmarks read it).
+pub fn scene_q(scene: &Scene, delta_t: f64) -> CscMatrix {
+    let c = selection_matrix::<Sparse>(scene.vertices.len(), &scene.pinned);
+    network_q::<Sparse>(
+        &scene.springs,
+        &scene.masses,
+        &c,
+        scene.k,
+        delta_t,
+        PIN_WEIGHT,
+    )
 }
 
 /// `y = M x` for the diagonal mass matrix `M = diag(m)`: `yᵢ = mᵢ xᵢ`.

@@ -127,12 +127,25 @@ pub fn precomputation_ordered(
     delta_t: f64,
     ordering: Ordering,
 ) -> Result<Precomputation<Sparse>, SimulationError> {
-    let how = SparseFactorization {
+    precomputation::<Sparse>(
+        V,
+        springs,
+        k,
+        m,
+        pinned,
+        delta_t,
+        factored_as_eigen(ordering),
+    )
+}
+
+/// How the handout factors `Q` (Eigen's `SimplicialLLT`): row by row
+/// (simplicial), after the fill-reducing `ordering`.
+pub(crate) fn factored_as_eigen(ordering: Ordering) -> SparseFactorization {
+    SparseFactorization {
         ordering,
         method: Method::Simplicial,
         ..SparseFactorization::default()
-    };
-    precomputation::<Sparse>(V, springs, k, m, pinned, delta_t, how)
+    }
 }
 
 /// The handout's `fast_mass_springs_precomputation_dense`.

@@ -22,16 +22,16 @@
 
 #![allow(non_snake_case)] // the handout's names: V, M, A, C, Q
 
-use super::super::backend::{LinearAlgebra, Sparse, SparseFactorization};
+use super::super::backend::{LinearAlgebra, Sparse};
 use super::super::control::ITERATIONS;
 use super::super::error::SimulationError;
 use super::super::precomputation::{
     assemble_q, check_inputs, check_pins, mass_matrix, rest_lengths, selection_matrix, PIN_WEIGHT,
 };
 use super::super::signed_incidence::signed_incidence_matrix;
-use super::super::textbook::Precomputation;
+use super::super::textbook::{factored_as_eigen, Precomputation};
 use super::Mistake;
-use crate::linalg::sparse::{CscMatrix, Method, Ordering};
+use crate::linalg::sparse::{CscMatrix, Ordering};
 
 /// The handout's precomputation with `mistake` made in it, the sparse `Q`
 /// ordered by `ordering` and factored by the simplicial method (as
@@ -63,12 +63,7 @@ pub fn precomputation(
     let A = student_incidence(mistake, n, springs);
     let C = selection_matrix::<Sparse>(n, &pinned);
     let Q = student_q(mistake, k, &A, &M, delta_t, w, &C);
-    let how = SparseFactorization {
-        ordering,
-        method: Method::Simplicial,
-        ..SparseFactorization::default()
-    };
-    let prefactorization = Sparse::factor(&Q, how)?;
+    let prefactorization = Sparse::factor(&Q, factored_as_eigen(ordering))?;
     Ok(Precomputation {
         V: V.to_vec(),
         springs: springs.to_vec(),
