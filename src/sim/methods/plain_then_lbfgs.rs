@@ -110,11 +110,10 @@ pub const CONVERGED: f64 = 1e-11;
 /// ends the step: a quadratic model along it has `−∇Eᵀd / 2` left to take
 /// off, below what any comparison of energies can see. The test is on the
 /// slope, not on a decrease: a decrease measured between two energies is
-/// itself rounded to about `η`, and one that looked like nothing stopped
-/// steps of the net at rest three `η` short of plain-50 (`Δt` ×2, steps
-/// 74 and 76). (A share of 1 lets the line search, which accepts a step it
-/// cannot judge, wander up by rounding before the stop: grid 32's step 11
-/// ended 1.3% of its tiny decrease above.)
+/// itself rounded to about `η`, and one that looks like nothing can stop a
+/// step a few `η` short of plain-50. (A share of 1 lets the line search,
+/// which accepts a step it cannot judge, wander up by rounding before the
+/// stop.)
 ///
 /// [`StepEnergy::rounding`]: crate::sim::energy::StepEnergy::rounding
 pub const ROUNDING_SHARE: f64 = 0.1;
