@@ -29,7 +29,7 @@ mod readme;
 
 use super::error::AppError;
 use super::file_plan::load_scene;
-use super::flags::{choice, whole, OrderingFlag};
+use super::flags::{choice, whole, JsonFlag, OrderingFlag};
 use compute::{labelled, trace, TraceOptions, Value};
 use folder::TraceFolder;
 use manifest::{Manifest, MANIFEST};
@@ -52,7 +52,9 @@ digits), with DIR/README.md saying what each holds and how to compare.
 With --compare DIR OTHER, compares the files of OTHER (same names and formats,
 any subset: yours) with those of DIR (written by trace), in the handout's
 order, and exits with 1 when one differs: the first DIFFERS line is the first
-quantity to fix.
+quantity to fix, and the diagnosis says what went wrong there (the usual
+mistake whose numbers yours are, or the nearest sign, factor, swap or
+transpose that holds). With --json, one JSON object instead of the table.
 
 With --mistake NAME, writes instead the files of a student who made one of the
 usual mistakes (docs/mistakes.md), from our U_prev and U_cur of step K: trace
@@ -84,11 +86,18 @@ pub struct TraceArgs {
     /// Compare OTHER's files with DIR's (instead of tracing a scene).
     #[arg(long, num_args = 2, value_names = ["DIR", "OTHER"], conflicts_with_all = ["scene", "out", "step", "iterations", "ordering", "mistake"])]
     compare: Option<Vec<PathBuf>>,
+    #[command(flatten)]
+    json: JsonFlag,
 }
 
 pub fn run(args: TraceArgs) -> Result<(), AppError> {
     if let Some([ours, theirs]) = args.compare.as_deref() {
-        return compare::run(ours, theirs);
+        return compare::run(ours, theirs, args.json.json);
+    }
+    if args.json.json {
+        return Err(AppError::Usage(
+            "--json prints the report of --compare DIR OTHER as JSON; give --compare".into(),
+        ));
     }
     let (Some(scene_path), Some(out)) = (args.scene, args.out) else {
         unreachable!("clap requires SCENE.json and -o without --compare");

@@ -7,7 +7,7 @@ use super::compute::Value;
 use super::folder::README_START;
 use super::manifest::Manifest;
 use super::quantities::{Check, Quantity, SPECS};
-use masssprings::sim::mistakes::Mistake;
+use masssprings::sim::mistakes::{Mistake, Part};
 use std::fmt::Write;
 
 /// The README of a trace.
@@ -148,55 +148,30 @@ fn tolerances(text: &mut String) {
     );
 }
 
-/// Mistakes of a student's step, the first quantity each makes wrong when
-/// the step starts from our `U_prev` and `U_cur`, and whether step 1,
-/// step 2 and step 3 or later show it (found by planting each in a
-/// solution of the handout and comparing it with the trace of the flag at
-/// each step).
-const MISTAKES: [[&str; 5]; 6] = [
-    [
-        "`U_prev` and `U_cur` swapped: `y = M (2 U_prev − U_cur)/Δt² + f_ext`",
-        "`y`",
-        "cannot: `U_prev = U_cur = V`",
-        "shows",
-        "shows",
-    ],
-    [
-        "the velocity forgotten: `y = M U_cur/Δt² + f_ext`",
-        "`y`",
-        "cannot: `2 U_cur − U_prev = U_cur`",
-        "shows",
-        "shows",
-    ],
-    [
-        "`U_prev` never advanced by your loop over steps (it stays `V`)",
-        "`U_prev` (written by your own steps from rest)",
-        "cannot",
-        "cannot: `U_prev = V` at step 2",
-        "shows",
-    ],
-    [
-        "`d` not scaled to the rest length: `d = pᵢ − pⱼ`",
-        "`d_1` (step 1: `d_2`)",
-        "from `d_2` only: at rest `‖Vᵢ − Vⱼ‖ = rᵢⱼ`",
-        "shows",
-        "shows",
-    ],
-    [
-        "the pins held where they are, `w CᵀC U_cur`, not at `V`",
-        "`b_1`",
-        "cannot: `U_cur = V`",
-        "shows",
-        "shows",
-    ],
-    [
-        "a wrong mass, spring, pin or `Q`; a spring in `d` not in the orientation of its row of `A`",
-        "`M`, `A`, `C`, `Q`, `d_1`",
-        "shows",
-        "shows",
-        "shows",
-    ],
-];
+/// A row of the table of what each step shows: the mistake, the first
+/// file it makes wrong, and whether steps 1, 2 and 3 show it (from the
+/// gallery's entry, which `tests/mistakes.rs` holds to the program).
+fn step_row(mistake: Mistake) -> String {
+    let entry = mistake.entry();
+    let (from, why) = entry.shows_from;
+    let at = |step: usize| match (step >= from, step) {
+        (true, _) => "shows".to_string(),
+        (false, 1) => format!("cannot: {why}"),
+        (false, _) => format!("cannot: {why} still"),
+    };
+    let first = match entry.part {
+        Part::Loop => format!("`{}` (written by your own steps from rest)", entry.first),
+        _ => format!("`{}`", entry.first),
+    };
+    format!(
+        "| `{}`: `{}` | {first} | {} | {} | {} |",
+        entry.name,
+        entry.wrong,
+        at(1),
+        at(2),
+        at(3)
+    )
+}
 
 /// Which mistakes each step can and cannot show, and why `trace` traces
 /// step 3 unless told otherwise.
@@ -213,22 +188,19 @@ fn what_a_step_shows(text: &mut String, m: &Manifest) {
          | mistake | first file it makes wrong (from our `U_prev`, `U_cur`) | step 1 | step 2 | step 3 and later |\n\
          |---|---|---|---|---|\n",
     );
-    for row in MISTAKES {
-        let _ = writeln!(text, "| {} |", row.join(" | "));
+    for mistake in Mistake::ALL {
+        let _ = writeln!(text, "{}", step_row(mistake));
     }
-    let _ = write!(
-        text,
-        "\nThis trace is of step {step}{warning}. Started from our `U_prev.mtx` and `U_cur.mtx`, \
-         your step is compared term by term but your loop over steps is not exercised; the \
-         `U_prev` and `U_cur` your own steps from rest reach are worth comparing too, and there \
-         a mistake of the step shows first (it made your earlier steps wrong).\n\n",
-        step = m.step,
-        warning = match m.step {
-            1 => ": the mistakes marked \"cannot\" in its column pass unseen; trace step 3 too",
-            2 => ": a loop that never advances `U_prev` passes unseen; trace step 3 too",
-            _ => "",
-        },
-    );
+    let hidden: Vec<String> = Mistake::ALL
+        .iter()
+        .filter(|mistake| mistake.entry().shows_from.0 > m.step)
+        .map(|mistake| format!("`{mistake}`"))
+        .collect();
+    let warning = match hidden.is_empty() {
+        true => String::new(),
+        false => format!(": {} pass unseen here; trace step 3 too", hidden.join(", ")),
+    };
+    let _ = writeln!(text, "\nThis trace is of step {}{warning}.\n", m.step);
 }
 
 fn how_to_compare(text: &mut String, m: &Manifest) {

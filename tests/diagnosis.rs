@@ -1,0 +1,235 @@
+//! `trace --compare --json` says what went wrong, for a student's solution
+//! written by this test's own code (`common/student.rs`: another spring
+//! order and orientation, dense matrices, another ordering and factor):
+//!
+//! * a correct solution agrees, from our state and from its own steps
+//!   from rest: `"agree": true`, `"diagnosis": null`, exit 0;
+//! * every mistake of the gallery, written by the student's code, is
+//!   diagnosed by its name at step 3 (a mistake of the loop from the
+//!   student's own steps, the others from our `U_prev` and `U_cur`);
+//! * a mistake of the step is diagnosed by name from the student's own
+//!   steps too, where their state already differs from ours;
+//! * a quantity no mistake makes gets a hint that holds (a factor, a swap).
+//!
+//! The scene is a small cloth of this test's own (6 × 5 vertices, Voronoi
+//! masses, one edge pinned, not the last vertex), on which every mistake
+//! shows and the student's dense matrices stay small.
+
+#[path = "common/cli.rs"]
+mod cli;
+#[path = "common/student.rs"]
+mod student;
+
+use cli::{masssprings, stderr, stdout, temp_folder};
+use masssprings::mesh::{load_scene, Scene};
+use masssprings::sim::mistakes::{Mistake, Part};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use student::{Start, Student};
+
+/// Writes the small cloth into `folder`: `cloth.obj`, `cloth.json`.
+fn small_cloth(folder: &Path) -> PathBuf {
+    let (columns, rows) = (6, 5);
+    let mut obj = String::new();
+    for j in 0..rows {
+        for i in 0..columns {
+            let _ = writeln!(obj, "v {} {} 0", 0.2 * i as f64, 0.8 - 0.2 * j as f64);
+        }
+    }
+    let vertex = |i: usize, j: usize| j * columns + i + 1;
+    for j in 0..rows - 1 {
+        for i in 0..columns - 1 {
+            let corners = [
+                vertex(i, j),
+                vertex(i, j + 1),
+                vertex(i + 1, j + 1),
+                vertex(i + 1, j),
+            ];
+            let _ = writeln!(
+                obj,
+                "f {} {} {} {}",
+                corners[0], corners[1], corners[2], corners[3]
+            );
+        }
+    }
+    std::fs::write(folder.join("cloth.obj"), obj).unwrap();
+    let pins: Vec<String> = (0..rows).map(|j| vertex(0, j).to_string()).collect();
+    let json = format!(
+        r#"{{"obj":"cloth.obj","k":10000,"b":[{}]}}"#,
+        pins.join(",")
+    );
+    let path = folder.join("cloth.json");
+    std::fs::write(&path, json).unwrap();
+    path
+}
+
+/// Our trace of `scene` at step 3, 2 iterations, into `folder/ours`.
+fn trace(scene: &Path, folder: &Path) -> PathBuf {
+    let ours = folder.join("ours");
+    let output = masssprings(&[
+        "trace",
+        scene.to_str().unwrap(),
+        "-o",
+        ours.to_str().unwrap(),
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    ours
+}
+
+/// `trace --compare --json ours theirs`: (exit code, the JSON).
+fn compare(ours: &Path, theirs: &Path) -> (Option<i32>, serde_json::Value) {
+    let args = [
+        "trace",
+        "--compare",
+        ours.to_str().unwrap(),
+        theirs.to_str().unwrap(),
+        "--json",
+    ];
+    let output = masssprings(&args);
+    let json = serde_json::from_str(&stdout(&output))
+        .unwrap_or_else(|e| panic!("{e}: {}\n{}", stdout(&output), stderr(&output)));
+    (output.status.code(), json)
+}
+
+struct Setting {
+    _folder: cli::TempFolder,
+    scene: Scene,
+    ours: PathBuf,
+    root: PathBuf,
+}
+
+fn setting(name: &str) -> Setting {
+    let folder = temp_folder(name);
+    let json = small_cloth(&folder);
+    let scene = load_scene(&json).unwrap();
+    let ours = trace(&json, &folder);
+    let root = folder.to_path_buf();
+    Setting {
+        _folder: folder,
+        scene,
+        ours,
+        root,
+    }
+}
+
+#[test]
+fn a_correct_solution_agrees_with_no_diagnosis() {
+    let s = setting("diagnosis-correct");
+    for (label, start) in [
+        ("from-ours", Start::Ours(&s.ours)),
+        ("own-run", Start::OwnRun),
+    ] {
+        let theirs = s.root.join(label);
+        Student::new(&s.scene, None).write(start, 3, 2, &theirs);
+        let (code, json) = compare(&s.ours, &theirs);
+        assert_eq!(code, Some(0), "{label}: {json:#}");
+        assert_eq!(json["agree"], true, "{label}: {json:#}");
+        assert!(
+            json["first"].is_null() && json["diagnosis"].is_null(),
+            "{label}: {json:#}"
+        );
+        let quantities = json["quantities"].as_array().unwrap();
+        assert_eq!(quantities.len(), 16);
+        assert!(
+            quantities
+                .iter()
+                .all(|q| ["agrees", "note"].contains(&q["result"].as_str().unwrap())),
+            "{json:#}"
+        );
+    }
+}
+
+#[test]
+fn every_mistake_of_the_gallery_is_diagnosed_by_name_at_step_3() {
+    let s = setting("diagnosis-gallery");
+    let mut missed = Vec::new();
+    for mistake in Mistake::ALL {
+        let name = mistake.name();
+        let theirs = s.root.join(name);
+        let start = match mistake.entry().part {
+            Part::Loop => Start::OwnRun,
+            _ => Start::Ours(&s.ours),
+        };
+        Student::new(&s.scene, Some(name)).write(start, 3, 2, &theirs);
+        let (code, json) = compare(&s.ours, &theirs);
+        assert_eq!(code, Some(1), "{name}: {json:#}");
+        assert_eq!(json["agree"], false);
+        if json["diagnosis"]["mistake"] != name {
+            missed.push(format!(
+                "{name}: first {}, diagnosis {}",
+                json["first"], json["diagnosis"]
+            ));
+        }
+    }
+    assert!(missed.is_empty(), "{}", missed.join("\n"));
+}
+
+#[test]
+fn a_mistake_of_the_step_is_named_from_the_students_own_steps_too() {
+    let s = setting("diagnosis-own-run");
+    for name in [
+        "gravity-sign",
+        "prev-cur-swapped",
+        "d-against-a",
+        "d-from-u-cur",
+        "pins-not-in-b",
+    ] {
+        let theirs = s.root.join(name);
+        Student::new(&s.scene, Some(name)).write(Start::OwnRun, 3, 2, &theirs);
+        let (code, json) = compare(&s.ours, &theirs);
+        assert_eq!(code, Some(1));
+        let first = json["first"].as_str().unwrap();
+        assert!(
+            ["U_prev", "U_cur"].contains(&first),
+            "{name}: the state differs first: {json:#}"
+        );
+        assert_eq!(json["diagnosis"]["mistake"], name, "{json:#}");
+        let text = json["diagnosis"]["text"].as_str().unwrap();
+        assert!(
+            text.starts_with(&format!("{first}")) && text.contains("only because"),
+            "{text}"
+        );
+    }
+}
+
+/// `value` with columns `a` and `b` swapped, written over `path`.
+fn swap_columns(path: &Path, a: usize, b: usize) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines: Vec<&str> = text.lines().collect();
+    let rows: usize = lines[1].split_whitespace().next().unwrap().parse().unwrap();
+    let (start_a, start_b) = (2 + a * rows, 2 + b * rows);
+    for i in 0..rows {
+        lines.swap(start_a + i, start_b + i);
+    }
+    std::fs::write(path, lines.join("\n") + "\n").unwrap();
+}
+
+#[test]
+fn a_quantity_no_mistake_makes_gets_a_hint_that_holds() {
+    let s = setting("diagnosis-hints");
+    let theirs = s.root.join("theirs");
+    Student::new(&s.scene, None).write(Start::Ours(&s.ours), 3, 2, &theirs);
+    // p_1 with x and z swapped: no mistake of the gallery, a swapped pair
+    swap_columns(&theirs.join("p_1.mtx"), 0, 2);
+    let (_, json) = compare(&s.ours, &theirs);
+    assert_eq!(json["first"], "p_1");
+    assert!(json["diagnosis"]["mistake"].is_null(), "{json:#}");
+    let text = json["diagnosis"]["text"].as_str().unwrap();
+    assert!(text.contains("columns x and z swapped"), "{text}");
+    // y three times the handout's: a factor, named
+    let student = Student::new(&s.scene, None);
+    student.write(Start::Ours(&s.ours), 3, 2, &theirs);
+    let y = std::fs::read_to_string(theirs.join("y.mtx")).unwrap();
+    let tripled: Vec<String> = y
+        .lines()
+        .enumerate()
+        .map(|(i, line)| match i {
+            0 | 1 => line.to_string(),
+            _ => format!("{:.16e}", 3.0 * line.trim().parse::<f64>().unwrap()),
+        })
+        .collect();
+    std::fs::write(theirs.join("y.mtx"), tripled.join("\n") + "\n").unwrap();
+    let (_, json) = compare(&s.ours, &theirs);
+    let text = json["diagnosis"]["text"].as_str().unwrap();
+    assert!(text.contains("times 3"), "{text}");
+}
