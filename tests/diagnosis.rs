@@ -23,45 +23,8 @@ mod student;
 use cli::{masssprings, stderr, stdout, temp_folder};
 use masssprings::mesh::{load_scene, Scene};
 use masssprings::sim::mistakes::{Mistake, Part};
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use student::{Start, Student};
-
-/// Writes the small cloth into `folder`: `cloth.obj`, `cloth.json`.
-fn small_cloth(folder: &Path) -> PathBuf {
-    let (columns, rows) = (6, 5);
-    let mut obj = String::new();
-    for j in 0..rows {
-        for i in 0..columns {
-            let _ = writeln!(obj, "v {} {} 0", 0.2 * i as f64, 0.8 - 0.2 * j as f64);
-        }
-    }
-    let vertex = |i: usize, j: usize| j * columns + i + 1;
-    for j in 0..rows - 1 {
-        for i in 0..columns - 1 {
-            let corners = [
-                vertex(i, j),
-                vertex(i, j + 1),
-                vertex(i + 1, j + 1),
-                vertex(i + 1, j),
-            ];
-            let _ = writeln!(
-                obj,
-                "f {} {} {} {}",
-                corners[0], corners[1], corners[2], corners[3]
-            );
-        }
-    }
-    std::fs::write(folder.join("cloth.obj"), obj).unwrap();
-    let pins: Vec<String> = (0..rows).map(|j| vertex(0, j).to_string()).collect();
-    let json = format!(
-        r#"{{"obj":"cloth.obj","k":10000,"b":[{}]}}"#,
-        pins.join(",")
-    );
-    let path = folder.join("cloth.json");
-    std::fs::write(&path, json).unwrap();
-    path
-}
+use student::{small_cloth, Start, Student};
 
 /// Our trace of `scene` at step 3, 2 iterations, into `folder/ours`.
 fn trace(scene: &Path, folder: &Path) -> PathBuf {

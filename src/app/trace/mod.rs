@@ -10,7 +10,9 @@
 //! | [`quantities`] | the table: each file's symbol, equation, shape, function and check |
 //! | [`compute`] | the quantities, by the handout's functions in the handout's order |
 //! | [`readme`] | `DIR/README.md`, from the table |
-//! | [`compare`] | `--compare`: quantity by quantity, the largest difference and where |
+//! | [`compare`] | `--compare`: quantity by quantity, the largest difference and where, and the diagnosis |
+//! | [`mistaken`] | `--mistake`: the files of a student who made one of the gallery's mistakes |
+//! | `masssprings_trace.h` | `--cpp-header`: the C++ header that writes a student's files from the starter code |
 //!
 //! Sparse matrices are written as `coordinate real general` files, dense
 //! ones as `array real general` (column-major), 17 significant digits, both
@@ -60,13 +62,17 @@ With --mistake NAME, writes instead the files of a student who made one of the
 usual mistakes (docs/mistakes.md), from our U_prev and U_cur of step K: trace
 the scene into DIR as well, and --compare DIR names the quantity that mistake
 makes wrong first. Use a step K of 2 or more: at step 1, U_prev = U_cur hides
-some of them.")]
+some of them.
+
+With --cpp-header, prints masssprings_trace.h: included in the assignment's C++
+starter code, one line per quantity writes your files for --compare (its first
+lines say where each goes and the environment variables it reads).")]
 pub struct TraceArgs {
     /// The scene: JSON that names an OBJ (data/README.md).
-    #[arg(value_name = "SCENE.json", required_unless_present = "compare")]
+    #[arg(value_name = "SCENE.json", required_unless_present_any = ["compare", "cpp_header"])]
     scene: Option<PathBuf>,
     /// The folder to write.
-    #[arg(short, long, value_name = "DIR", required_unless_present = "compare")]
+    #[arg(short, long, value_name = "DIR", required_unless_present_any = ["compare", "cpp_header"])]
     out: Option<PathBuf>,
     /// The step to trace, from 1 (3: the first whose U_prev, U_cur and V all
     /// differ, so that no term of the step hides; DIR/README.md says why).
@@ -88,9 +94,19 @@ pub struct TraceArgs {
     compare: Option<Vec<PathBuf>>,
     #[command(flatten)]
     json: JsonFlag,
+    /// Print a C++ header (Eigen only) that writes your own files for --compare from the assignment's starter code, one line per quantity.
+    #[arg(long, conflicts_with_all = ["scene", "out", "step", "iterations", "ordering", "mistake", "compare", "force"])]
+    cpp_header: bool,
 }
 
+/// The header `--cpp-header` prints.
+const CPP_HEADER: &str = include_str!("masssprings_trace.h");
+
 pub fn run(args: TraceArgs) -> Result<(), AppError> {
+    if args.cpp_header {
+        print!("{CPP_HEADER}");
+        return Ok(());
+    }
     if let Some([ours, theirs]) = args.compare.as_deref() {
         return compare::run(ours, theirs, args.json.json);
     }
