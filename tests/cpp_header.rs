@@ -10,7 +10,9 @@
 //!   `gravity-sign`.
 //!
 //! Without g++ or Eigen the test says so and passes, except under `CI=true`,
-//! where it fails: `.ci/run` installs both.
+//! where it fails: `.ci/run` installs both. Without them too: the header
+//! printed is the crate's file as it is, and every call the pages show
+//! (`docs/README.md`, a trace's README) is one the header defines.
 
 #[path = "common/cli.rs"]
 mod cli;
@@ -176,4 +178,55 @@ fn the_header_writes_what_compare_reads_from_the_starter_codes_functions() {
     assert_eq!(code, Some(1));
     assert_eq!(report["first"], "y", "{report:#}");
     assert_eq!(report["diagnosis"]["mistake"], "gravity-sign", "{report:#}");
+}
+
+/// The `masssprings_trace::NAME(` calls and `MASSSPRINGS_TRACE_*` variables
+/// of a text.
+fn calls_and_variables(text: &str) -> Vec<String> {
+    let mut found: Vec<String> = Vec::new();
+    for (prefix, end) in [("masssprings_trace::", '('), ("MASSSPRINGS_TRACE_", '=')] {
+        for (at, _) in text.match_indices(prefix) {
+            let rest = &text[at + prefix.len()..];
+            let name: String = rest
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect();
+            if rest[name.len()..].starts_with(end) {
+                found.push(format!("{prefix}{name}"));
+            }
+        }
+    }
+    found.sort();
+    found.dedup();
+    found
+}
+
+#[test]
+fn the_header_is_the_crates_file_and_defines_every_call_the_pages_show() {
+    let output = masssprings(&["trace", "--cpp-header"]);
+    assert!(output.status.success());
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let header = std::fs::read_to_string(root.join("src/app/trace/masssprings_trace.h")).unwrap();
+    assert_eq!(stdout(&output), header);
+    let folder = temp_folder("cpp-header-pages");
+    let net = cli::data("net.json");
+    let traced = masssprings(&["trace", &net, "-o", folder.join("t").to_str().unwrap()]);
+    assert!(traced.status.success());
+    let readme = std::fs::read_to_string(folder.join("t/README.md")).unwrap();
+    let docs = std::fs::read_to_string(root.join("docs/README.md")).unwrap();
+    for (page, text) in [("docs/README.md", docs), ("the trace's README", readme)] {
+        let shown = calls_and_variables(&text);
+        assert!(shown.len() >= 6, "{page} shows {shown:?}");
+        for call in shown {
+            let name = call.rsplit("::").next().unwrap();
+            let defined = match call.starts_with("MASSSPRINGS_TRACE_") {
+                true => header.contains(&format!("\"{call}\"")),
+                false => header.contains(&format!("inline void {name}(")),
+            };
+            assert!(
+                defined,
+                "{page} shows {call}, which the header does not define"
+            );
+        }
+    }
 }
