@@ -149,8 +149,25 @@ fn a_mistake_of_the_step_is_named_from_the_students_own_steps_too() {
         assert_eq!(json["diagnosis"]["mistake"], name, "{json:#}");
         let text = json["diagnosis"]["text"].as_str().unwrap();
         assert!(
-            text.starts_with(&format!("{first}")) && text.contains("only because"),
+            text.starts_with(first) && text.contains("only because"),
             "{text}"
+        );
+    }
+}
+
+#[test]
+fn r_from_deformed_is_named_whichever_r_the_student_wrote() {
+    let s = setting("diagnosis-r");
+    for (label, step_r_written, first) in [("precomputed", false, "d_1"), ("step", true, "r")] {
+        let theirs = s.root.join(label);
+        let mut student = Student::new(&s.scene, Some("r-from-deformed"));
+        student.step_r_written = step_r_written;
+        student.write(Start::Ours(&s.ours), 3, 2, &theirs);
+        let (_, json) = compare(&s.ours, &theirs);
+        assert_eq!(json["first"], first, "{label}: {json:#}");
+        assert_eq!(
+            json["diagnosis"]["mistake"], "r-from-deformed",
+            "{label}: {json:#}"
         );
     }
 }

@@ -756,6 +756,32 @@ fn bad_input_is_refused_with_a_clear_error() {
 }
 
 #[test]
+fn a_spring_quantity_without_its_a_says_how_to_compare_in_your_order() {
+    let ours = trace("net", &[], "d-without-a");
+    let theirs = empty_beside(&ours);
+    let mut d = dense(&ours, "d_1.mtx");
+    d[(3, 0)] += 1.0;
+    write_dense(&theirs.join("d_1.mtx"), &d);
+    let (success, report, _) = compare(&ours, &theirs);
+    assert!(!success);
+    let d_1 = line(&report, "d_1");
+    assert!(
+        d_1.contains("(compared in our spring order: give your A.mtx to compare in yours)"),
+        "{d_1}"
+    );
+    assert!(!report.contains("(;"), "{report}");
+    // --json goes with --compare only
+    let net = data("net.json");
+    let output = masssprings(&["trace", &net, "-o", theirs.to_str().unwrap(), "--json"]);
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("give --compare"),
+        "{}",
+        stderr(&output)
+    );
+}
+
+#[test]
 fn a_second_trace_removes_the_iterations_of_the_first() {
     let ours = trace("net", &["--iterations", "3"], "again");
     assert!(ours.join("p_3.mtx").exists());

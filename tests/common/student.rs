@@ -40,6 +40,9 @@ pub struct Student<'a> {
     mistake: Option<&'a str>,
     /// Their springs: `(i, j)` is `+1` at `i`, `−1` at `j` in their `A`.
     springs: Vec<[usize; 2]>,
+    /// Writes into `r.mtx` the rest lengths the step uses (which
+    /// `r-from-deformed` measures on `U_cur`), not the precomputation's.
+    pub step_r_written: bool,
 }
 
 /// What the precomputation makes.
@@ -67,6 +70,7 @@ impl<'a> Student<'a> {
             scene,
             mistake,
             springs,
+            step_r_written: false,
         }
     }
 
@@ -106,6 +110,17 @@ impl<'a> Student<'a> {
         };
         write_dense(&out.join("U_prev.mtx"), &u_prev);
         write_dense(&out.join("U_cur.mtx"), &u_cur);
+        if self.step_r_written && self.is("r-from-deformed") {
+            let r = self
+                .springs
+                .iter()
+                .map(|&[i, j]| (u_cur.row(i) - u_cur.row(j)).norm());
+            let r: Vec<f64> = r.collect();
+            write_dense(
+                &out.join("r.mtx"),
+                &DMatrix::from_column_slice(r.len(), 1, &r),
+            );
+        }
         let y = self.y(&pre, &u_prev, &u_cur);
         write_dense(&out.join("y.mtx"), &y);
         let mut p = u_cur.clone();

@@ -32,6 +32,7 @@
 mod diagnosis;
 mod entries;
 mod factor;
+mod order;
 mod place;
 mod report;
 mod springs;
@@ -49,6 +50,7 @@ use masssprings::linalg::dense::DenseMatrix;
 use masssprings::linalg::sparse::CscMatrix;
 use masssprings::matrix_market::{read, MatrixMarket};
 use masssprings::sim::ITERATIONS;
+use order::in_their_order;
 use place::{Context, Place};
 use report::{Outcome, Report};
 use std::borrow::Cow;
@@ -254,29 +256,6 @@ fn entries(
         *reason = joined(reason, order_hint(spring_rows, context));
     }
     Ok(outcome)
-}
-
-/// Ours in the student's spring order: row `e′` is our row of their
-/// spring `e′`, negated when `oriented` and the spring is reversed; rows
-/// of springs that are not ours are skipped.
-fn in_their_order(
-    our: &DenseMatrix,
-    matching: &springs::Matching,
-    oriented: bool,
-) -> (DenseMatrix, Vec<RowKind>) {
-    let mut ordered = DenseMatrix::zeros(matching.ours_of.len(), our.ncols());
-    let mut kinds = vec![RowKind::Skipped; matching.ours_of.len()];
-    for (e, matched) in matching.ours_of.iter().enumerate() {
-        let Some((ours, reversed)) = *matched else {
-            continue;
-        };
-        let sign = if oriented && reversed { -1.0 } else { 1.0 };
-        for (to, from) in ordered.row_mut(e).iter_mut().zip(our.row(ours)) {
-            *to = sign * from;
-        }
-        kinds[e] = RowKind::Free;
-    }
-    (ordered, kinds)
 }
 
 /// Says when springs were compared through a matching that is not all of

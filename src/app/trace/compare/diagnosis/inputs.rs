@@ -10,7 +10,7 @@
 //! ```
 
 use super::super::entries::{conform, to_dense, to_sparse};
-use super::super::in_their_order;
+use super::super::order::in_their_order;
 use super::super::place::Context;
 use super::super::springs::Row;
 use crate::app::trace::quantities::{quantities, Axis, Quantity};

@@ -13,7 +13,7 @@
 
 use super::inputs::Inputs;
 use super::recompute::{reproduces, Value};
-use super::Diagnosis;
+use super::text::Diagnosis;
 use crate::app::trace::quantities::Quantity;
 use masssprings::sim::mistakes::Mistake;
 
