@@ -9,7 +9,8 @@
 //!   student's own steps, the others from our `U_prev` and `U_cur`);
 //! * a mistake of the step is diagnosed by name from the student's own
 //!   steps too, where their state already differs from ours;
-//! * a quantity no mistake makes gets a hint that holds (a factor, a swap).
+//! * a quantity no mistake makes gets a hint that holds: a factor, a swap,
+//!   the coefficients of its terms, a matrix written transposed.
 //!
 //! The scene is a small cloth of this test's own (6 × 5 vertices, Voronoi
 //! masses, one edge pinned, not the last vertex), on which every mistake
@@ -149,7 +150,8 @@ fn a_mistake_of_the_step_is_named_from_the_students_own_steps_too() {
         assert_eq!(json["diagnosis"]["mistake"], name, "{json:#}");
         let text = json["diagnosis"]["text"].as_str().unwrap();
         assert!(
-            text.starts_with(first) && text.contains("only because"),
+            text.starts_with(&format!("your {first}"))
+                && text.contains("your own steps' from rest"),
             "{text}"
         );
     }
@@ -184,6 +186,41 @@ fn swap_columns(path: &Path, a: usize, b: usize) {
     std::fs::write(path, lines.join("\n") + "\n").unwrap();
 }
 
+/// A coordinate file written over by its transpose.
+fn transpose_coordinate(path: &Path) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines().filter(|l| !l.starts_with('%'));
+    let swap = |line: &str| {
+        let parts: Vec<&str> = line.split_whitespace().collect();
+        let rest = parts[2..].join(" ");
+        format!("{} {} {rest}", parts[1], parts[0])
+    };
+    let mut out = vec!["%%MatrixMarket matrix coordinate real general".to_string()];
+    out.extend(lines.by_ref().map(swap));
+    std::fs::write(path, out.join("\n") + "\n").unwrap();
+}
+
+#[test]
+fn a_matrix_written_transposed_is_said_to_be() {
+    let s = setting("diagnosis-transposed");
+    let theirs = s.root.join("theirs");
+    Student::new(&s.scene, None).write(Start::Ours(&s.ours), 3, 2, &theirs);
+    transpose_coordinate(&theirs.join("C.mtx"));
+    let (_, json) = compare(&s.ours, &theirs);
+    assert_eq!(json["first"], "C");
+    let text = json["diagnosis"]["text"].as_str().unwrap();
+    assert!(
+        text.contains("your C is the handout's transposed"),
+        "{text}"
+    );
+    Student::new(&s.scene, None).write(Start::Ours(&s.ours), 3, 2, &theirs);
+    transpose_coordinate(&theirs.join("L.mtx"));
+    let (_, json) = compare(&s.ours, &theirs);
+    assert_eq!(json["first"], "L");
+    let text = json["diagnosis"]["text"].as_str().unwrap();
+    assert!(text.contains("your L is upper triangular"), "{text}");
+}
+
 #[test]
 fn a_quantity_no_mistake_makes_gets_a_hint_that_holds() {
     let s = setting("diagnosis-hints");
@@ -212,4 +249,18 @@ fn a_quantity_no_mistake_makes_gets_a_hint_that_holds() {
     let (_, json) = compare(&s.ours, &theirs);
     let text = json["diagnosis"]["text"].as_str().unwrap();
     assert!(text.contains("times 3"), "{text}");
+    // Q with its spring term doubled: the terms' coefficients
+    let doubled = s.root.join("doubled");
+    Student::new(&s.scene, Some("springs-doubled-in-q")).write(
+        Start::Ours(&s.ours),
+        3,
+        2,
+        &doubled,
+    );
+    let (_, json) = compare(&s.ours, &doubled);
+    assert_eq!(json["first"], "Q");
+    let text = json["diagnosis"]["text"].as_str().unwrap();
+    let expected = "yours is Q = 2 k AᵀA + M/Δt² + w CᵀC (from your own inputs): k AᵀA has the \
+                    coefficient 2 where the handout has 1";
+    assert!(text.contains(expected), "{text}");
 }

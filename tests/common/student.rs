@@ -189,7 +189,10 @@ impl<'a> Student<'a> {
         let k = self.scene.k;
         let mass = DMatrix::from_diagonal(&nalgebra::DVector::from_column_slice(m));
         let c = selection(self.n(), pins);
-        let springs = a.transpose() * a * k;
+        let mut springs = a.transpose() * a * k;
+        if self.is("springs-doubled-in-q") {
+            springs *= 2.0; // no mistake of the gallery: for the hints
+        }
         let inertia = match self.mistake {
             Some("dt-not-squared") => &mass / DT,
             Some("k-on-inertia") => &mass * (k / (DT * DT)),

@@ -86,7 +86,7 @@ pub fn triangle(inputs: &Inputs) -> String {
 fn factor(quantity: &Quantity, handout: &Value, theirs: &Value, inputs: &Inputs) -> Option<String> {
     let both = [handout.clone(), theirs.clone()];
     let (h, t) = (flat_over(handout, &both), flat_over(theirs, &both));
-    let c = solve(&[h], &t)?[0];
+    let c = snapped(solve(&[h], &t)?[0], inputs.k());
     let scaled = scale(handout, c);
     let claim = reproduces(quantity, &scaled, theirs, inputs) && c != 1.0;
     claim.then(|| {
@@ -139,7 +139,10 @@ fn terms(quantity: &Quantity, theirs: &Value, inputs: &Inputs) -> Option<String>
         _ => return None,
     };
     let flats: Vec<Vec<f64>> = terms.iter().map(|t| flat_over(t, &terms)).collect();
-    let c = solve(&flats, &flat_over(theirs, &terms))?;
+    let c: Vec<f64> = solve(&flats, &flat_over(theirs, &terms))?
+        .into_iter()
+        .map(|c| snapped(c, inputs.k()))
+        .collect();
     let mut sum = scale(&terms[0], c[0]);
     for (term, &ci) in terms.iter().zip(&c).skip(1) {
         sum = add(&sum, &scale(term, ci))?;
@@ -160,7 +163,11 @@ fn terms(quantity: &Quantity, theirs: &Value, inputs: &Inputs) -> Option<String>
         })
         .collect();
     let written: Vec<String> = (0..c.len())
-        .map(|i| format!("{} {}", named(c[i], k), names[i]))
+        .map(|i| match named(c[i], k).as_str() {
+            "1" => names[i].to_string(),
+            "−1" => format!("−{}", names[i]),
+            factor => format!("{factor} {}", names[i]),
+        })
         .collect();
     Some(format!(
         "yours is {} = {} (from your own inputs): {}",
@@ -222,10 +229,10 @@ fn b_terms(k: usize, inputs: &Inputs) -> Option<Terms> {
     Some((terms, ["k Aᵀd", "y", "w CᵀC V"], [1.0; 3]))
 }
 
-/// `c`, in words: `−1`, `2`, `½`, `k`, `1/Δt`, …, or its digits.
-fn named(c: f64, k: f64) -> String {
+/// The coefficients a hint names, with their words.
+fn names(k: f64) -> [(f64, &'static str); 13] {
     let dt = DELTA_T;
-    let names: [(f64, &str); 13] = [
+    [
         (1.0, "1"),
         (0.0, "0 (left out)"),
         (2.0, "2"),
@@ -239,13 +246,26 @@ fn named(c: f64, k: f64) -> String {
         (1.0 / (dt * dt), "1/Δt²"),
         (PIN_WEIGHT, "w"),
         (1.0 / PIN_WEIGHT, "1/w"),
-    ];
-    for (value, name) in names {
-        for (sign, prefix) in [(1.0, ""), (-1.0, "−")] {
-            let close = (c - sign * value).abs() <= 1e-6 * value.abs().max(1e-300);
-            if close && !(value == 0.0 && sign < 0.0) {
-                return format!("{prefix}{name}");
-            }
+    ]
+}
+
+/// The named coefficient (or its negative) within 10⁻⁶ of the fitted
+/// `c`, else `c`: the claim is then checked with the exact value, as the
+/// least squares leave a few units of rounding in each coefficient.
+fn snapped(c: f64, k: f64) -> f64 {
+    let close = |value: f64| (c - value).abs() <= 1e-6 * value.abs().max(1e-300);
+    let signed = names(k).into_iter().flat_map(|(value, _)| [value, -value]);
+    signed.into_iter().find(|&value| close(value)).unwrap_or(c)
+}
+
+/// `c`, in words: `−1`, `2`, `½`, `k`, `1/Δt`, …, or its digits.
+fn named(c: f64, k: f64) -> String {
+    for (value, name) in names(k) {
+        if c == value {
+            return name.to_string();
+        }
+        if c == -value && value != 0.0 {
+            return format!("−{name}");
         }
     }
     format!("{c:.6e}")

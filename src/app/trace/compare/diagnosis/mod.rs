@@ -35,6 +35,7 @@ use inputs::Inputs;
 use masssprings::sim::mistakes::{Mistake, Part};
 use recompute::{difference, recompute, reproduces, theirs, Value};
 pub use text::Diagnosis;
+use text::Earlier;
 
 /// One quantity of the comparison: given or not, and whether it differs.
 #[derive(Debug, Clone, Copy)]
@@ -47,53 +48,46 @@ pub struct Finding {
 /// The diagnosis of the comparison's `findings` (every quantity, in the
 /// handout's order), or `None` when nothing differs.
 pub fn diagnose(inputs: &Inputs, findings: &[Finding]) -> Option<Diagnosis> {
-    let mut earlier: Vec<String> = Vec::new();
+    let mut earlier = Earlier::default();
     for (at, finding) in findings.iter().enumerate().filter(|(_, f)| f.differs) {
         let quantity = &finding.quantity;
         let name = quantity.name();
         match quantity.spec.symbol {
             "U_prev" | "U_cur" => match state::diagnose(quantity, inputs) {
-                Some(found) => return Some(found.after(&earlier)),
+                Some(found) => return Some(earlier.before(found)),
                 None => {
-                    earlier.push(name);
+                    earlier.state.push(name);
                     continue;
                 }
             },
             "P" => continue,
             "L" => {
-                return Some(Diagnosis::unexplained(&name, &hint::triangle(inputs)).after(&earlier))
+                return Some(earlier.before(Diagnosis::unexplained(&name, &hint::triangle(inputs))))
             }
             _ => {}
         }
         let Some(handout) = recompute(quantity, None, inputs) else {
             let why = "it cannot be computed again here (its line above says why it differs)";
-            return Some(Diagnosis::unexplained(&name, why).after(&earlier));
+            return Some(earlier.before(Diagnosis::unexplained(&name, why)));
         };
         let Some(yours) = theirs(quantity, inputs) else {
             let hint = hint::shape(quantity, &handout, inputs);
-            return Some(Diagnosis::unexplained(&name, &hint).after(&earlier));
+            return Some(earlier.before(Diagnosis::unexplained(&name, &hint)));
         };
         if reproduces(quantity, &handout, &yours, inputs) {
-            earlier.push(name);
+            earlier.explained.push(name);
             continue;
         }
         let diagnosis = match suspect(quantity, &yours, &findings[..at], inputs) {
             Some(mistake) => Diagnosis::named(mistake, &name),
             None => Diagnosis::unexplained(&name, &hint::hint(quantity, &handout, &yours, inputs)),
         };
-        return Some(diagnosis.after(&earlier));
+        return Some(earlier.before(diagnosis));
     }
-    let first = findings.iter().find(|f| f.differs)?;
-    Some(Diagnosis {
-        mistake: None,
-        text: format!(
-            "every quantity that differs is what the handout's formulas make of your own \
-             inputs from {} on: your state is not ours, and your step from it is right; \
-             your loop over steps (U_prev ← U_cur, U_cur ← U_next) or your forces before \
-             this step differ from the handout's",
-            first.quantity.name()
-        ),
-    })
+    findings
+        .iter()
+        .any(|f| f.differs)
+        .then(|| earlier.all_explained())
 }
 
 /// The mistake that makes the student's `yours` of `quantity` from their

@@ -42,20 +42,74 @@ impl Diagnosis {
             text: format!("no mistake of the gallery makes your {at} from your own inputs; {hint}"),
         }
     }
+}
 
-    /// `earlier` differ only as their inputs do.
-    pub fn after(mut self, earlier: &[String]) -> Diagnosis {
-        let (verb, whose) = match earlier.len() {
-            0 => return self,
-            1 => ("differs", "its inputs do"),
-            _ => ("differ", "their inputs do"),
+/// What the walk found before the quantity it diagnoses: the state's
+/// quantities that are the student's own steps' (not ours, and no mistake
+/// of the loop), and the quantities that are the handout's formulas of the
+/// student's own inputs.
+#[derive(Debug, Default)]
+pub struct Earlier {
+    pub state: Vec<String>,
+    pub explained: Vec<String>,
+}
+
+impl Earlier {
+    /// `diagnosis`, after what the walk found before it.
+    pub fn before(&self, mut diagnosis: Diagnosis) -> Diagnosis {
+        let mut said = Vec::new();
+        if !self.state.is_empty() {
+            said.push(format!(
+                "your {} {} your own steps' from rest, not ours, and not by a mistake of the \
+                 loop that the gallery knows",
+                self.state.join(" and "),
+                plural(&self.state, "is", "are"),
+            ));
+        }
+        if !self.explained.is_empty() {
+            said.push(format!(
+                "{} {} only because {} (the handout's formulas make your numbers of your own \
+                 inputs)",
+                self.explained.join(", "),
+                plural(&self.explained, "differs", "differ"),
+                plural(&self.explained, "its inputs do", "their inputs do"),
+            ));
+        }
+        if !said.is_empty() {
+            diagnosis.text = format!("{}; then {}", said.join("; "), diagnosis.text);
+        }
+        diagnosis
+    }
+
+    /// When every quantity that differs is the handout's formula of the
+    /// student's own inputs.
+    pub fn all_explained(&self) -> Diagnosis {
+        let text = match self.state.is_empty() {
+            false => format!(
+                "your {} {} your own steps' from rest, not ours, and your step from there is \
+                 the handout's: your loop over steps (U_prev ← U_cur, U_cur ← U_next) or your \
+                 forces in the steps before differ from the handout's",
+                self.state.join(" and "),
+                plural(&self.state, "is", "are"),
+            ),
+            true => format!(
+                "{} {} within the tolerance of the handout's formulas of your own inputs: the \
+                 small differences of those inputs add up",
+                self.explained.join(", "),
+                plural(&self.explained, "is", "are"),
+            ),
         };
-        self.text = format!(
-            "{} {verb} only because {whose} (the handout's formulas make your numbers of \
-             your own inputs); then {}",
-            earlier.join(", "),
-            self.text
-        );
-        self
+        Diagnosis {
+            mistake: None,
+            text,
+        }
+    }
+}
+
+/// `one` or `many`, by the length of `list`.
+fn plural<'a>(list: &[String], one: &'a str, many: &'a str) -> &'a str {
+    match list.len() {
+        1 => one,
+        _ => many,
     }
 }
