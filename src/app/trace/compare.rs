@@ -88,6 +88,7 @@ pub fn run(ours: &Path, theirs: &Path, json: bool) -> Result<(), AppError> {
         theirs,
         context: &context,
         iterations: manifest.iterations,
+        read: Default::default(),
     };
     let report = Report {
         heading: format!(

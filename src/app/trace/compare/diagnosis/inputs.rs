@@ -17,7 +17,9 @@ use crate::app::trace::quantities::{quantities, Axis, Quantity};
 use masssprings::linalg::dense::DenseMatrix;
 use masssprings::linalg::sparse::CscMatrix;
 use masssprings::matrix_market::{read, MatrixMarket};
-use std::path::Path;
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
 
 /// The two folders, and what `--compare` learnt of them.
 pub struct Inputs<'a> {
@@ -25,6 +27,9 @@ pub struct Inputs<'a> {
     pub theirs: &'a Path,
     pub context: &'a Context,
     pub iterations: usize,
+    /// Each file read so far (`None`: missing or unreadable), by path: the
+    /// walk computes a quantity under every mistake from the same files.
+    pub read: RefCell<HashMap<PathBuf, Option<MatrixMarket>>>,
 }
 
 impl Inputs<'_> {
@@ -69,13 +74,19 @@ impl Inputs<'_> {
 
     /// Our file `name`.
     pub fn our_file(&self, name: &str) -> Option<MatrixMarket> {
-        read(&self.ours.join(name)).ok()
+        self.file(self.ours.join(name))
     }
 
     /// The student's file `name`, if given and readable.
     pub fn their_file(&self, name: &str) -> Option<MatrixMarket> {
-        let path = self.theirs.join(name);
-        path.exists().then(|| read(&path).ok()).flatten()
+        self.file(self.theirs.join(name))
+    }
+
+    /// The file at `path`, read once.
+    fn file(&self, path: PathBuf) -> Option<MatrixMarket> {
+        let mut files = self.read.borrow_mut();
+        let file = files.entry(path).or_insert_with_key(|path| read(path).ok());
+        file.clone()
     }
 
     /// Our sparse file `name`.

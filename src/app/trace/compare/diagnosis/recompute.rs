@@ -158,8 +158,12 @@ fn b_terms(quantity: &Quantity, inputs: &Inputs) -> Option<DenseMatrix> {
 /// unless they are our springs, one to one.
 fn their_pairs(inputs: &Inputs) -> Option<Vec<[usize; 2]>> {
     let a = to_sparse(&inputs.their_file("A.mtx")?).ok()?;
-    let n = inputs.n();
-    let rows = if a.ncols() == n { a.transpose() } else { a }; // a column per spring
+    let (m, n) = (inputs.context.our_springs.len(), inputs.n());
+    let rows = match (a.nrows(), a.ncols()) {
+        shape if shape == (m, n) => a.transpose(), // a column per spring
+        shape if shape == (n, m) => a,
+        _ => return None, // not our springs, whatever they are
+    };
     let mut pairs = Vec::with_capacity(rows.ncols());
     for e in 0..rows.ncols() {
         let (vertices, values) = rows.column(e);
