@@ -22,8 +22,10 @@
 //! | [`recompute`] | one quantity by the handout's line or a mistake's; held to the student's |
 //! | [`state`] | `U_prev`, `U_cur`: the loop's mistakes |
 //! | [`hint`] | a sign, a factor, a swapped pair, the terms' coefficients, a transpose |
+//! | [`fit`] | coefficients fitted to the student's numbers by least squares, and named |
 //! | [`text`] | what the diagnosis says: the mistake and its line, or the hint |
 
+mod fit;
 mod hint;
 pub mod inputs;
 mod recompute;
