@@ -269,9 +269,9 @@ fn writing_your_files(text: &mut String, m: &Manifest) {
          MASSSPRINGS_TRACE_DIR=mine MASSSPRINGS_TRACE_STEP={step} MASSSPRINGS_TRACE_ITERATIONS={iterations} \
          ./masssprings_sparse ../data/flag.json\n\
          ```\n\n\
-         writes your own run's step {step} into `mine` (step 1 of the comparison above); \
+         writes your own run's step {step} into `mine` (the first comparison above); \
          `MASSSPRINGS_TRACE_FRAMES=frames` writes every step's positions as OBJ frames too. For \
-         step 2, move the `start_step` line to `main.cpp`'s step, before `const \
+         the second, move the `start_step` line to `main.cpp`'s step, before `const \
          Eigen::MatrixXd U_stash = U;`, as `masssprings_trace::start_step(Uprev, U);`, and \
          set `MASSSPRINGS_TRACE_FROM=DIR`: the traced step then starts from our `U_prev.mtx` \
          and `U_cur.mtx`. The dense code is written the same way (`Eigen::MatrixXd`, \
