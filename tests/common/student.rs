@@ -13,8 +13,6 @@
 //! * any mistake of the gallery, each written here again by its name, from
 //!   the gallery's line (a mistake unknown here panics: add it).
 //!
-//! Include it with `#[path = "common/student.rs"] mod student;`.
-#![allow(dead_code)]
 
 use masssprings::matrix_market::{read, MatrixMarket};
 use masssprings::mesh::Scene;

@@ -150,7 +150,7 @@ fn tolerances(text: &mut String) {
 
 /// A row of the table of what each step shows: the mistake, the first
 /// file it makes wrong, and whether steps 1, 2 and 3 show it (from the
-/// gallery's entry, which `tests/mistakes.rs` holds to the program).
+/// gallery's entry, which `tests/sim/mistakes.rs` holds to the program).
 fn step_row(mistake: Mistake) -> String {
     let entry = mistake.entry();
     let (from, why) = entry.shows_from;

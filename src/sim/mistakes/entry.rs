@@ -4,7 +4,7 @@
 //!
 //! An entry is data only: the code of the mistake is its line in
 //! [`precomputation`](super::precomputation), [`step`](super::step) or
-//! [`simulation`](super::simulation), and `tests/mistakes.rs` holds the
+//! [`simulation`](super::simulation), and `tests/sim/mistakes.rs` holds the
 //! page `docs/mistakes.md`, the picture and every figure to the entry.
 
 /// One mistake of the gallery, as `docs/mistakes.md` shows it.

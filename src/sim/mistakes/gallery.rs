@@ -6,7 +6,7 @@
 //! ([`precomputation`](super::precomputation), [`step`](super::step),
 //! [`simulation`](super::simulation)).
 //!
-//! `docs/mistakes.md` is written from these entries and `tests/mistakes.rs`
+//! `docs/mistakes.md` is written from these entries and `tests/sim/mistakes.rs`
 //! holds it to them: its table, its index by symptom, each picture's
 //! scene, the figure each section quotes (measured on the picture's run),
 //! what `trace --compare` names first and the mistake it diagnoses.
