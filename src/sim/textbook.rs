@@ -10,7 +10,7 @@
 //!     rᵢⱼ = ‖Vᵢ − Vⱼ‖                      rest lengths
 //!     M = diag(m), A (signed incidence), C (selection of the pinned vertices)
 //!     Q = k AᵀA + M/Δt² + w CᵀC             w = 1e10, the pins' penalty
-//!     L Lᵀ = Q                              factored once (up-looking Cholesky)
+//!     L Lᵀ = P Q Pᵀ                         factored once (up-looking Cholesky; P: AMD)
 //!
 //! step (every frame), from p = U_cur:
 //!     y = M (2 U_cur − U_prev)/Δt² + f_ext
@@ -183,7 +183,7 @@ fn precomputation<B: LinearAlgebra>(
     let A = signed_incidence_matrix::<B>(n, springs);
     let C = selection_matrix::<B>(n, pinned);
     let Q = assemble_q::<B>(k, &A, &M, delta_t, w, &C); // k AᵀA + M/Δt² + w CᵀC
-    let prefactorization = B::factor(&Q, how)?; // L Lᵀ = Q, once
+    let prefactorization = B::factor(&Q, how)?; // L Lᵀ = P Q Pᵀ (dense: Q), once
     Ok(Precomputation {
         V: V.to_vec(),
         springs: springs.to_vec(),
