@@ -68,6 +68,9 @@ struct Summary {
     /// Which code ran the steps: `fast` or `textbook` (the handout's
     /// functions as written).
     path: &'static str,
+    /// The threads the steps ran on (1 on the textbook path, with --dense
+    /// or the simplicial factorization).
+    threads: usize,
     /// The step the run continued from (`--resume`), if any.
     resumed_from: Option<usize>,
 }
@@ -259,7 +262,8 @@ fn simulate<B: LinearAlgebra>(
     let written = (frames, material.as_deref());
     let tally = run_steps(&mut simulation, &scene, run, first, written)?;
     let times = [precompute_s, started.elapsed().as_secs_f64()];
-    let summary = summarize(tally, &options, B::NAME, [n, springs, run.steps], times);
+    let shape = [n, springs, run.steps, simulation.threads()];
+    let summary = summarize(tally, &options, B::NAME, shape, times);
     Ok(Summary {
         resumed_from,
         ..summary
@@ -348,7 +352,7 @@ fn summarize(
     mut tally: Tally,
     options: &SimulationOptions,
     backend: &'static str,
-    [n, springs, steps]: [usize; 3],
+    [n, springs, steps, threads]: [usize; 4],
     [precompute_s, total_s]: [f64; 2],
 ) -> Summary {
     let step = &options.step;
@@ -371,6 +375,7 @@ fn summarize(
         stops: tally.stops,
         relative_gradient_median: Some(tally.gradients.median()).filter(|m| !m.is_nan()),
         path: if options.textbook { "textbook" } else { "fast" },
+        threads,
         resumed_from: None,
     }
 }
@@ -619,5 +624,6 @@ fn print_summary(scene_path: &Path, s: &Summary) {
         print_iterations(s);
     }
     println!("path             {}", s.path);
+    println!("threads          {}", s.threads);
     println!("total            {}", duration(s.total_s));
 }

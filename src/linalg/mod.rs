@@ -6,6 +6,8 @@
 //! * [`sparse`]: triplets → CSC, CSC operations, orderings (AMD), the sparse
 //!   Cholesky pipeline (analyse once, factor, solve).
 //! * [`huge_pages`]: asking Linux for 2 MB pages under large arrays.
+//! * [`threads`]: a pool of threads kept for a whole simulation, its
+//!   barrier, and arrays its threads share.
 //!
 //! The pipeline from triplets to a solve is walked through in
 //! `docs/sparse-cholesky.md`. Reading and writing its matrices as Matrix
@@ -17,6 +19,7 @@ pub mod dense;
 pub mod error;
 pub mod huge_pages;
 pub mod sparse;
+pub mod threads;
 
 pub use error::LinalgError;
 

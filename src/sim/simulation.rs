@@ -17,6 +17,7 @@ use super::monitor::Observer;
 use super::precomputation::{MassSpringSystem, DELTA_T};
 use super::step::{StepReport, StepState};
 use crate::linalg::sparse::{Method, Ordering, SupernodeMerging};
+use crate::linalg::threads;
 use crate::mesh::Scene;
 use std::fmt;
 use std::str::FromStr;
@@ -49,6 +50,12 @@ pub struct SimulationOptions {
     /// instead of the fast path: plain iterations, penalty pins, the
     /// simplicial factor; `step` then only gives the iteration count.
     pub textbook: bool,
+    /// Threads of the fast path's factorization, solves and plain
+    /// iterations, kept for the whole simulation (default: the cores
+    /// available, [`threads::available`]). The positions are the same bits
+    /// on any number; `1` runs the single-threaded code. The textbook path
+    /// and the dense backend run on one thread whatever this says.
+    pub threads: usize,
 }
 
 impl SimulationOptions {
@@ -185,6 +192,7 @@ impl Default for SimulationOptions {
             factorization: Method::default(),
             supernodes: SupernodeMerging::default(),
             textbook: false,
+            threads: threads::available(),
         }
     }
 }
@@ -383,6 +391,16 @@ impl<B: LinearAlgebra> Simulation<B> {
         match &self.engine {
             Engine::Fast { system, .. } => Some(system),
             Engine::Textbook { .. } => None,
+        }
+    }
+
+    /// The threads the steps run on: those of the fast path's sparse
+    /// supernodal factorization ([`SimulationOptions::threads`]); 1 on the
+    /// textbook path, with the dense backend or the simplicial method.
+    pub fn threads(&self) -> usize {
+        match &self.engine {
+            Engine::Fast { system, .. } => B::threads(&system.prefactorization),
+            Engine::Textbook { .. } => 1,
         }
     }
 
@@ -715,6 +733,7 @@ fn new_engine<B: LinearAlgebra>(
         ordering: options.ordering,
         method: options.factorization,
         supernodes: options.supernodes,
+        threads: options.threads.max(1),
     };
     let mut engine = Engine::fast(network, how, options.pins)?;
     if let Engine::Fast { system, .. } = &mut engine {
