@@ -6,6 +6,7 @@
 //! * [`sparse`]: triplets → CSC, CSC operations, orderings (AMD), the sparse
 //!   Cholesky pipeline (analyse once, factor, solve).
 //! * [`huge_pages`]: asking Linux for 2 MB pages under large arrays.
+//! * [`kernels`]: the native kernels (AVX2, FMA) or the portable loops.
 //!
 //! The pipeline from triplets to a solve is walked through in
 //! `docs/sparse-cholesky.md`. Reading and writing its matrices as Matrix
@@ -16,6 +17,7 @@
 pub mod dense;
 pub mod error;
 pub mod huge_pages;
+pub mod kernels;
 pub mod sparse;
 
 pub use error::LinalgError;
