@@ -39,7 +39,7 @@
 use std::path::Path;
 
 use super::SceneError;
-use crate::files::read_text;
+use crate::files::Source;
 
 /// The content of an OBJ file, 0-based.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -64,13 +64,13 @@ impl ObjMesh {
     }
 }
 
-/// Reads the OBJ file at `path`.
+/// Reads the OBJ file at `path` of `files` (on disk: `&files::Disk`).
 ///
 /// # Errors
 /// As [`parse_obj`], with the path in the message; an I/O error when the file
 /// cannot be read (or is not UTF-8).
-pub fn read_obj(path: &Path) -> Result<ObjMesh, SceneError> {
-    parse_obj(&read_text(path)?).map_err(|e| e.in_file(path))
+pub fn read_obj(files: &dyn Source, path: &Path) -> Result<ObjMesh, SceneError> {
+    parse_obj(&files.text(path)?).map_err(|e| e.in_file(path))
 }
 
 /// Parses the text of an OBJ file.
