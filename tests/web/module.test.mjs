@@ -1,0 +1,174 @@
+// The WebAssembly module of the page (src/web), run by node as a browser's
+// worker runs it: the same bits as the native program with the portable
+// kernels, the command line's messages for bad files, the memory rule with
+// the page's budget, and a run continued in a fresh module. Run by
+// tests/web/run.sh, which builds the module and the program first.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { execFileSync, spawnSync } from 'node:child_process';
+import { mkdtempSync, readFileSync, readdirSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { Masssprings } from '../../src/web/masssprings.mjs';
+
+const root = new URL('../..', import.meta.url).pathname;
+const wasm = readFileSync(process.env.MASSSPRINGS_WASM ?? join(root, 'target/web/masssprings.wasm'));
+const program = process.env.MASSSPRINGS_BIN ?? join(root, 'target/debug/masssprings');
+const GB = 2 ** 30;
+
+/** A fresh module with a budget of `budget` bytes. */
+async function module(budget = GB) {
+  const masssprings = await Masssprings.instantiate(wasm);
+  masssprings.setBudget(budget);
+  return masssprings;
+}
+
+/** The files of scene `json` in `folder` as the page gives them: the JSON
+ *  and the files it names. */
+function sceneFiles(folder, json) {
+  const text = readFileSync(join(folder, json));
+  const { obj, png } = JSON.parse(text);
+  const named = [obj, png].filter(Boolean);
+  return [{ name: json, bytes: text }, ...named.map((name) => ({ name, bytes: readFileSync(join(folder, name)) }))];
+}
+
+/** A temporary folder, removed after `work(folder)`. */
+function inTemporaryFolder(work) {
+  const folder = mkdtempSync(join(tmpdir(), 'masssprings-web-'));
+  try {
+    return work(folder);
+  } finally {
+    rmSync(folder, { recursive: true, force: true });
+  }
+}
+
+/** The positions of the last frame `simulate` wrote into `folder`. */
+function lastFrame(folder) {
+  const frames = readdirSync(folder).filter((name) => /^frame-\d+\.obj$/.test(name)).sort();
+  const text = readFileSync(join(folder, frames.at(-1)), 'utf8');
+  return text.split('\n').filter((line) => line.startsWith('v ')).flatMap((line) => line.split(' ').slice(1).map(Number));
+}
+
+test('100 steps of the flag give the bits of simulate --kernels portable', async () => {
+  const masssprings = await module();
+  masssprings.loadScene(sceneFiles(join(root, 'data'), 'flag.json'), 'flag.json');
+  const simulation = masssprings.simulation({ solver: 'assignment' });
+  simulation.steps(100);
+  const page = simulation.positions();
+  const native = inTemporaryFolder((folder) => {
+    const out = join(folder, 'frames');
+    execFileSync(program, ['simulate', join(root, 'data/flag.json'), '--steps', '100', '--every', '100',
+      '--kernels', 'portable', '--out', out, '--json']);
+    return lastFrame(out);
+  });
+  assert.equal(page.length, native.length);
+  // The frames are written in the shortest decimal that reads back to the
+  // same f64, so equal numbers here are equal bits.
+  const differing = [...page].findIndex((x, i) => x !== native[i] || Object.is(x, -0) !== Object.is(native[i], -0));
+  assert.equal(differing, -1, `coordinate ${differing}: page ${page[differing]}, native ${native[differing]}`);
+  assert.ok(Math.min(...page.filter((_, i) => i % 3 === 1)) < 0, 'the flag has fallen');
+});
+
+test('a bad file gets the message the command line gives', async () => {
+  const masssprings = await module();
+  const cases = [
+    ['bad.json', '{"obj": "bad.obj", "k": 100, "b": [1]}', 'bad.obj', 'v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 x\n'],
+    ['bad.json', '{"obj": "bad.obj", "k": -1, "b": [1]}', 'bad.obj', 'v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n'],
+    ['bad.json', '{"obj": "bad.obj",\n "k": 100, "b": [4]}', 'bad.obj', 'v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n'],
+  ];
+  for (const [json, jsonText, obj, objText] of cases) {
+    const cli = inTemporaryFolder((folder) => {
+      writeFileSync(join(folder, json), jsonText);
+      writeFileSync(join(folder, obj), objText);
+      const run = spawnSync(program, ['simulate', json, '--steps', '1'], { cwd: folder, encoding: 'utf8' });
+      assert.equal(run.status, 1, run.stderr);
+      return run.stderr;
+    });
+    const files = [{ name: json, bytes: Buffer.from(jsonText) }, { name: obj, bytes: Buffer.from(objText) }];
+    assert.throws(() => masssprings.loadScene(files, json), (error) => {
+      assert.ok(/^bad\.(json|obj)(:\d+)?: /.test(error.message), error.message);
+      assert.ok(cli.includes(error.message), `the command line said ${cli}, the page ${error.message}`);
+      return true;
+    });
+  }
+  const missing = [{ name: 'lone.json', bytes: Buffer.from('{"obj": "mesh.obj", "k": 1, "b": []}') }];
+  assert.throws(() => masssprings.loadScene(missing, 'lone.json'), /^Error: mesh\.obj: cannot read the file/);
+});
+
+test('a texture that is not a PNG is named, and the scene loads without it', async () => {
+  const masssprings = await module();
+  const files = sceneFiles(join(root, 'data'), 'flag.json').map((file) =>
+    file.name === 'flag.png' ? { name: 'flag.png', bytes: Buffer.from('not a picture') } : file);
+  const scene = masssprings.loadScene(files, 'flag.json');
+  assert.equal(scene.texture, null);
+  assert.equal(scene.texture_problem, 'texture flag.png: this is not a PNG file (it does not start with the PNG signature)');
+  assert.equal(scene.n, 3200);
+});
+
+test('the page\'s budget refuses a scene too large for it, with the figures, before allocating it', async () => {
+  // 24 MB in all: the limit is 12 MB, files up to 1.5 MB are read, and the
+  // skirt's springs are estimated at more than 12 MB.
+  const masssprings = await module(24e6);
+  assert.throws(() => masssprings.loadScene(sceneFiles(join(root, 'data'), 'skirt.json'), 'skirt.json'), (error) => {
+    assert.match(error.message, /^skirt\.obj: .* springs .* would need 0\.0\d\d GB; the limit here is 0\.012 GB \(half of the page's budget/);
+    return true;
+  });
+  // a file beyond an eighth of the limit gets no room at all
+  masssprings.input('huge.obj');
+  assert.equal(masssprings.exports.ms_file(2e6), 0);
+  assert.match(masssprings.output(), /^huge\.obj: the file is larger than 1500000 bytes, the most read here/);
+  // the flag fits
+  masssprings.loadScene(sceneFiles(join(root, 'data'), 'flag.json'), 'flag.json');
+  masssprings.simulation().step();
+});
+
+test('a run continued in a fresh module, from the state and what the methods carried, gives the same bits', async () => {
+  const files = sceneFiles(join(root, 'data'), 'flag.json');
+  const whole = await module();
+  whole.loadScene(files, 'flag.json');
+  const run = whole.simulation({ solver: 'accuracy-assignment', wind: true });
+  run.steps(20);
+  const [previous, current, carried] = [run.positions(true), run.positions(), run.describe().carried];
+  run.steps(10);
+  const fresh = await module();
+  fresh.loadScene(files, 'flag.json');
+  const continued = fresh.simulation({ solver: 'accuracy-assignment', wind: true });
+  continued.setState(previous, current, 20, carried);
+  continued.steps(10);
+  assert.deepEqual(continued.positions(), run.positions());
+  assert.equal(continued.describe().time, run.describe().time);
+});
+
+test('each solver steps, and the settings change as the page asks', async () => {
+  const masssprings = await module();
+  masssprings.loadScene(sceneFiles(join(root, 'data'), 'flag.json'), 'flag.json');
+  const expected = { assignment: ['fast', 'plain', 50], textbook: ['textbook', 'plain', 50], 'accuracy-assignment': ['fast', 'lbfgs', 20] };
+  for (const [solver, [path, method, iterations]] of Object.entries(expected)) {
+    const simulation = masssprings.simulation({ solver });
+    const report = simulation.step();
+    const state = simulation.describe();
+    assert.deepEqual([state.solver, state.path, state.method, state.iterations], [solver, path, method, iterations]);
+    assert.ok(report.iterations >= 1, JSON.stringify(report));
+    assert.ok(simulation.positions().every(Number.isFinite));
+    simulation.free();
+  }
+  const simulation = masssprings.simulation();
+  simulation.setParameters(2e5, 1 / 60, 2);
+  simulation.setWind(true);
+  simulation.setStep({ method: 'chebyshev', iterations: 30, tolerance: 1e-3 });
+  const state = simulation.describe();
+  assert.deepEqual([state.k, state.delta_t, state.mass_scale, state.wind, state.method, state.iterations, state.tolerance, state.solver],
+    [2e5, 1 / 60, 2, true, 'chebyshev', 30, 1e-3, null]);
+  assert.throws(() => simulation.setStep({ method: 'plain', tolerance: 2 }), /^Error: tolerance 2: expected between 0 and 1$/);
+  assert.throws(() => simulation.setParameters(-1, 1 / 30, 1), /k/);
+  assert.throws(() => simulation.dragStart(0, [0, 0, 0]), /^Error: vertex 0 is pinned$/);
+  simulation.dragStart(3199, [0, 0, 1]);
+  simulation.dragTo([0.1, 0, 1]);
+  simulation.step();
+  assert.equal(simulation.describe().dragged, 3199);
+  simulation.dragEnd();
+  simulation.reset();
+  assert.equal(simulation.describe().steps, 0);
+  const textbook = masssprings.simulation({ solver: 'textbook' });
+  assert.throws(() => textbook.setStep({ method: 'lbfgs' }), /textbook path runs the handout's step as written/);
+});
