@@ -10,6 +10,7 @@
 //! here (the springs are drawn as lines).
 
 use super::super::draw::look::mass_radius;
+use super::facing::facing_azimuth;
 use masssprings::mesh::bounding_box::BoundingBox;
 use masssprings::mesh::fan::fan_corners;
 use masssprings::mesh::Scene;
@@ -40,6 +41,9 @@ pub struct DisplayMesh {
     /// initial target and distance).
     pub center: [f64; 3],
     pub diagonal: f64,
+    /// The camera's first azimuth (radians, from `+z` toward `+x`): facing
+    /// the cloth as it will hang ([`facing_azimuth`]).
+    pub azimuth: f64,
     /// The point masses' radius in world units (key L), from the mesh
     /// spacing as `render` draws them; 0 for a scene of a few springs,
     /// whose masses keep a fixed size on screen.
@@ -95,6 +99,7 @@ pub fn display_mesh(scene: &Scene, textured: bool, backend: &'static str) -> Dis
         texture: textured.then_some(TEXTURE_PATH),
         center,
         diagonal,
+        azimuth: facing_azimuth(scene),
         mass_radius: if scene.faces.first().is_some_and(|f| f.len() >= 3) {
             mass_radius(&scene.vertices, &scene.springs)
         } else {

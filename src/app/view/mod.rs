@@ -24,6 +24,7 @@
 mod api;
 mod commands;
 mod display_mesh;
+mod facing;
 mod http;
 mod image;
 mod pool;
