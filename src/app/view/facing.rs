@@ -29,6 +29,24 @@ pub fn facing_azimuth(scene: &Scene) -> f64 {
     straight + TURN_DEGREES.to_radians()
 }
 
+/// Where a second simulation is drawn beside the first, for a camera at
+/// `azimuth`: to its right on the screen (along `(cos a, 0, −sin a)`, the
+/// camera's horizontal right), by a fifth more than the rest shape's width
+/// that way, so that the two do not overlap at rest.
+pub fn beside_offset(scene: &Scene, azimuth: f64) -> [f64; 3] {
+    let right = [azimuth.cos(), 0.0, -azimuth.sin()];
+    let across = scene
+        .vertices
+        .iter()
+        .map(|p| p[0] * right[0] + p[2] * right[2]);
+    let (low, high) = across.fold((f64::INFINITY, f64::NEG_INFINITY), |(low, high), x| {
+        (low.min(x), high.max(x))
+    });
+    let size = BoundingBox::of(&scene.vertices).diagonal();
+    let gap = 1.2 * (high - low).max(0.05 * size).max(1e-3);
+    right.map(|c| gap * c)
+}
+
 /// The horizontal normal `(x, z)` of the vertical plane through the pins,
 /// when they lie along a horizontal line: their spread in `x` and `z` is
 /// long in one direction (more than a twentieth of the scene's size) and at
@@ -40,7 +58,9 @@ fn pins_line_normal(scene: &Scene) -> Option<[f64; 2]> {
         .map(|&i| [scene.vertices[i][0], scene.vertices[i][2]])
         .collect();
     let count = pins.len() as f64;
-    let mean = pins.iter().fold([0.0, 0.0], |m, p| [m[0] + p[0] / count, m[1] + p[1] / count]);
+    let mean = pins.iter().fold([0.0, 0.0], |m, p| {
+        [m[0] + p[0] / count, m[1] + p[1] / count]
+    });
     let [mut xx, mut xz, mut zz] = [0.0; 3];
     for p in &pins {
         let (dx, dz) = (p[0] - mean[0], p[1] - mean[1]);
@@ -114,7 +134,14 @@ mod tests {
             .flat_map(|j| (0..3).map(move |i| (i, j)))
             .map(|(i, j)| place(f64::from(i), f64::from(j)))
             .collect();
-        let quad = |i: usize, j: usize| vec![3 * j + i, 3 * j + i + 1, 3 * (j + 1) + i + 1, 3 * (j + 1) + i];
+        let quad = |i: usize, j: usize| {
+            vec![
+                3 * j + i,
+                3 * j + i + 1,
+                3 * (j + 1) + i + 1,
+                3 * (j + 1) + i,
+            ]
+        };
         Scene {
             name: "sheet".into(),
             vertices,
@@ -157,6 +184,15 @@ mod tests {
         assert!((degrees(&flag) - TURN_DEGREES).abs() < 1e-9);
         let side = sheet(|i, j| [0.0, j, i], vec![0, 3, 6]);
         assert!((degrees(&side) - (90.0 + TURN_DEGREES)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_second_simulation_is_drawn_to_the_right_by_more_than_the_width() {
+        let flag = sheet(|i, j| [i, j, 0.0], vec![0, 3, 6]);
+        let offset = beside_offset(&flag, 0.0);
+        assert!((offset[0] - 2.4).abs() < 1e-12 && offset[1] == 0.0 && offset[2].abs() < 1e-12);
+        let turned = beside_offset(&flag, std::f64::consts::FRAC_PI_2);
+        assert!(turned[0].abs() < 1e-12 && turned[2] < 0.0, "{turned:?}");
     }
 
     #[test]

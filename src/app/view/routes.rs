@@ -16,6 +16,8 @@ use std::time::{Duration, Instant};
 
 const PAGE: &str = include_str!("assets/viewer.html");
 const SCRIPT: &str = include_str!("assets/viewer.js");
+const BACKEND: &str = include_str!("assets/backend.js");
+const PLOT: &str = include_str!("assets/plot.js");
 const STYLE: &str = include_str!("assets/viewer.css");
 
 /// The page may load only what this server serves: no network beyond it.
@@ -64,9 +66,9 @@ impl Routes {
                 Response::new(200, "text/html; charset=utf-8", PAGE)
                     .with_header("Content-Security-Policy", CONTENT_SECURITY_POLICY)
             }
-            "/viewer.js" if read_only => {
-                Response::new(200, "text/javascript; charset=utf-8", SCRIPT)
-            }
+            "/viewer.js" if read_only => script(SCRIPT),
+            "/backend.js" if read_only => script(BACKEND),
+            "/plot.js" if read_only => script(PLOT),
             "/viewer.css" if read_only => Response::new(200, "text/css; charset=utf-8", STYLE),
             "/texture.png" if read_only => match self.scene_assets().1 {
                 Some(png) => Response::new(200, "image/png", png.to_vec()),
@@ -80,8 +82,8 @@ impl Routes {
             "/api/frame" if read_only => self.frame(request.query.as_deref()),
             "/api/image" if read_only => image::respond(&self.shared, request.query.as_deref()),
             "/api/command" if request.method == Method::Post => self.command(request),
-            "/" | "/index.html" | "/viewer.js" | "/viewer.css" | "/texture.png" | "/api/scene"
-            | "/api/status" | "/api/frame" | "/api/image" => {
+            "/" | "/index.html" | "/viewer.js" | "/backend.js" | "/plot.js" | "/viewer.css"
+            | "/texture.png" | "/api/scene" | "/api/status" | "/api/frame" | "/api/image" => {
                 Response::error(405, "use GET").with_header("Allow", "GET, HEAD")
             }
             "/api/command" => Response::error(405, "use POST").with_header("Allow", "POST"),
@@ -224,6 +226,11 @@ impl Routes {
         accepted.status = 202;
         accepted
     }
+}
+
+/// One of the page's scripts.
+fn script(text: &'static str) -> Response {
+    Response::new(200, "text/javascript; charset=utf-8", text)
 }
 
 fn json_status(status: &Status) -> Response {
