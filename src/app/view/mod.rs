@@ -71,14 +71,18 @@ Serves an interactive viewer on http://127.0.0.1:P/ and prints its URL. The
 simulation runs here, starting paused at rest, and steps only while playing
 and a page shows it; the page draws it with WebGL (without WebGL, as images
 drawn by this program's renderer), with buttons, a scene picker, a solve
-picker (the assignment, the handout's code dense or sparse, the
-assignment's accuracy fast), compare with (a second simulation from the
-same start, beside the first or as a wireframe over it), sliders for k, Δt,
-mass scale and iterations, a method picker and a plot. A long step can be
-stopped from the page (Esc). Keys: space step, A play, L springs, R reset,
-W wind, F fit, M method, ? help; drag to orbit, right-drag to pan, wheel to
-zoom, shift-drag to pull a vertex; by touch, one finger orbits, two zoom
-and pan, a long press pulls. Ctrl-C stops it.
+picker (the assignment, the handout's code dense or sparse, the fast mode:
+the assignment's energy, not its motion), compare (a second simulation from
+the same start, or your own program's frames with --frames, beside the
+first or as a wireframe over it), sliders for k, Δt, mass scale and
+iterations, a method picker and a plot. Esc stops whatever runs: a long
+step, the dense setup, the animation. Large print (Aa) for a projector; on
+a phone the panels fold into a drawer. Keys, whatever control has focus:
+space step, A play, L springs, R reset (to the scene as it loaded),
+shift-R restart (keeping the settings), W wind, F fit, M method, ? help;
+drag to orbit, right-drag to pan, wheel to zoom, shift-drag to pull a
+vertex; by touch, one finger orbits, two zoom and pan, a long press pulls.
+Ctrl-C stops it.
 
 The viewer has no authentication: it binds to the loopback address unless
 --address says otherwise, and anyone who can reach that port can drive it.")]

@@ -156,7 +156,7 @@ function distancePanel(s, second) {
 function drawPlot(canvas, panels, font) {
   const ratio = window.devicePixelRatio || 1;
   const width = Math.max(200, canvas.clientWidth);
-  const panelHeight = Math.round(9.4 * font);
+  const panelHeight = Math.round(10.4 * font);
   const height = panels.length * panelHeight;
   if (canvas.style.height !== `${height}px`) canvas.style.height = `${height}px`;
   const [w, h] = [Math.round(width * ratio), Math.round(height * ratio)];
@@ -185,7 +185,7 @@ function drawPanel(c, panel, box, font, texts) {
   c.font = `600 ${font}px system-ui, sans-serif`;
   write(fitText(c, panel.title, box.width), 0, box.top + font);
   c.font = `${font}px system-ui, sans-serif`;
-  const area = { top: box.top + 1.5 * font, bottom: box.top + box.height - 2.9 * font };
+  const area = { top: box.top + 1.6 * font, bottom: box.top + box.height - 3.3 * font };
   if (panel.empty) {
     write(fitText(c, panel.empty, box.width), box.width / 2, (area.top + area.bottom) / 2 + font / 3, 'center', '#7f8c8d');
     return;
@@ -216,7 +216,7 @@ function drawPanel(c, panel, box, font, texts) {
     }
   }
   // The steps along the bottom, the axis's name under the value axis.
-  const row = area.bottom + 1.35 * font;
+  const row = area.bottom + 1.4 * font;
   const name = c.measureText('step').width;
   for (const step of stepTicks(first, last)) {
     const x = xOf(step);
@@ -246,7 +246,7 @@ function drawPanel(c, panel, box, font, texts) {
       c.fillRect(xOf(step) - 3, yOf(value) - 3, 6, 6);
     }
   }
-  drawLegend(c, panel.series, { left: 0, top: box.top + box.height - 0.45 * font, width: box.width }, font, write);
+  drawLegend(c, panel.series, { left: 0, top: box.top + box.height - 0.6 * font, width: box.width }, font, write);
 }
 
 /** The value axis of `values` on `scale`: the map to plotted units, its

@@ -67,6 +67,7 @@ const NARROW_WIDTH = { small: 710, large: 780 };
  *  as they are. */
 const SETTLED_MOTION = 0.01;
 const SETTLED_FRAMES = 10;
+const SETTLED_SHRINK = 0.8;
 // ---------------------------------------------------------------------------
 // Small vector and matrix helpers. Matrices are 4×4, column-major
 // Float32Arrays, as WebGL's uniformMatrix4fv expects: m[4 * column + row].
@@ -266,7 +267,7 @@ function distanceToFit(area, aspect) {
 }
 
 /** Aims at the box: target = its centre, in the middle of the free area
- *  where it is largest (of the areas where it is within 5% of that, the
+ *  where it is largest (of the areas where it is within 10% of that, the
  *  largest area), at the least distance at which it fits there. */
 function aimAtBox(aspect) {
   const { min, max } = camera.box;
@@ -277,7 +278,7 @@ function aimAtBox(aspect) {
   const fits = freeAreas().map((area) => ({ area, distance: distanceToFit(area, aspect) }));
   const closest = Math.min(...fits.map((fit) => fit.distance));
   const size = ({ area }) => area.width * area.height;
-  const { area, distance } = fits.filter((fit) => fit.distance <= 1.05 * closest)
+  const { area, distance } = fits.filter((fit) => fit.distance <= 1.1 * closest)
     .reduce((best, fit) => (size(fit) > size(best) ? fit : best));
   camera.target = target;
   camera.distance = distance;
@@ -313,7 +314,10 @@ function fitToCloth() {
 }
 
 /** A new frame arrived: frames the cloths afresh once their box has kept
- *  still over the last SETTLED_FRAMES frames. */
+ *  still over the last SETTLED_FRAMES frames, when it has shrunk to less
+ *  than SETTLED_SHRINK of the framed box across or up the screen (a
+ *  fallen cloth; a flag flapping in the wind within the box framed keeps
+ *  its camera). */
 function watchSettling() {
   const saved = camera.box;
   camera.box = emptyBox();
@@ -332,7 +336,9 @@ function watchSettling() {
     camera.framedStill = false;
   } else if (!camera.framedStill) {
     camera.framedStill = true;
-    frameAfresh();
+    const extent = (b, k) => b.max[k] - b.min[k];
+    const shrunk = [0, 1].some((k) => extent(box, k) < SETTLED_SHRINK * extent(saved, k));
+    if (shrunk) frameAfresh();
   }
 }
 
@@ -953,7 +959,9 @@ async function sendCommand(body) {
   if (ok) {
     state.status = answer;
     state.refusal = null;
-    state.waiting = waits ? body.command : null;
+    // Waiting lasts until the work ends (onStatus), whatever another
+    // command's answer says meanwhile.
+    if (waits) state.waiting = body.command;
   } else {
     state.refusal = `${body.command}: ${answer.error}`;
     console.warn('command refused:', body.command, answer.error);
