@@ -42,7 +42,7 @@ impl fmt::Display for SimulationError {
             ),
             SimulationError::Cancelled => write!(
                 f,
-                "the step was cancelled before it was done; the simulation stays at its last completed step"
+                "cancelled before it was done; the simulation stays as it was"
             ),
         }
     }

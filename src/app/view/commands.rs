@@ -104,19 +104,15 @@ impl SimulationThread {
     fn reset(&mut self) -> Reply {
         self.set_animating(false);
         let (k, delta_t, wind) = (self.scene.k, self.initial.delta_t, self.initial.wind);
-        let started = Instant::now();
-        let mut refactored = false;
-        for shown in self.all_mut() {
-            let run = &mut shown.run;
-            if (run.k(), run.options().delta_t, run.mass_scale()) != (k, delta_t, 1.0) {
-                run.set_parameters(k, delta_t, 1.0)?;
-                refactored = true;
-            }
-            run.set_wind(wind);
+        let changed =
+            |run: &dyn Run| (run.k(), run.options().delta_t, run.mass_scale()) != (k, delta_t, 1.0);
+        if self.all_mut().any(|shown| changed(shown.run.as_ref())) {
+            self.timed_refactor(|run| match changed(run) {
+                true => run.set_parameters(k, delta_t, 1.0),
+                false => Ok(()),
+            })?;
         }
-        if refactored {
-            self.refactor = Some(started.elapsed());
-        }
+        self.all_mut().for_each(|shown| shown.run.set_wind(wind));
         let step = match self.main.run.solver_name() {
             Some(name) => solver::options_named(self.initial, name)?.step,
             None => self.initial.step,
@@ -212,7 +208,7 @@ impl SimulationThread {
             return Err(format!("the frames are of {scene}: switch to it first"));
         }
         let options = *self.main.run.options();
-        let what = "reading the frames' scene for their energy".to_string();
+        let what = "precomputing the frames' scene, to measure their energy".to_string();
         let mirror = self.precomputing(what, |thread| {
             let path = &thread.scenes[0];
             solver::build(
@@ -276,12 +272,16 @@ impl SimulationThread {
     }
 
     /// `change` applied to every simulation (rebuilding and refactoring
-    /// `Q`), timed for the overlay.
+    /// `Q`; the handout's dense code precomputes again, which the stop
+    /// button stops), timed for the overlay.
     fn timed_refactor(&mut self, change: impl Fn(&mut dyn Run) -> Result<(), String>) -> Reply {
+        self.busy("rebuilding and refactoring Q".into(), None);
         let started = Instant::now();
-        for shown in self.all_mut() {
-            change(shown.run.as_mut())?;
-        }
+        let changed = self
+            .all_mut()
+            .try_for_each(|shown| change(shown.run.as_mut()));
+        self.done();
+        changed?;
         self.refactor = Some(started.elapsed());
         Ok(())
     }

@@ -212,12 +212,7 @@ fn serve(given: Given, address: SocketAddr) -> Result<(), AppError> {
         frames,
     } = given;
     let cancel = Arc::new(AtomicBool::new(false));
-    let run = solver::build(&scene, &scenes[0], backend, options, &cancel).map_err(|not| {
-        AppError::Failed(match not {
-            NotBuilt::Refused(why) => why,
-            NotBuilt::Cancelled => "the precomputation was cancelled".into(),
-        })
-    })?;
+    let run = first_simulation(&scene, &scenes[0], backend, options, &cancel)?;
     let listener = TcpListener::bind(address).map_err(|e| bind_error(address, &e))?;
     let local = listener.local_addr()?;
     let stop_requested = stop_signal()?;
@@ -267,6 +262,23 @@ fn serve(given: Given, address: SocketAddr) -> Result<(), AppError> {
         thread::sleep(Duration::from_millis(10));
     }
     Ok(())
+}
+
+/// The simulation the viewer starts with, refused as the command line
+/// refuses it.
+fn first_simulation(
+    scene: &Scene,
+    path: &Path,
+    backend: Backend,
+    options: SimulationOptions,
+    cancel: &Arc<AtomicBool>,
+) -> Result<Box<dyn solver::Run>, AppError> {
+    solver::build(scene, path, backend, options, cancel).map_err(|not| {
+        AppError::Failed(match not {
+            NotBuilt::Refused(why) => why,
+            NotBuilt::Cancelled => "the precomputation was cancelled".into(),
+        })
+    })
 }
 
 /// What the threads share, for `scene` at rest on `backend`.

@@ -1120,13 +1120,14 @@ const RELATIVE_GRADIENT = '‖∇E(p)‖ where the step stopped over ‖∇E(p�
   + 'iterations kill, not the slow ones where the energy left is: 50 plain iterations take much energy off and '
   + 'still leave it near 1 (docs/convergence.md, section 4)';
 
-/** Why a step stopped, in words. */
+/** Why a step stopped: in a word or two, and in a sentence. */
 const STOP_REASONS = {
-  iterations: (r) => `ran all ${r.iterations} iterations it was allowed`,
-  tolerance: () => 'stopped: relative gradient at the tolerance',
-  'energy-tolerance': () => 'stopped: the energy tolerance (the energy had stopped falling steeply)',
-  'at-least-plain': () => 'stopped: at least plain-50\'s decrease reached',
-  stalled: () => 'stopped: the line search found nothing lower',
+  iterations: ['its budget', 'it ran every iteration it was allowed'],
+  tolerance: ['tolerance', 'its relative gradient reached the tolerance'],
+  'energy-tolerance': ['energy tolerance', 'an iteration took off at most the energy tolerance\'s share of what the '
+    + 'step had taken off (the energy had stopped falling steeply)'],
+  'at-least-plain': ['plain-50\'s decrease', 'its energy fell by at least what 50 plain iterations take off'],
+  stalled: ['stalled', 'the line search found nothing lower: as good as rounding lets this method make it'],
 };
 
 /** A piece of a line: `text`, explained by `title` on hover. */
@@ -1214,19 +1215,23 @@ function describeWork(s) {
   if (s.busy) {
     lines.push(line([`${s.busy}: `, piece(`${(s.busy_ms / 1000).toFixed(1)} s so far`, 'how long it has run'),
       ' · ■ stop (Esc) cancels it']));
-    if (s.queued > 0) lines.push(line([`${s.queued} command(s) wait for it`]));
+    if (s.queued > 0) {
+      lines.push(line([piece(`${s.queued} command(s) wait for it`, 'commands queued behind the work in progress')]));
+    }
   }
   if (state.waiting) lines.push(line([`${state.waiting}: waits for the step in progress, applied after it`]));
   const last = s.history.length > 0 ? s.history[s.history.length - 1] : null;
   if (last) {
-    const why = (STOP_REASONS[last.stop] || (() => last.stop))(last);
+    const [reason, why] = STOP_REASONS[last.stop] || [last.stop, last.stop];
     const gradient = last.relative_gradient === null
       ? ['relative gradient not measured']
       : [piece(`relative gradient ${last.relative_gradient.toPrecision(2)}`, RELATIVE_GRADIENT)];
-    lines.push(line(['last step: ', piece(`${last.iterations} iterations`, why), ', ', ...gradient],
-      { detail: true }));
+    lines.push(line(['last step: ', piece(`${last.iterations} iterations (${reason})`,
+      `local/global iterations it ran; it stopped because ${why}`), ', ', ...gradient], { detail: true }));
   }
-  if (s.dragged !== null) lines.push(line([`dragging vertex ${s.dragged + 1}`]));
+  if (s.dragged !== null) {
+    lines.push(line([piece(`dragging vertex ${s.dragged + 1}`, 'the vertex pulled, counted from 1 as the OBJ does')]));
+  }
   if (s.note) lines.push(line([s.note]));
   if (s.error) lines.push(line([`stopped: ${s.error}`]));
   if (state.refusal) lines.push(line([`refused: ${state.refusal}`]));
@@ -1272,7 +1277,9 @@ function updatePlot() {
   const s = state.status;
   if (!s || plotCanvas.clientWidth === 0) return;
   const font = document.body.classList.contains('large') ? 16 : 12;
-  window.viewer.plotText = drawPlot(plotCanvas, plotPanels(s, simulationNames(s)), font);
+  const panels = plotPanels(s, simulationNames(s));
+  window.viewer.plotText = drawPlot(plotCanvas, panels, font);
+  plotCanvas.title = panels.map((panel) => `${panel.title}: ${panel.hover}`).join('\n');
   window.viewer.plotPoints = s.history.length;
 }
 
