@@ -9,13 +9,13 @@
 #     bash docs/images/mistakes.sh
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-cargo build --release --quiet
+source docs/images/program.sh
 mkdir -p docs/images/mistakes
 
 draw() {
     local scene=$1 mistake=$2 steps every
     if [ "$scene" = flag ]; then steps=60 every=2; else steps=90 every=3; fi
-    cargo run --release --quiet -- render "data/$scene.json" --mistake "$mistake" \
+    "$MASSSPRINGS" render "data/$scene.json" --mistake "$mistake" \
         --steps "$steps" --every "$every" --size 480x180 \
         -o "docs/images/mistakes/$mistake.gif"
 }

@@ -1,6 +1,6 @@
 //! Hand-written linear algebra: everything the mass-spring solver needs, and
 //! nothing about springs. It imports only `std` and itself (checked by
-//! `tests/layers.rs`), so it could be lifted out as a crate of its own.
+//! `tests/repository/layers.rs`), so it could be lifted out as a crate of its own.
 //!
 //! * [`dense`]: a row-major matrix and a dense Cholesky factorization.
 //! * [`sparse`]: triplets → CSC, CSC operations, orderings (AMD), the sparse

@@ -30,7 +30,7 @@
 //!
 //! The fast path ([`step`](super::step), what the program runs by default)
 //! computes the same iterates with the supernodal factor and four springs
-//! per instruction; `tests/textbook.rs` holds one step of the two within
+//! per instruction; `tests/sim/textbook.rs` holds one step of the two within
 //! 1e-11 of each other (the largest distance of a vertex) on every bundled
 //! scene, 1e-12 on the dense path.
 //!

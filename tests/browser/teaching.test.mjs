@@ -267,7 +267,7 @@ test('a long step is answered at once, can be stopped from the page, and stays a
       });
     const answer = await page.evaluate(() => window.viewer.lastCommand);
     assert.equal(answer.status, 202, JSON.stringify(answer));
-    // Answered, not held until the step ends (tests/viewer.rs times the
+    // Answered, not held until the step ends (tests/app/viewer.rs times the
     // answer itself; here the page's own work is in the time too).
     assert.ok(answer.ms < 2000, `answered after ${answer.ms} ms`);
     await page.waitForFunction(() => /toggle_wind: waits for the step in progress/

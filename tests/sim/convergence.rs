@@ -1,7 +1,7 @@
 //! The energy a step minimises, its gradient and Hessian, and the five
 //! methods that minimise it: checked against nalgebra, finite differences,
 //! an independent prototype, and each other.
-mod common;
+use crate::common;
 
 use common::*;
 use masssprings::mesh::load_scene;

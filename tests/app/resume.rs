@@ -1,8 +1,7 @@
 //! `simulate --resume DIR`: a run continued from its frames gives the same
 //! bits as a run that never stopped, and frames that cannot give back the
 //! state exactly are refused with a sentence naming them.
-#[path = "common/cli.rs"]
-mod cli;
+use crate::cli;
 
 use cli::{data, masssprings, names_in as names, stderr, temp_folder};
 use std::path::Path;

@@ -31,10 +31,10 @@
 //!   them these tests say so and pass, except under `CI=true`, where a
 //!   missing `../shared` is a failure.
 //!
-//! `cargo test --release --test fidelity -- --nocapture --test-threads 1`
+//! `cargo test --release --test suite sim::fidelity:: -- --nocapture --test-threads 1`
 //! prints the measured distances (`docs/fidelity.md`).
 
-mod common;
+use crate::common;
 
 use common::read_points;
 use masssprings::linalg::sparse::{Method, Ordering};

@@ -17,8 +17,7 @@
 //!   every link into the two pages names a heading there;
 //! * a mistake that cannot be made on a scene is refused with a message.
 
-#[path = "common/cli.rs"]
-mod cli;
+use crate::cli;
 
 use cli::{data, masssprings, stderr, stdout, temp_folder};
 use masssprings::linalg::sparse::Ordering;

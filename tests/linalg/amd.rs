@@ -5,7 +5,7 @@
 //! The fill `nnz(L)` of an ordering is counted by an independent oracle in
 //! this file (elimination tree by Liu's algorithm, then the row-subtree walk
 //! of every row), itself checked against dense symbolic elimination.
-mod common;
+use crate::common;
 
 use common::*;
 use masssprings::linalg::sparse::amd::{amd, AmdInfo, AmdOptions};

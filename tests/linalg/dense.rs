@@ -1,6 +1,6 @@
 //! The dense matrix and the dense Cholesky factorization, checked against
 //! nalgebra on random matrices, plus every error path.
-mod common;
+use crate::common;
 
 use common::*;
 use masssprings::linalg::dense::{

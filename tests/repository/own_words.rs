@@ -10,10 +10,8 @@
 //!   `energy-tolerance`);
 //! * progress off a terminal is one line per update, never rewritten in
 //!   place with `\r`.
-#[path = "common/cli.rs"]
-mod cli;
-#[path = "common/source.rs"]
-mod source;
+use crate::cli;
+use crate::source;
 
 use cli::{data, masssprings, stderr, stdout, temp_folder};
 use source::rust_files;

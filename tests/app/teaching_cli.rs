@@ -3,11 +3,10 @@
 //! `--ordering natural --factorization simplicial` against the default
 //! path and the reference; `export-q` read back
 //! by `analyze`; `spy` and `etree` pictures and the counts they print.
-mod common;
+use crate::common;
 
+use crate::cli;
 use common::read_points;
-#[path = "common/cli.rs"]
-mod cli;
 
 use cli::{data, masssprings, stderr, stdout, temp_folder};
 use masssprings::linalg::sparse::{Ordering, SymbolicCholesky, Triangle};

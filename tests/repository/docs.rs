@@ -16,8 +16,7 @@
 //! Every check is a function of the text, so the last test feeds each one
 //! the mistake it looks for and sees it reported.
 
-#[path = "common/cli.rs"]
-mod cli;
+use crate::cli;
 
 use cli::{masssprings, COMMANDS};
 use std::fs;

@@ -19,8 +19,7 @@
 //! written in the code without a `use` (`super::timing::median(..)`, a
 //! child module's `accuracy::run(..)`) count as imports too.
 
-#[path = "common/source.rs"]
-mod source;
+use crate::source;
 
 use source::rust_files;
 use std::collections::{BTreeMap, BTreeSet};

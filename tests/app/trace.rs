@@ -22,8 +22,7 @@
 //!   student file, out-of-range flags, a manifest claiming 10⁸ iterations,
 //!   an `A` declaring five million rows) is refused with a clear error, and
 //!   an `L` whose `L Lᵀ` would be dense is checked in bounded memory.
-#[path = "common/cli.rs"]
-mod cli;
+use crate::cli;
 
 use cli::{data, masssprings, stderr, stdout, temp_folder, TempFolder};
 use masssprings::files::write_file;

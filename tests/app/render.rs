@@ -7,8 +7,7 @@
 //! belongs to the command line, not to the library.
 #![cfg(feature = "app")]
 
-#[path = "common/cli.rs"]
-mod cli;
+use crate::cli;
 
 use cli::{data, masssprings, stderr, temp_folder};
 use std::fs::{self, File};

@@ -1,5 +1,5 @@
 //! Triplets → CSC, checked against dense accumulation in nalgebra.
-mod common;
+use crate::common;
 
 use common::*;
 use masssprings::linalg::sparse::TripletMatrix;

@@ -5,9 +5,8 @@
 //! temporaries are a user's unless a lock record proves otherwise; a re-run
 //! replaces the earlier result only once it is complete, so a run that
 //! fails or is killed leaves it whole. (One run at a time per folder:
-//! `tests/resume.rs`.)
-#[path = "common/cli.rs"]
-mod cli;
+//! `tests/app/resume.rs`.)
+use crate::cli;
 
 use cli::{
     assert_fails, blow_up_scene, copy_scene, data, masssprings, masssprings_in, names_in as names,

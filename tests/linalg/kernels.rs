@@ -19,7 +19,7 @@
 //! * `back_substitution_sparse` (one sum, the textbook loop) against
 //!   `back_substitution_sparse_two_sums` (two partial sums), and both
 //!   sparse substitutions against the dense ones.
-mod common;
+use crate::common;
 
 use common::*;
 use masssprings::linalg::dense::gram_block::{gram_block, gram_block_portable, BLOCK_COLUMNS};

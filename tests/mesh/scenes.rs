@@ -2,7 +2,7 @@
 //! procedural scenes. Every rejection is triggered once and its message
 //! checked for the file, the line and the reason.
 
-mod common;
+use crate::common;
 
 use masssprings::mesh::fan::fan_triangles;
 use masssprings::mesh::procedural::text::format_17_significant;

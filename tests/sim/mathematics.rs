@@ -1,6 +1,6 @@
 //! The assignment's mathematics, checked against nalgebra and against the
 //! properties the method guarantees.
-mod common;
+use crate::common;
 
 use common::*;
 use masssprings::linalg::LinalgError;

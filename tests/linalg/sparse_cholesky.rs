@@ -1,7 +1,7 @@
 //! The sparse Cholesky pipeline: structure (elimination tree, postorder,
 //! column counts, pattern, supernodes) against a boolean-elimination
 //! oracle, numbers against nalgebra's dense Cholesky.
-mod common;
+use crate::common;
 
 use common::*;
 use masssprings::linalg::sparse::amalgamation::relax;

@@ -2,8 +2,7 @@
 //! spelling, the version, "did you mean", errors in plain words, a busy
 //! port, a file that is not a scene, frame files with a precision and a
 //! material.
-#[path = "common/cli.rs"]
-mod cli;
+use crate::cli;
 
 use cli::{data, masssprings, stderr, stdout, temp_folder, COMMANDS};
 use std::net::TcpListener;

@@ -1,5 +1,5 @@
 //! The CSC operations, each checked against nalgebra on random matrices.
-mod common;
+use crate::common;
 
 use common::*;
 use masssprings::linalg::sparse::{CscMatrix, Permutation, PermutedTriangle, Triangle};

@@ -5,8 +5,7 @@
 //! `--steps --tolerance` solves every step by the stopping rule and says how
 //! many steps reached plain-50's energy, as its CSV rows show; `simulate --start` reports where
 //! steps start and refuses a start it does not know.
-#[path = "common/cli.rs"]
-mod cli;
+use crate::cli;
 
 use cli::{data, masssprings, stderr, stdout, temp_folder};
 

@@ -1,7 +1,6 @@
 //! Scenes and matrices shared by the benchmarks, built through the library
 //! itself: the grid-N cloth (`masssprings generate grid N`) is generated, written
 //! and read back as a scene, and its `Q` comes from the precomputation.
-#![allow(dead_code)]
 
 use masssprings::linalg::sparse::{CscMatrix, Triangle};
 use masssprings::mesh::procedural::grid;
@@ -27,10 +26,15 @@ pub fn grid_scene(side: usize) -> Scene {
     scene
 }
 
+/// The repository's top folder (this package is its `benches/`).
+pub fn repository_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
 /// One of the assignment's scenes from `../shared/original-data/`, if that
 /// folder is there; else the project's own version from `data/`.
 pub fn assignment_scene(name: &str) -> Scene {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = repository_root();
     let shared = root.join(format!("../shared/original-data/{name}.json"));
     let path: PathBuf = if shared.exists() {
         shared

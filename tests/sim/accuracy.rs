@@ -3,8 +3,7 @@
 //! library on the first steps of the net and the flag); without the flag the
 //! frames are the plain ones, bit for bit; the flags it chooses are refused
 //! beside it; `converge --accuracy` prints its comparison.
-#[path = "common/cli.rs"]
-mod cli;
+use crate::cli;
 
 use cli::{data, masssprings, stderr, stdout, temp_folder};
 use masssprings::mesh::load_scene;

@@ -1,7 +1,7 @@
 //! Matrix Market reading and writing: exact round trips (checked against
 //! nalgebra copies), one test per error with its line number, what the
 //! reader tolerates, and all-or-nothing file writing.
-mod common;
+use crate::common;
 
 use common::*;
 use masssprings::files::write_file;

@@ -1,7 +1,6 @@
 //! The command line, run as a user runs it: outputs, exit codes, errors.
-#[path = "common/cli.rs"]
-mod cli;
-mod common;
+use crate::cli;
+use crate::common;
 
 use cli::{blow_up_scene, data, masssprings, stderr, stdout, temp_folder};
 
