@@ -27,9 +27,9 @@ const flag = path.join(root, 'data/flag.json');
 const skirt = path.join(root, 'data/skirt.json');
 const print = (what, figure) => console.log(`${what}: ${figure}`);
 
-/** Milliseconds until `condition(status)` holds, polled every 5 ms. */
-async function until(session, condition, limit = 60000) {
-  const started = performance.now();
+/** Milliseconds from `started` (now by default) until `condition(status)`
+ *  holds, polled every 5 ms. */
+async function until(session, condition, started = performance.now(), limit = 60000) {
   while (performance.now() - started < limit) {
     if (condition(await session.status())) return performance.now() - started;
     await new Promise((resolve) => setTimeout(resolve, 5));
@@ -59,8 +59,9 @@ async function keysAfterEachControl() {
     await until(session, (s) => !s.busy && s.queued === 0);
     await page.waitForTimeout(300);
     const steps = (await session.status()).steps;
+    const pressed = performance.now();
     await page.keyboard.press('Space');
-    times.push([selector, await until(session, (s) => s.steps === steps + 1 && !s.busy)]);
+    times.push([selector, await until(session, (s) => s.steps === steps + 1 && !s.busy, pressed)]);
     if (before.solver !== null) await session.command({ command: 'set_solver', solver: 'assignment' });
   }
   print('space after moving a control, ms (flag, each control)',
@@ -74,8 +75,9 @@ async function keysAfterEachControl() {
     await long.page.keyboard.press('Space');
     await until(long, (s) => s.busy && s.busy.startsWith('step'));
     await long.page.waitForTimeout(700);
+    const pressed = performance.now();
     await long.page.keyboard.press('Escape');
-    stops.push([selector, await until(long, (s) => s.busy === null)]);
+    stops.push([selector, await until(long, (s) => s.busy === null, pressed)]);
   }
   print('Esc ends a running step after, ms (skirt, Newton, focus on)',
     stops.map(([s, t]) => `${s} ${t.toFixed(0)}`).join(', '));
@@ -94,7 +96,7 @@ async function denseSetup() {
   const during = session.residentMegabytes();
   const pressed = performance.now();
   await page.keyboard.press('Escape');
-  const stopped = await until(session, (s) => s.busy === null);
+  const stopped = await until(session, (s) => s.busy === null, pressed);
   await new Promise((resolve) => setTimeout(resolve, Math.max(0, 2000 - (performance.now() - pressed))));
   const after = session.residentMegabytes();
   print('skirt\'s dense setup stopped by Esc, ms', stopped.toFixed(0));
