@@ -7,6 +7,8 @@
 //!   Cholesky pipeline (analyse once, factor, solve).
 //! * [`huge_pages`]: asking Linux for 2 MB pages under large arrays.
 //! * [`kernels`]: the native kernels (AVX2, FMA) or the portable loops.
+//! * [`cancel`]: a flag that stops the long dense operations from another
+//!   thread.
 //!
 //! The pipeline from triplets to a solve is walked through in
 //! `docs/sparse-cholesky.md`. Reading and writing its matrices as Matrix
@@ -14,12 +16,14 @@
 //! a reader of files follows the crate's rules for files (size caps, errors
 //! naming file and line, the memory limit), which are not linear algebra.
 
+pub mod cancel;
 pub mod dense;
 pub mod error;
 pub mod huge_pages;
 pub mod kernels;
 pub mod sparse;
 
+pub use cancel::Cancel;
 pub use error::LinalgError;
 
 /// The fixed, varied `n × 3` right-hand side every solve benchmark uses

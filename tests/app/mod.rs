@@ -3,6 +3,8 @@
 mod cli;
 mod command_line;
 mod converge_command;
+mod cpp_header;
+mod diagnosis;
 mod output_folders;
 mod render;
 mod resume;

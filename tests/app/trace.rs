@@ -517,11 +517,10 @@ fn swapped_u_prev_and_u_cur_are_named_first_at_the_default_step() {
     let (success, report, _) = compare(&first, &theirs);
     assert!(success, "{report}");
     let readme = std::fs::read_to_string(first.join("README.md")).unwrap();
-    let warning =
-        "This trace is of step 1: the mistakes marked \"cannot\" in its column pass unseen";
+    let warning = "This trace is of step 1: `prev-cur-swapped`, `r-from-deformed`, \
+                   `velocity-lost` pass unseen here; trace step 3 too.";
     assert!(readme.contains(warning), "{readme}");
-    let swapped =
-        "| `U_prev` and `U_cur` swapped: `y = M (2 U_prev − U_cur)/Δt² + f_ext` | `y` | cannot";
+    let swapped = "| `prev-cur-swapped`: `y = M (2 U_prev − U_cur)/Δt² + f_ext` | `y` | cannot";
     assert!(readme.contains(swapped), "{readme}");
 }
 
@@ -753,6 +752,32 @@ fn bad_input_is_refused_with_a_clear_error() {
     let (success, _, error) = compare(&ours, &empty);
     assert!(!success);
     assert!(error.contains("nothing was compared"), "{error}");
+}
+
+#[test]
+fn a_spring_quantity_without_its_a_says_how_to_compare_in_your_order() {
+    let ours = trace("net", &[], "d-without-a");
+    let theirs = empty_beside(&ours);
+    let mut d = dense(&ours, "d_1.mtx");
+    d[(3, 0)] += 1.0;
+    write_dense(&theirs.join("d_1.mtx"), &d);
+    let (success, report, _) = compare(&ours, &theirs);
+    assert!(!success);
+    let d_1 = line(&report, "d_1");
+    assert!(
+        d_1.contains("(compared in our spring order: give your A.mtx to compare in yours)"),
+        "{d_1}"
+    );
+    assert!(!report.contains("(;"), "{report}");
+    // --json goes with --compare only
+    let net = data("net.json");
+    let output = masssprings(&["trace", &net, "-o", theirs.to_str().unwrap(), "--json"]);
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("give --compare"),
+        "{}",
+        stderr(&output)
+    );
 }
 
 #[test]
