@@ -112,7 +112,7 @@ pub fn load_scene_from(files: &dyn Source, json_path: &Path) -> Result<Scene, Sc
     let settings = scene_file::read_scene_file(files, json_path)?;
     let folder = json_path.parent().unwrap_or(Path::new(""));
     let obj_path = folder.join(&settings.obj);
-    let mesh = obj::read_obj(files, &obj_path)?;
+    let mesh = obj::read_obj_from(files, &obj_path)?;
     springs::check_spring_memory(&mesh.faces).map_err(|e| e.in_file(&obj_path))?;
     let springs = springs::springs_from_faces(&mesh.faces).map_err(|e| e.in_file(&obj_path))?;
     let masses = masses(&settings, &mesh, json_path, &obj_path)?;

@@ -39,7 +39,7 @@
 use std::path::Path;
 
 use super::SceneError;
-use crate::files::Source;
+use crate::files::{Disk, Source};
 
 /// The content of an OBJ file, 0-based.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -64,12 +64,20 @@ impl ObjMesh {
     }
 }
 
-/// Reads the OBJ file at `path` of `files` (on disk: `&files::Disk`).
+/// Reads the OBJ file at `path`.
 ///
 /// # Errors
 /// As [`parse_obj`], with the path in the message; an I/O error when the file
 /// cannot be read (or is not UTF-8).
-pub fn read_obj(files: &dyn Source, path: &Path) -> Result<ObjMesh, SceneError> {
+pub fn read_obj(path: &Path) -> Result<ObjMesh, SceneError> {
+    read_obj_from(&Disk, path)
+}
+
+/// [`read_obj`] from `files` (the file system, or files held in memory).
+///
+/// # Errors
+/// As [`read_obj`].
+pub fn read_obj_from(files: &dyn Source, path: &Path) -> Result<ObjMesh, SceneError> {
     parse_obj(&files.text(path)?).map_err(|e| e.in_file(path))
 }
 
