@@ -1,35 +1,24 @@
-//! What the module answers and reads as JSON: the scene, a step's report,
-//! a simulation's state and options, and the options a page sends.
+//! What the module answers and reads as JSON: the scene as the page draws
+//! it, a step's record, a simulation's part of the viewer's status, and the
+//! settings a page sends. The names are those of the viewer's HTTP API
+//! (`src/app/view/api.rs`), so that the page reads either backend alike.
 
+use crate::app::view::display_mesh::{display_mesh, DisplayMesh};
+use crate::app::view::naming::{converged, functions, name_of};
 use masssprings::mesh::Scene;
 use masssprings::sim::methods::Carried;
-use masssprings::sim::{Sparse, StepReport};
-use masssprings::sim::{Simulation, StepControl};
+use masssprings::sim::{Simulation, Sparse, StepReport};
 use serde::{Deserialize, Serialize};
 
-/// A scene read from the files given: everything about it that does not
-/// move, 0-based, arrays flattened.
+/// The backend the module runs on.
+pub const BACKEND: &str = "sparse";
+
+/// A scene read from the files given.
 #[derive(Debug, Serialize)]
 pub struct SceneAnswer {
-    /// The JSON file's stem (`flag`).
-    pub name: String,
-    /// Vertices.
-    pub n: usize,
-    /// The rest positions, `x y z` of each vertex.
-    pub vertices: Vec<f64>,
-    /// The springs, `i j` of each.
-    pub springs: Vec<u32>,
-    /// The pinned vertices.
-    pub pinned: Vec<u32>,
-    /// The corners of every face (2: the faces are springs).
-    pub corners: usize,
-    /// The faces' vertices, `corners` a face.
-    pub faces: Vec<u32>,
-    /// The OBJ's `vt`, `u v` of each.
-    pub texture_coords: Vec<f64>,
-    /// The faces' texture coordinates, `corners` a face; empty unless every
-    /// corner has one.
-    pub face_texture_coords: Vec<u32>,
+    /// What the page draws (the viewer's `/api/scene`); textured when the
+    /// texture is readable.
+    pub mesh: DisplayMesh,
     /// The texture's name among the files given, when the scene names one
     /// that starts as a PNG does (the page decodes it).
     pub texture: Option<String>,
@@ -41,25 +30,12 @@ pub struct SceneAnswer {
 impl SceneAnswer {
     /// The answer for `scene`, with its texture's name or problem.
     pub fn of(scene: &Scene, texture: Result<Option<String>, String>) -> SceneAnswer {
-        let indices = |list: &[usize]| list.iter().map(|&i| i as u32).collect::<Vec<u32>>();
         let (texture, texture_problem) = match texture {
             Ok(name) => (name, None),
             Err(problem) => (None, Some(problem)),
         };
         SceneAnswer {
-            name: scene.name.clone(),
-            n: scene.vertices.len(),
-            vertices: scene.vertices.as_flattened().to_vec(),
-            springs: indices(scene.springs.as_flattened()),
-            pinned: indices(&scene.pinned),
-            corners: scene.faces.first().map_or(0, Vec::len),
-            faces: scene.faces.iter().flat_map(|face| indices(face)).collect(),
-            texture_coords: scene.texture_coords.as_flattened().to_vec(),
-            face_texture_coords: scene
-                .face_texture_coords
-                .iter()
-                .flat_map(|face| indices(face))
-                .collect(),
+            mesh: display_mesh(scene, texture.is_some(), BACKEND),
             texture,
             texture_problem,
         }
@@ -70,8 +46,9 @@ impl SceneAnswer {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct NewSimulation {
-    /// `assignment` (the default), `textbook` (the handout's sparse code)
-    /// or `accuracy-assignment` (the fast mode): `Solver`'s names.
+    /// `assignment` (the default), `textbook` (the handout's sparse code),
+    /// `accuracy-assignment` (the fast mode) or `converged`: the viewer's
+    /// names.
     #[serde(default = "assignment")]
     pub solver: String,
     /// The assignment viewer's wind.
@@ -101,30 +78,37 @@ pub struct StepSettings {
     pub start: Option<String>,
 }
 
-/// What one step did.
+/// What one step did: the viewer's `StepRecord` but the fields the page
+/// adds (its number, its time, the distance between two simulations).
 #[derive(Debug, Serialize)]
 pub struct StepAnswer {
-    pub method: &'static str,
     pub iterations: usize,
-    /// Why it stopped (`Stop::name`: `iterations`, `tolerance`, ...).
-    pub stop: &'static str,
     pub energy_decrease: Option<f64>,
     pub relative_gradient: Option<f64>,
+    /// Did it stop on a rule rather than on its budget?
+    pub converged: bool,
+    /// Why it stopped (`Stop::name`: `iterations`, `tolerance`, ...).
+    pub stop: &'static str,
+    /// The mechanical energy after the step.
+    pub energy: f64,
 }
 
-impl From<StepReport> for StepAnswer {
-    fn from(report: StepReport) -> StepAnswer {
+impl StepAnswer {
+    /// The answer for `report`, a step `simulation` just took.
+    pub fn of(report: StepReport, simulation: &Simulation<Sparse>) -> StepAnswer {
         StepAnswer {
-            method: report.method.name(),
             iterations: report.iterations,
-            stop: report.stop.name(),
             energy_decrease: report.energy_decrease,
             relative_gradient: report.relative_gradient,
+            converged: converged(report.stop),
+            stop: report.stop.name(),
+            energy: simulation.mechanical_energy(),
         }
     }
 }
 
-/// A simulation now: where it is and how it runs.
+/// A simulation now: its part of the viewer's status, and what the page
+/// needs to continue it elsewhere.
 #[derive(Debug, Serialize)]
 pub struct SimulationAnswer {
     pub steps: usize,
@@ -136,8 +120,11 @@ pub struct SimulationAnswer {
     pub delta_t: f64,
     pub mass_scale: f64,
     pub wind: bool,
-    /// The solver the options are (`null`: another method or rules).
+    pub backend: &'static str,
+    /// Its solver's name (`null`: the expert's own method and rules).
     pub solver: Option<&'static str>,
+    /// Which path and functions run its step.
+    pub functions: String,
     pub method: &'static str,
     pub iterations: usize,
     pub tolerance: Option<f64>,
@@ -145,8 +132,6 @@ pub struct SimulationAnswer {
     pub at_least_plain: Option<f64>,
     pub start: &'static str,
     pub plain_first: bool,
-    /// `fast` or `textbook` (the handout's functions as written).
-    pub path: &'static str,
     /// `native` or `portable` (always `portable` in WebAssembly).
     pub kernels: &'static str,
     pub dragged: Option<usize>,
@@ -159,7 +144,7 @@ impl SimulationAnswer {
     /// The answer for `simulation`.
     pub fn of(simulation: &Simulation<Sparse>) -> SimulationAnswer {
         let options = simulation.options();
-        let step: &StepControl = &options.step;
+        let step = &options.step;
         SimulationAnswer {
             steps: simulation.steps(),
             time: simulation.time(),
@@ -168,7 +153,9 @@ impl SimulationAnswer {
             delta_t: options.delta_t,
             mass_scale: simulation.mass_scale(),
             wind: options.wind,
-            solver: options.solver().map(|solver| solver.name()),
+            backend: BACKEND,
+            solver: name_of(options),
+            functions: functions(options, BACKEND),
             method: step.method.name(),
             iterations: step.iterations,
             tolerance: step.tolerance,
@@ -176,7 +163,6 @@ impl SimulationAnswer {
             at_least_plain: step.at_least_plain,
             start: step.start.name(),
             plain_first: step.plain_first,
-            path: if options.textbook { "textbook" } else { "fast" },
             kernels: options.kernels.name(),
             dragged: simulation.dragged(),
             carried: simulation.carried(),

@@ -35,6 +35,26 @@
 mod answers;
 mod state;
 
+/// The viewer's own files that say what the page is told, compiled here
+/// too, so that both of the page's backends send it the same scene and the
+/// same words: the scene as the page draws it (`display_mesh.rs`, with the
+/// first view of `facing.rs` and the point masses' size of the renderer's
+/// `look.rs`) and the names of how a step is solved (`naming.rs`). They use
+/// only the library; the modules are laid out as in the program, so that
+/// their paths (`super::super::draw`) mean the same here.
+#[allow(dead_code)] // the look's colours and the other names are the program's
+#[path = "../app"]
+mod app {
+    pub mod draw {
+        pub mod look;
+    }
+    pub mod view {
+        pub mod display_mesh;
+        pub mod facing;
+        pub mod naming;
+    }
+}
+
 pub use state::State;
 
 use std::cell::RefCell;
@@ -139,7 +159,8 @@ pub extern "C" fn ms_scene_load() -> i32 {
 }
 
 /// A simulation of the scene loaded, at rest, solved as the options in the
-/// input say (JSON, `answers::NewSimulation`): its handle, or `-1`.
+/// input say (JSON, `answers::NewSimulation`): its handle, or `-1`. The
+/// simulations of a scene are forgotten when another is loaded.
 #[no_mangle]
 pub extern "C" fn ms_simulation_new() -> i32 {
     with_state(State::new_simulation).unwrap_or_else(|message| {
@@ -217,10 +238,10 @@ pub extern "C" fn ms_reset(handle: i32) -> i32 {
 
 /// Continues from a state: the input holds `U_prev` then `U_cur`, `6n`
 /// little-endian `f64`, and what the methods carried as JSON after them;
-/// `steps` is how many steps they are after the start.
+/// they are `steps` steps after the start, at simulated time `time`.
 #[no_mangle]
-pub extern "C" fn ms_set_state(handle: i32, steps: f64) -> i32 {
-    answer(|state| state.set_state(handle, steps))
+pub extern "C" fn ms_set_state(handle: i32, steps: f64, time: f64) -> i32 {
+    answer(|state| state.set_state(handle, steps, time))
 }
 
 /// Starts dragging `vertex` (0-based) toward `(x, y, z)`.

@@ -94,7 +94,7 @@ export class Masssprings {
   simulation(options = {}) {
     if (!this.scene) throw new Error('no scene is loaded');
     this.input(JSON.stringify(options));
-    return new Simulation(this, this.call('ms_simulation_new'), this.scene.n);
+    return new Simulation(this, this.call('ms_simulation_new'), this.scene.mesh.n);
   }
 }
 
@@ -148,8 +148,9 @@ export class Simulation {
   }
 
   /** Continues from `previous`, `current` (Float64Array, 3n each), `steps`
-   *  steps after the start, with what the methods `carried` (describe()). */
-  setState(previous, current, steps, carried) {
+   *  steps after the start at simulated time `time`, with what the methods
+   *  `carried` (describe()). */
+  setState(previous, current, steps, time, carried) {
     const json = encoder.encode(JSON.stringify(carried));
     const bytes = new Uint8Array(8 * (previous.length + current.length) + json.length);
     const numbers = new Float64Array(previous.length + current.length);
@@ -158,7 +159,7 @@ export class Simulation {
     bytes.set(new Uint8Array(numbers.buffer));
     bytes.set(json, numbers.byteLength);
     this.module.input(bytes);
-    this.module.call('ms_set_state', this.handle, steps);
+    this.module.call('ms_set_state', this.handle, steps, time);
   }
 
   dragStart(vertex, [x, y, z]) {

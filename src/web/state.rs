@@ -3,13 +3,14 @@
 //! and the room for the page's text in.
 
 use crate::answers::{json, NewSimulation, SceneAnswer, SimulationAnswer, StepAnswer, StepSettings};
+use crate::app::view::naming::options_named;
 use masssprings::files::{max_input_bytes, InMemory, Source};
 use masssprings::linalg::kernels::Kernels;
 use masssprings::memory;
 use masssprings::mesh::{load_scene_from, Scene, PNG_SIGNATURE};
 use masssprings::sim::methods::Carried;
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::{Simulation, Solver, Sparse, Start, StepControl, StepMethod};
+use masssprings::sim::{Simulation, Sparse, Start, StepControl, StepMethod};
 use std::path::PathBuf;
 
 /// The most iterations a step may take: a step must end within moments
@@ -112,14 +113,13 @@ impl State {
     /// A new simulation of the scene, as the options in the input say.
     pub fn new_simulation(&mut self) -> Result<i32, String> {
         let wanted: NewSimulation = self.input_json()?;
-        let solver: Solver = wanted.solver.parse()?;
         let (scene, path) = self.scene.as_ref().ok_or("no scene is loaded")?;
-        let options = SimulationOptions {
+        let base = SimulationOptions {
             wind: wanted.wind,
             kernels: Kernels::Portable,
             ..SimulationOptions::default()
-        }
-        .solved_by(solver);
+        };
+        let options = options_named(base, &wanted.solver)?;
         let simulation = Simulation::<Sparse>::from_scene(scene, options).map_err(|error| {
             format!("{}: the precomputation failed: {error}", path.display())
         })?;
@@ -164,7 +164,7 @@ impl State {
             last = Some(simulation.step().map_err(|e| e.to_string())?);
         }
         last.map_or(Ok(String::new()), |report| {
-            Ok(json(&StepAnswer::from(report)))
+            Ok(json(&StepAnswer::of(report, simulation)))
         })
     }
 
@@ -219,16 +219,25 @@ impl State {
         Ok(String::new())
     }
 
-    /// Continues simulation `handle` from the state in the input.
-    pub fn set_state(&mut self, handle: i32, steps: f64) -> Result<String, String> {
+    /// Continues simulation `handle` from the state in the input, `steps`
+    /// steps after the start, at simulated time `time`.
+    pub fn set_state(&mut self, handle: i32, steps: f64, time: f64) -> Result<String, String> {
         let (u_prev, u_cur, carried) = self.input_state(handle)?;
         if !(steps.is_finite() && steps >= 0.0 && steps.fract() == 0.0) {
             return Err(format!("{steps} steps: a step count is a whole number"));
+        }
+        if !(time.is_finite() && time >= 0.0) {
+            return Err(format!("a simulated time of {time} s"));
         }
         let simulation = self.simulation(handle)?;
         simulation
             .set_state(&u_prev, &u_cur, steps as usize)
             .map_err(|e| e.to_string())?;
+        if simulation.time() != time {
+            // Δt changed on the way; otherwise the clock stays `steps · Δt`,
+            // so that the wind's later times round as in the run continued
+            simulation.set_time(time);
+        }
         simulation.carry(carried);
         Ok(String::new())
     }

@@ -102,7 +102,9 @@ test('a texture that is not a PNG is named, and the scene loads without it', asy
   const scene = masssprings.loadScene(files, 'flag.json');
   assert.equal(scene.texture, null);
   assert.equal(scene.texture_problem, 'texture flag.png: this is not a PNG file (it does not start with the PNG signature)');
-  assert.equal(scene.n, 3200);
+  assert.equal(scene.mesh.n, 3200);
+  assert.equal(scene.mesh.texture, null);
+  assert.equal(masssprings.loadScene(sceneFiles(join(root, 'data'), 'flag.json'), 'flag.json').mesh.texture, '/texture.png');
 });
 
 test('the page\'s budget refuses a scene too large for it, with the figures, before allocating it', async () => {
@@ -128,12 +130,13 @@ test('a run continued in a fresh module, from the state and what the methods car
   whole.loadScene(files, 'flag.json');
   const run = whole.simulation({ solver: 'accuracy-assignment', wind: true });
   run.steps(20);
-  const [previous, current, carried] = [run.positions(true), run.positions(), run.describe().carried];
+  const { carried, time } = run.describe();
+  const [previous, current] = [run.positions(true), run.positions()];
   run.steps(10);
   const fresh = await module();
   fresh.loadScene(files, 'flag.json');
   const continued = fresh.simulation({ solver: 'accuracy-assignment', wind: true });
-  continued.setState(previous, current, 20, carried);
+  continued.setState(previous, current, 20, time, carried);
   continued.steps(10);
   assert.deepEqual(continued.positions(), run.positions());
   assert.equal(continued.describe().time, run.describe().time);
@@ -142,12 +145,17 @@ test('a run continued in a fresh module, from the state and what the methods car
 test('each solver steps, and the settings change as the page asks', async () => {
   const masssprings = await module();
   masssprings.loadScene(sceneFiles(join(root, 'data'), 'flag.json'), 'flag.json');
-  const expected = { assignment: ['fast', 'plain', 50], textbook: ['textbook', 'plain', 50], 'accuracy-assignment': ['fast', 'lbfgs', 20] };
-  for (const [solver, [path, method, iterations]] of Object.entries(expected)) {
+  const expected = {
+    assignment: ['fast path: sim/step.rs solve_step → sim/methods/plain.rs (supernodal sparse Cholesky)', 50],
+    textbook: ['the handout\'s code as written: sim/textbook.rs, fast_mass_springs_step_sparse (simplicial sparse Cholesky)', 50],
+    'accuracy-assignment': ['fast path: sim/step.rs solve_step → sim/methods/plain_then_lbfgs.rs (supernodal sparse Cholesky)', 20],
+    converged: ['fast path: sim/step.rs solve_step → sim/methods/lbfgs.rs (supernodal sparse Cholesky)', 200],
+  };
+  for (const [solver, [functions, iterations]] of Object.entries(expected)) {
     const simulation = masssprings.simulation({ solver });
     const report = simulation.step();
     const state = simulation.describe();
-    assert.deepEqual([state.solver, state.path, state.method, state.iterations], [solver, path, method, iterations]);
+    assert.deepEqual([state.solver, state.functions, state.iterations], [solver, functions, iterations]);
     assert.ok(report.iterations >= 1, JSON.stringify(report));
     assert.ok(simulation.positions().every(Number.isFinite));
     simulation.free();

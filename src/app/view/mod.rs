@@ -27,6 +27,7 @@ mod display_mesh;
 mod facing;
 mod http;
 mod image;
+mod naming;
 mod pool;
 mod publish;
 mod recording;
