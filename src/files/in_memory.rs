@@ -81,7 +81,9 @@ impl Source for InMemory {
         signature: &[u8],
         format: &str,
     ) -> Result<Vec<u8>, FileError> {
-        Ok(self.read(path, Content::Format(signature, format))?.to_vec())
+        Ok(self
+            .read(path, Content::Format(signature, format))?
+            .to_vec())
     }
 }
 
@@ -93,21 +95,32 @@ mod tests {
     #[test]
     fn a_file_in_memory_is_checked_as_one_on_disk() {
         let mut files = InMemory::new();
-        files.insert(Path::new("a.obj"), b"\xef\xbb\xbfv 0 0 0\n").unwrap();
+        files
+            .insert(Path::new("a.obj"), b"\xef\xbb\xbfv 0 0 0\n")
+            .unwrap();
         files.insert(Path::new("b.obj"), b"v 0 0 0\nv 1\0").unwrap();
         files.insert(Path::new("c.png"), b"\x89PNG").unwrap();
         assert_eq!(files.text(Path::new("a.obj")).unwrap(), "v 0 0 0\n");
         let nul = files.text(Path::new("b.obj")).unwrap_err().to_string();
-        assert_eq!(nul, "b.obj:2: a NUL byte at byte offset 11: this is not a text file");
+        assert_eq!(
+            nul,
+            "b.obj:2: a NUL byte at byte offset 11: this is not a text file"
+        );
         let short = files.bytes_of_format(Path::new("c.png"), b"\x89PNG\r\n\x1a\n", "PNG");
         assert_eq!(
             short.unwrap_err().to_string(),
             "c.png: this is not a PNG file (shorter than the PNG signature)"
         );
         let missing = files.text(Path::new("d.obj")).unwrap_err().to_string();
-        assert_eq!(missing, "d.obj: cannot read the file: no file of this name was given");
+        assert_eq!(
+            missing,
+            "d.obj: cannot read the file: no file of this name was given"
+        );
         let names: Vec<_> = files.names().collect();
-        assert_eq!(names, [Path::new("a.obj"), Path::new("b.obj"), Path::new("c.png")]);
+        assert_eq!(
+            names,
+            [Path::new("a.obj"), Path::new("b.obj"), Path::new("c.png")]
+        );
     }
 
     #[test]

@@ -127,7 +127,10 @@ mod tests {
         assert!(unwound.is_err());
         assert_eq!(chosen(), Kernels::Native);
         assert_eq!("portable".parse(), Ok(Kernels::Portable));
-        assert!("fast".parse::<Kernels>().unwrap_err().contains("native or portable"));
+        assert!("fast"
+            .parse::<Kernels>()
+            .unwrap_err()
+            .contains("native or portable"));
     }
 
     #[cfg(target_arch = "x86_64")]

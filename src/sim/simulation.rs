@@ -708,7 +708,9 @@ impl<B: LinearAlgebra> Simulation<B> {
         if let Some((vertex, _)) = self.dragged {
             let mut targets = self.pin_rest_targets();
             targets.push(target);
-            kernels::with(self.options.kernels, || self.engine.set_pin_targets(&targets))?;
+            kernels::with(self.options.kernels, || {
+                self.engine.set_pin_targets(&targets)
+            })?;
             self.dragged = Some((vertex, target));
         }
         Ok(())
@@ -768,7 +770,9 @@ impl<B: LinearAlgebra> Simulation<B> {
             delta_t,
             cancel: Cancel::on(self.cancel.as_deref()),
         };
-        kernels::with(self.options.kernels, || self.engine.remake(&network, &targets))
+        kernels::with(self.options.kernels, || {
+            self.engine.remake(&network, &targets)
+        })
     }
 }
 

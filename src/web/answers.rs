@@ -4,7 +4,7 @@
 //! (`src/app/view/api.rs`), so that the page reads either backend alike.
 
 use crate::app::view::display_mesh::{display_mesh, DisplayMesh};
-use crate::app::view::naming::{converged, functions, name_of};
+use crate::app::view::rules::{converged, functions, name_of};
 use masssprings::mesh::Scene;
 use masssprings::sim::methods::Carried;
 use masssprings::sim::{Simulation, Sparse, StepReport};
@@ -60,14 +60,14 @@ fn assignment() -> String {
     "assignment".into()
 }
 
-/// How later steps are solved, as the page's method picker, sliders and
-/// boxes say it (absent: kept as it is, but the tolerances, absent: none).
+/// How later steps are solved, as the page's method picker and boxes ask
+/// it (the viewer's `set_method`: the rules absent are none, the start
+/// absent is kept).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct StepSettings {
+pub struct MethodSettings {
     /// `plain`, `chebyshev`, `anderson`, `lbfgs` or `newton`.
-    pub method: Option<String>,
-    pub iterations: Option<usize>,
+    pub method: String,
     #[serde(default)]
     pub tolerance: Option<f64>,
     #[serde(default)]
@@ -75,6 +75,7 @@ pub struct StepSettings {
     #[serde(default)]
     pub at_least_plain: Option<f64>,
     /// `current` or `inertial`.
+    #[serde(default)]
     pub start: Option<String>,
 }
 

@@ -39,7 +39,8 @@ mod state;
 /// too, so that both of the page's backends send it the same scene and the
 /// same words: the scene as the page draws it (`display_mesh.rs`, with the
 /// first view of `facing.rs` and the point masses' size of the renderer's
-/// `look.rs`) and the names of how a step is solved (`naming.rs`). They use
+/// `look.rs`), what the page's controls may ask and the names of how a
+/// step is solved (`rules.rs`). They use
 /// only the library; the modules are laid out as in the program, so that
 /// their paths (`super::super::draw`) mean the same here.
 #[allow(dead_code)] // the look's colours and the other names are the program's
@@ -51,7 +52,7 @@ mod app {
     pub mod view {
         pub mod display_mesh;
         pub mod facing;
-        pub mod naming;
+        pub mod rules;
     }
 }
 
@@ -88,6 +89,14 @@ fn answer(work: impl FnOnce(&mut State) -> Result<String, String>) -> i32 {
     };
     set_output(text);
     code
+}
+
+/// A handle from `work`, or `-1` with the message in the output.
+fn handle(work: impl FnOnce(&mut State) -> Result<i32, String>) -> i32 {
+    with_state(work).unwrap_or_else(|message| {
+        set_output(message);
+        -1
+    })
 }
 
 /// A pointer from `work`, or null with the message in the output.
@@ -152,21 +161,28 @@ pub extern "C" fn ms_file(length: f64) -> *mut u8 {
 }
 
 /// Reads the scene whose JSON is named in the input from the files held in
-/// memory; answers the scene (`answers::SceneAnswer`) as JSON.
+/// memory: its handle, with the scene (`answers::SceneAnswer`) as JSON in
+/// the output, or `-1`.
 #[no_mangle]
 pub extern "C" fn ms_scene_load() -> i32 {
-    answer(State::load_scene)
+    handle(|state| {
+        let (handle, answer) = state.load_scene()?;
+        set_output(answer);
+        Ok(handle)
+    })
 }
 
-/// A simulation of the scene loaded, at rest, solved as the options in the
-/// input say (JSON, `answers::NewSimulation`): its handle, or `-1`. The
-/// simulations of a scene are forgotten when another is loaded.
+/// Forgets scene `scene` (its simulations stay).
 #[no_mangle]
-pub extern "C" fn ms_simulation_new() -> i32 {
-    with_state(State::new_simulation).unwrap_or_else(|message| {
-        set_output(message);
-        -1
-    })
+pub extern "C" fn ms_scene_free(scene: i32) {
+    with_state(|state| state.free_scene(scene));
+}
+
+/// A simulation of scene `scene`, at rest, solved as the options in the
+/// input say (JSON, `answers::NewSimulation`): its handle, or `-1`.
+#[no_mangle]
+pub extern "C" fn ms_simulation_new(scene: i32) -> i32 {
+    handle(|state| state.new_simulation(scene))
 }
 
 /// Forgets simulation `handle`.
@@ -175,15 +191,9 @@ pub extern "C" fn ms_simulation_free(handle: i32) {
     with_state(|state| state.free_simulation(handle));
 }
 
-/// Advances simulation `handle` one step; answers its report
-/// (`answers::StepAnswer`) as JSON.
-#[no_mangle]
-pub extern "C" fn ms_step(handle: i32) -> i32 {
-    answer(|state| state.step(handle))
-}
-
-/// Advances simulation `handle` by `count` steps, answering the last one's
-/// report (a benchmark's loop without a call per step).
+/// Advances simulation `handle` by `count` steps (one for the page; more
+/// for a benchmark's loop without a call a step), answering the last
+/// one's record (`answers::StepAnswer`) as JSON.
 #[no_mangle]
 pub extern "C" fn ms_steps(handle: i32, count: u32) -> i32 {
     answer(|state| state.steps(handle, count))
@@ -211,10 +221,17 @@ pub extern "C" fn ms_simulation(handle: i32) -> i32 {
     answer(|state| state.describe(handle))
 }
 
-/// New `k`, `Δt` and factor on the scene's masses (`Q` refactored).
+/// New `k`, `Δt` and factor on the scene's masses (`Q` refactored when
+/// one changed) and iteration budget, within the page's sliders' ranges.
 #[no_mangle]
-pub extern "C" fn ms_set_parameters(handle: i32, k: f64, delta_t: f64, mass_scale: f64) -> i32 {
-    answer(|state| state.set_parameters(handle, [k, delta_t, mass_scale]))
+pub extern "C" fn ms_set_parameters(
+    handle: i32,
+    k: f64,
+    delta_t: f64,
+    mass_scale: f64,
+    iterations: u32,
+) -> i32 {
+    answer(|state| state.set_parameters(handle, [k, delta_t, mass_scale], iterations))
 }
 
 /// Wind on (`1`) or off (`0`).
@@ -223,11 +240,11 @@ pub extern "C" fn ms_set_wind(handle: i32, wind: u32) -> i32 {
     answer(|state| state.set_wind(handle, wind != 0))
 }
 
-/// How later steps are solved: the JSON in the input
-/// (`answers::StepSettings`: method, iterations, rules, start).
+/// How later steps are solved: the method and its rules in the input
+/// (JSON, `answers::MethodSettings`).
 #[no_mangle]
-pub extern "C" fn ms_set_step(handle: i32) -> i32 {
-    answer(|state| state.set_step(handle))
+pub extern "C" fn ms_set_method(handle: i32) -> i32 {
+    answer(|state| state.set_method(handle))
 }
 
 /// Back to rest, time 0, nothing dragged.

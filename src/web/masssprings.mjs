@@ -4,7 +4,7 @@
 //   const module = await Masssprings.instantiate(wasmBytes);
 //   module.setBudget(2 ** 30);                 // first: the memory the module may use
 //   const scene = module.loadScene(files, 'flag.json');  // files: [{ name, bytes }]
-//   const simulation = module.simulation({ solver: 'assignment' });
+//   const simulation = module.simulation(scene, { solver: 'assignment' });
 //   simulation.step();                         // { iterations, stop, ... }
 //   simulation.positions();                    // Float64Array, x y z per vertex
 //
@@ -26,7 +26,6 @@ export class Masssprings {
   constructor(exports) {
     this.exports = exports;
     this.broken = null;
-    this.scene = null;
   }
 
   /** The text the module answered last. */
@@ -76,25 +75,33 @@ export class Masssprings {
   }
 
   /** Reads the scene `jsonName` from `files`, [{ name, bytes }] (bytes: a
-   *  Uint8Array); returns it (src/web/answers.rs, SceneAnswer). */
+   *  Uint8Array); returns it: { handle, mesh, texture, texture_problem }
+   *  (src/web/answers.rs, SceneAnswer). */
   loadScene(files, jsonName) {
     this.exports.ms_files_clear();
-    for (const { name, bytes } of files) {
-      this.input(name);
-      this.fill(this.exports.ms_file(bytes.length), bytes);
+    try {
+      for (const { name, bytes } of files) {
+        this.input(name);
+        this.fill(this.exports.ms_file(bytes.length), bytes);
+      }
+      this.input(jsonName);
+      const handle = this.call('ms_scene_load');
+      return { handle, ...JSON.parse(this.output()) };
+    } finally {
+      this.exports.ms_files_clear();
     }
-    this.input(jsonName);
-    this.scene = null;
-    this.scene = this.answer('ms_scene_load');
-    return this.scene;
   }
 
-  /** A simulation of the scene loaded, at rest: `options` as
-   *  { solver: 'assignment' | 'textbook' | 'accuracy-assignment', wind }. */
-  simulation(options = {}) {
-    if (!this.scene) throw new Error('no scene is loaded');
+  /** Forgets `scene` (its simulations stay). */
+  freeScene(scene) {
+    this.exports.ms_scene_free(scene.handle);
+  }
+
+  /** A simulation of `scene`, at rest: `options` as { solver: 'assignment'
+   *  | 'textbook' | 'accuracy-assignment' | 'converged', wind }. */
+  simulation(scene, options = {}) {
     this.input(JSON.stringify(options));
-    return new Simulation(this, this.call('ms_simulation_new'), this.scene.mesh.n);
+    return new Simulation(this, this.call('ms_simulation_new', scene.handle), scene.mesh.n);
   }
 }
 
@@ -106,9 +113,10 @@ export class Simulation {
     this.n = n;
   }
 
-  /** One step: { method, iterations, stop, energy_decrease, relative_gradient }. */
+  /** One step: { iterations, energy_decrease, relative_gradient,
+   *  converged, stop, energy }. */
   step() {
-    return this.module.answer('ms_step', this.handle);
+    return this.steps(1);
   }
 
   /** `count` steps in one call; the last one's report. */
@@ -129,18 +137,20 @@ export class Simulation {
     return this.module.answer('ms_simulation', this.handle);
   }
 
-  setParameters(k, deltaT, massScale) {
-    this.module.call('ms_set_parameters', this.handle, k, deltaT, massScale);
+  /** New k, Δt, mass scale (Q refactored when one changed) and iteration budget. */
+  setParameters(k, deltaT, massScale, iterations) {
+    this.module.call('ms_set_parameters', this.handle, k, deltaT, massScale, iterations);
   }
 
   setWind(on) {
     this.module.call('ms_set_wind', this.handle, on ? 1 : 0);
   }
 
-  /** { method, iterations, tolerance, energy_tolerance, at_least_plain, start }. */
-  setStep(settings) {
+  /** { method, tolerance, energy_tolerance, at_least_plain, start }: the
+   *  viewer's set_method. */
+  setMethod(settings) {
     this.module.input(JSON.stringify(settings));
-    this.module.call('ms_set_step', this.handle);
+    this.module.call('ms_set_method', this.handle);
   }
 
   reset() {

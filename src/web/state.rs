@@ -1,21 +1,58 @@
 //! What the module keeps between calls, and the work of each export: the
-//! files given, the scene read from them, the simulations (by handle),
-//! and the room for the page's text in.
+//! room for the page's text in, the files given, the scenes read from them
+//! and the simulations, each by handle.
 
-use crate::answers::{json, NewSimulation, SceneAnswer, SimulationAnswer, StepAnswer, StepSettings};
-use crate::app::view::naming::options_named;
+use crate::answers::{
+    json, MethodSettings, NewSimulation, SceneAnswer, SimulationAnswer, StepAnswer,
+};
+use crate::app::view::rules::{check_parameters, method_step, options_named, DragReach};
 use masssprings::files::{max_input_bytes, InMemory, Source};
 use masssprings::linalg::kernels::Kernels;
 use masssprings::memory;
 use masssprings::mesh::{load_scene_from, Scene, PNG_SIGNATURE};
 use masssprings::sim::methods::Carried;
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::{Simulation, Sparse, Start, StepControl, StepMethod};
+use masssprings::sim::{Simulation, Sparse, StepControl};
 use std::path::PathBuf;
 
-/// The most iterations a step may take: a step must end within moments
-/// (the page's stop ends a longer one by starting a fresh module).
-pub const MAX_ITERATIONS: usize = 1000;
+/// Things kept by handle: handle `h` is entry `h − 1` (`None` once freed).
+#[derive(Debug)]
+struct Handles<T>(Vec<Option<T>>);
+
+impl<T> Default for Handles<T> {
+    fn default() -> Self {
+        Handles(Vec::new())
+    }
+}
+
+impl<T> Handles<T> {
+    /// Keeps `thing`; its handle.
+    fn keep(&mut self, thing: T) -> i32 {
+        self.0.push(Some(thing));
+        self.0.len() as i32
+    }
+
+    /// The thing of `handle`, named `what` in the message when there is none.
+    fn get(&mut self, handle: i32, what: &str) -> Result<&mut T, String> {
+        usize::try_from(handle)
+            .ok()
+            .and_then(|h| h.checked_sub(1))
+            .and_then(|index| self.0.get_mut(index))
+            .and_then(Option::as_mut)
+            .ok_or_else(|| format!("there is no {what} {handle}"))
+    }
+
+    /// Forgets the thing of `handle`, if any.
+    fn free(&mut self, handle: i32) {
+        if let Some(slot) = usize::try_from(handle)
+            .ok()
+            .and_then(|h| h.checked_sub(1))
+            .and_then(|index| self.0.get_mut(index))
+        {
+            *slot = None;
+        }
+    }
+}
 
 /// The module's state.
 #[derive(Debug, Default)]
@@ -24,10 +61,9 @@ pub struct State {
     input: Vec<u8>,
     /// The files given.
     files: InMemory,
-    /// The scene read last, and the JSON file it was read from.
-    scene: Option<(Scene, PathBuf)>,
-    /// The simulations; handle `h` is entry `h − 1`.
-    simulations: Vec<Option<Simulation<Sparse>>>,
+    /// The scenes read, each with the JSON file it was read from.
+    scenes: Handles<(Scene, PathBuf)>,
+    simulations: Handles<Simulation<Sparse>>,
 }
 
 /// Sets the memory limit from the page's budget of `bytes`.
@@ -43,6 +79,11 @@ pub fn set_budget(bytes: f64) -> Result<String, String> {
             limit.bytes, limit.source
         )),
     }
+}
+
+/// Nothing to answer.
+fn done<E: ToString>(result: Result<(), E>) -> Result<String, String> {
+    result.map(|()| String::new()).map_err(|e| e.to_string())
 }
 
 impl State {
@@ -84,18 +125,13 @@ impl State {
         room.map(<[u8]>::as_mut_ptr).map_err(|e| e.to_string())
     }
 
-    /// Reads the scene named in the input from the files given (the
-    /// simulations of the scene before are forgotten first, so that the new
-    /// one has their memory).
-    pub fn load_scene(&mut self) -> Result<String, String> {
+    /// Reads the scene named in the input from the files given: its handle,
+    /// and its answer.
+    pub fn load_scene(&mut self) -> Result<(i32, String), String> {
         let path = PathBuf::from(self.input_text()?);
-        self.simulations.clear();
-        self.scene = None;
         let scene = load_scene_from(&self.files, &path).map_err(|e| e.to_string())?;
-        let texture = self.texture(&scene);
-        let answer = json(&SceneAnswer::of(&scene, texture));
-        self.scene = Some((scene, path));
-        Ok(answer)
+        let answer = json(&SceneAnswer::of(&scene, self.texture(&scene)));
+        Ok((self.scenes.keep((scene, path)), answer))
     }
 
     /// The name of the scene's texture among the files given, checked as the
@@ -110,62 +146,47 @@ impl State {
             .map_err(|e| format!("texture {e}"))
     }
 
-    /// A new simulation of the scene, as the options in the input say.
-    pub fn new_simulation(&mut self) -> Result<i32, String> {
+    /// Forgets scene `handle` (its simulations stay).
+    pub fn free_scene(&mut self, handle: i32) {
+        self.scenes.free(handle);
+    }
+
+    /// A new simulation of scene `scene`, as the options in the input say.
+    pub fn new_simulation(&mut self, scene: i32) -> Result<i32, String> {
         let wanted: NewSimulation = self.input_json()?;
-        let (scene, path) = self.scene.as_ref().ok_or("no scene is loaded")?;
+        let (scene, path) = self.scenes.get(scene, "scene")?;
         let base = SimulationOptions {
             wind: wanted.wind,
             kernels: Kernels::Portable,
             ..SimulationOptions::default()
         };
         let options = options_named(base, &wanted.solver)?;
-        let simulation = Simulation::<Sparse>::from_scene(scene, options).map_err(|error| {
-            format!("{}: the precomputation failed: {error}", path.display())
-        })?;
-        self.simulations.push(Some(simulation));
-        Ok(self.simulations.len() as i32)
+        let simulation = Simulation::<Sparse>::from_scene(scene, options)
+            .map_err(|error| format!("{}: the precomputation failed: {error}", path.display()))?;
+        Ok(self.simulations.keep(simulation))
     }
 
     /// Forgets simulation `handle`.
     pub fn free_simulation(&mut self, handle: i32) {
-        if let Ok(slot) = self.slot(handle) {
-            *slot = None;
-        }
-    }
-
-    /// The entry of `handle`.
-    fn slot(&mut self, handle: i32) -> Result<&mut Option<Simulation<Sparse>>, String> {
-        usize::try_from(handle)
-            .ok()
-            .and_then(|h| h.checked_sub(1))
-            .and_then(|index| self.simulations.get_mut(index))
-            .ok_or_else(|| format!("there is no simulation {handle}"))
+        self.simulations.free(handle);
     }
 
     /// Simulation `handle`.
     fn simulation(&mut self, handle: i32) -> Result<&mut Simulation<Sparse>, String> {
-        let slot = self.slot(handle)?;
-        slot.as_mut()
-            .ok_or_else(|| format!("simulation {handle} was freed"))
-    }
-
-    /// One step of simulation `handle`.
-    pub fn step(&mut self, handle: i32) -> Result<String, String> {
-        self.steps(handle, 1)
+        self.simulations.get(handle, "simulation")
     }
 
     /// `count` steps of simulation `handle`, answering the last one's
-    /// report.
+    /// record.
     pub fn steps(&mut self, handle: i32, count: u32) -> Result<String, String> {
         let simulation = self.simulation(handle)?;
         let mut last = None;
         for _ in 0..count {
             last = Some(simulation.step().map_err(|e| e.to_string())?);
         }
-        last.map_or(Ok(String::new()), |report| {
-            Ok(json(&StepAnswer::of(report, simulation)))
-        })
+        Ok(last.map_or(String::new(), |report| {
+            json(&StepAnswer::of(report, simulation))
+        }))
     }
 
     /// Where the positions of simulation `handle` are (the previous ones
@@ -183,14 +204,27 @@ impl State {
         Ok(json(&SimulationAnswer::of(self.simulation(handle)?)))
     }
 
-    /// New `[k, Δt, mass scale]` for simulation `handle`.
-    pub fn set_parameters(&mut self, handle: i32, values: [f64; 3]) -> Result<String, String> {
-        let [k, delta_t, mass_scale] = values;
+    /// New `[k, Δt, mass scale]` (`Q` refactored when one changed) and
+    /// iteration budget for simulation `handle`, within the sliders'
+    /// ranges.
+    pub fn set_parameters(
+        &mut self,
+        handle: i32,
+        values: [f64; 3],
+        iterations: u32,
+    ) -> Result<String, String> {
+        check_parameters(values, iterations as usize)?;
         let simulation = self.simulation(handle)?;
-        simulation
-            .set_parameters(k, delta_t, mass_scale)
-            .map(|()| String::new())
-            .map_err(|e| e.to_string())
+        let [k, delta_t, mass_scale] = values;
+        let now = (simulation.k(), simulation.options().delta_t);
+        if (now.0, now.1, simulation.mass_scale()) != (k, delta_t, mass_scale) {
+            done(simulation.set_parameters(k, delta_t, mass_scale))?;
+        }
+        let step = StepControl {
+            iterations: iterations as usize,
+            ..simulation.options().step
+        };
+        done(simulation.set_step(step))
     }
 
     /// Wind on or off.
@@ -199,24 +233,28 @@ impl State {
         Ok(String::new())
     }
 
-    /// How later steps of simulation `handle` are solved (the settings in
-    /// the input): as the viewer's method picker, the budget and the
-    /// stopping rules checked as the command line checks them.
-    pub fn set_step(&mut self, handle: i32) -> Result<String, String> {
-        let settings: StepSettings = self.input_json()?;
+    /// Another method, tolerances, floor or start for later steps of
+    /// simulation `handle` (the settings in the input), as the viewer's
+    /// method picker and boxes ask.
+    pub fn set_method(&mut self, handle: i32) -> Result<String, String> {
+        let wanted: MethodSettings = self.input_json()?;
         let simulation = self.simulation(handle)?;
-        let step = step_control(simulation.options().step, &settings)?;
+        let step = method_step(
+            simulation.options().step,
+            &wanted.method,
+            [wanted.tolerance, wanted.energy_tolerance],
+            wanted.at_least_plain,
+            wanted.start.as_deref(),
+        )?;
         simulation
             .set_step(step)
             .map(|()| String::new())
-            .map_err(|e| e.to_string())
+            .map_err(|why| format!("{why}; to change them, solve by another solver first"))
     }
 
     /// Back to rest.
     pub fn reset(&mut self, handle: i32) -> Result<String, String> {
-        let simulation = self.simulation(handle)?;
-        simulation.reset().map_err(|e| e.to_string())?;
-        Ok(String::new())
+        done(self.simulation(handle)?.reset())
     }
 
     /// Continues simulation `handle` from the state in the input, `steps`
@@ -230,9 +268,7 @@ impl State {
             return Err(format!("a simulated time of {time} s"));
         }
         let simulation = self.simulation(handle)?;
-        simulation
-            .set_state(&u_prev, &u_cur, steps as usize)
-            .map_err(|e| e.to_string())?;
+        done(simulation.set_state(&u_prev, &u_cur, steps as usize))?;
         if simulation.time() != time {
             // Δt changed on the way; otherwise the clock stays `steps · Δt`,
             // so that the wind's later times round as in the run continued
@@ -251,7 +287,9 @@ impl State {
         let n = self.simulation(handle)?.positions().len();
         let numbers = 6 * n * 8;
         if self.input.len() < numbers {
-            return Err(format!("a state of {n} vertices needs {numbers} bytes of positions"));
+            return Err(format!(
+                "a state of {n} vertices needs {numbers} bytes of positions"
+            ));
         }
         let rows: Vec<[f64; 3]> = self.input[..numbers]
             .chunks_exact(24)
@@ -264,7 +302,7 @@ impl State {
         Ok((u_prev.to_vec(), u_cur.to_vec(), carried))
     }
 
-    /// Starts dragging `vertex` of simulation `handle` toward `target`.
+    /// Starts dragging free `vertex` of simulation `handle` toward `target`.
     pub fn drag_start(
         &mut self,
         handle: i32,
@@ -273,72 +311,30 @@ impl State {
     ) -> Result<String, String> {
         let simulation = self.simulation(handle)?;
         let vertex = vertex as usize;
+        if vertex >= simulation.rest_positions().len() {
+            return Err(format!("vertex {vertex} does not exist"));
+        }
         if simulation.pinned().contains(&vertex) {
             return Err(format!("vertex {vertex} is pinned"));
         }
-        check_target(target)?;
-        simulation
-            .start_drag(vertex, target)
-            .map(|()| String::new())
-            .map_err(|e| e.to_string())
+        DragReach::of(simulation.rest_positions()).check(target)?;
+        done(simulation.start_drag(vertex, target))
     }
 
     /// Moves the dragged vertex's target.
     pub fn drag_to(&mut self, handle: i32, target: [f64; 3]) -> Result<String, String> {
-        check_target(target)?;
         let simulation = self.simulation(handle)?;
-        simulation
-            .drag_to(target)
-            .map(|()| String::new())
-            .map_err(|e| e.to_string())
+        DragReach::of(simulation.rest_positions()).check(target)?;
+        if simulation.dragged().is_none() {
+            return Err("no vertex is being dragged".into());
+        }
+        done(simulation.drag_to(target))
     }
 
     /// Lets go.
     pub fn drag_end(&mut self, handle: i32) -> Result<String, String> {
-        let simulation = self.simulation(handle)?;
-        simulation.end_drag().map_err(|e| e.to_string())?;
-        Ok(String::new())
+        done(self.simulation(handle)?.end_drag())
     }
-}
-
-/// A drag target must be finite.
-fn check_target(target: [f64; 3]) -> Result<(), String> {
-    match target.iter().all(|x| x.is_finite()) {
-        true => Ok(()),
-        false => Err(format!("the drag target {target:?} is not a point")),
-    }
-}
-
-/// `current` changed as `settings` say: the method (L-BFGS's plain
-/// iterations first kept while the method stays), the budget, the rules
-/// (absent: none) and the start (absent: kept).
-fn step_control(current: StepControl, settings: &StepSettings) -> Result<StepControl, String> {
-    let method: StepMethod = match &settings.method {
-        Some(name) => name.parse()?,
-        None => current.method,
-    };
-    let start: Start = match &settings.start {
-        Some(name) => name.parse()?,
-        None => current.start,
-    };
-    let iterations = settings.iterations.unwrap_or(current.iterations);
-    if !(1..=MAX_ITERATIONS).contains(&iterations) {
-        return Err(format!(
-            "{iterations} iterations: expected 1 to {MAX_ITERATIONS}"
-        ));
-    }
-    let step = StepControl {
-        method,
-        iterations,
-        tolerance: settings.tolerance,
-        energy_tolerance: settings.energy_tolerance,
-        at_least_plain: settings.at_least_plain,
-        start,
-        plain_first: current.plain_first && method == current.method,
-        ..current
-    };
-    step.check_rules()?;
-    Ok(step)
 }
 
 /// The `f64` of 8 little-endian bytes.

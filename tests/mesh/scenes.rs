@@ -4,12 +4,12 @@
 
 use crate::common;
 
+use masssprings::files::InMemory;
 use masssprings::mesh::fan::fan_triangles;
 use masssprings::mesh::procedural::text::format_17_significant;
 use masssprings::mesh::procedural::{self, GeneratedScene};
 use masssprings::mesh::springs::springs_from_faces;
 use masssprings::mesh::voronoi_mass::{triangle_mass_shares, voronoi_masses};
-use masssprings::files::InMemory;
 use masssprings::mesh::{load_scene, load_scene_from, Scene, SceneError};
 use proptest::prelude::*;
 use std::fs;
@@ -348,7 +348,9 @@ fn missing_obj_file_is_named() {
 #[test]
 fn a_file_not_given_to_the_page_is_named_as_a_missing_one() {
     let mut files = InMemory::new();
-    files.insert(Path::new("scene.json"), PIN_FIRST.as_bytes()).unwrap();
+    files
+        .insert(Path::new("scene.json"), PIN_FIRST.as_bytes())
+        .unwrap();
     let error = load_scene_from(&files, Path::new("scene.json")).unwrap_err();
     assert_problem(&error, "mesh.obj", None, "cannot read the file");
     assert!(error.io_error().is_some());
@@ -357,11 +359,21 @@ fn a_file_not_given_to_the_page_is_named_as_a_missing_one() {
 #[test]
 fn the_bundled_scenes_read_from_memory_are_the_scenes_read_from_disk() {
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
-    for name in ["flag", "skirt", "net", "horizontal-chain", "single-spring-horizontal"] {
+    for name in [
+        "flag",
+        "skirt",
+        "net",
+        "horizontal-chain",
+        "single-spring-horizontal",
+    ] {
         let json = data.join(format!("{name}.json"));
         let from_disk = load_scene(&json).unwrap();
         let mut files = InMemory::new();
-        for path in [Some(&json), from_disk.obj.as_ref(), from_disk.texture.as_ref()] {
+        for path in [
+            Some(&json),
+            from_disk.obj.as_ref(),
+            from_disk.texture.as_ref(),
+        ] {
             let path = path.unwrap_or(&json);
             files.insert(path, &fs::read(path).unwrap()).unwrap();
         }

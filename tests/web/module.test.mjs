@@ -51,8 +51,8 @@ function lastFrame(folder) {
 
 test('100 steps of the flag give the bits of simulate --kernels portable', async () => {
   const masssprings = await module();
-  masssprings.loadScene(sceneFiles(join(root, 'data'), 'flag.json'), 'flag.json');
-  const simulation = masssprings.simulation({ solver: 'assignment' });
+  const scene = masssprings.loadScene(sceneFiles(join(root, 'data'), 'flag.json'), 'flag.json');
+  const simulation = masssprings.simulation(scene, { solver: 'assignment' });
   simulation.steps(100);
   const page = simulation.positions();
   const native = inTemporaryFolder((folder) => {
@@ -120,22 +120,20 @@ test('the page\'s budget refuses a scene too large for it, with the figures, bef
   assert.equal(masssprings.exports.ms_file(2e6), 0);
   assert.match(masssprings.output(), /^huge\.obj: the file is larger than 1500000 bytes, the most read here/);
   // the flag fits
-  masssprings.loadScene(sceneFiles(join(root, 'data'), 'flag.json'), 'flag.json');
-  masssprings.simulation().step();
+  const flag = masssprings.loadScene(sceneFiles(join(root, 'data'), 'flag.json'), 'flag.json');
+  masssprings.simulation(flag).step();
 });
 
 test('a run continued in a fresh module, from the state and what the methods carried, gives the same bits', async () => {
   const files = sceneFiles(join(root, 'data'), 'flag.json');
   const whole = await module();
-  whole.loadScene(files, 'flag.json');
-  const run = whole.simulation({ solver: 'accuracy-assignment', wind: true });
+  const run = whole.simulation(whole.loadScene(files, 'flag.json'), { solver: 'accuracy-assignment', wind: true });
   run.steps(20);
   const { carried, time } = run.describe();
   const [previous, current] = [run.positions(true), run.positions()];
   run.steps(10);
   const fresh = await module();
-  fresh.loadScene(files, 'flag.json');
-  const continued = fresh.simulation({ solver: 'accuracy-assignment', wind: true });
+  const continued = fresh.simulation(fresh.loadScene(files, 'flag.json'), { solver: 'accuracy-assignment', wind: true });
   continued.setState(previous, current, 20, time, carried);
   continued.steps(10);
   assert.deepEqual(continued.positions(), run.positions());
@@ -144,7 +142,7 @@ test('a run continued in a fresh module, from the state and what the methods car
 
 test('each solver steps, and the settings change as the page asks', async () => {
   const masssprings = await module();
-  masssprings.loadScene(sceneFiles(join(root, 'data'), 'flag.json'), 'flag.json');
+  const scene = masssprings.loadScene(sceneFiles(join(root, 'data'), 'flag.json'), 'flag.json');
   const expected = {
     assignment: ['fast path: sim/step.rs solve_step → sim/methods/plain.rs (supernodal sparse Cholesky)', 50],
     textbook: ['the handout\'s code as written: sim/textbook.rs, fast_mass_springs_step_sparse (simplicial sparse Cholesky)', 50],
@@ -152,7 +150,7 @@ test('each solver steps, and the settings change as the page asks', async () => 
     converged: ['fast path: sim/step.rs solve_step → sim/methods/lbfgs.rs (supernodal sparse Cholesky)', 200],
   };
   for (const [solver, [functions, iterations]] of Object.entries(expected)) {
-    const simulation = masssprings.simulation({ solver });
+    const simulation = masssprings.simulation(scene, { solver });
     const report = simulation.step();
     const state = simulation.describe();
     assert.deepEqual([state.solver, state.functions, state.iterations], [solver, functions, iterations]);
@@ -160,16 +158,20 @@ test('each solver steps, and the settings change as the page asks', async () => 
     assert.ok(simulation.positions().every(Number.isFinite));
     simulation.free();
   }
-  const simulation = masssprings.simulation();
-  simulation.setParameters(2e5, 1 / 60, 2);
+  const simulation = masssprings.simulation(scene);
+  simulation.setParameters(2e5, 1 / 60, 2, 30);
   simulation.setWind(true);
-  simulation.setStep({ method: 'chebyshev', iterations: 30, tolerance: 1e-3 });
+  simulation.setMethod({ method: 'chebyshev', tolerance: 1e-3 });
   const state = simulation.describe();
   assert.deepEqual([state.k, state.delta_t, state.mass_scale, state.wind, state.method, state.iterations, state.tolerance, state.solver],
     [2e5, 1 / 60, 2, true, 'chebyshev', 30, 1e-3, null]);
-  assert.throws(() => simulation.setStep({ method: 'plain', tolerance: 2 }), /^Error: tolerance 2: expected between 0 and 1$/);
-  assert.throws(() => simulation.setParameters(-1, 1 / 30, 1), /k/);
+  // the page's rules, as the viewer's server checks them (src/app/view/rules.rs)
+  assert.throws(() => simulation.setMethod({ method: 'plain', tolerance: 2 }), /^Error: tolerance 2: expected between 0 and 1$/);
+  assert.throws(() => simulation.setParameters(-1, 1 / 30, 1, 50), /^Error: k = -1: expected a stiffness from 1e-6 to 1e12$/);
+  assert.throws(() => simulation.setParameters(1e5, 1 / 30, 1, 1001), /^Error: 1001 iterations: expected from 1 to 1000$/);
   assert.throws(() => simulation.dragStart(0, [0, 0, 0]), /^Error: vertex 0 is pinned$/);
+  assert.throws(() => simulation.dragStart(3199, [1e6, 0, 0]), /^Error: the drag target is too far from the scene$/);
+  assert.throws(() => simulation.dragTo([0, 0, 1]), /^Error: no vertex is being dragged$/);
   simulation.dragStart(3199, [0, 0, 1]);
   simulation.dragTo([0.1, 0, 1]);
   simulation.step();
@@ -177,6 +179,7 @@ test('each solver steps, and the settings change as the page asks', async () => 
   simulation.dragEnd();
   simulation.reset();
   assert.equal(simulation.describe().steps, 0);
-  const textbook = masssprings.simulation({ solver: 'textbook' });
-  assert.throws(() => textbook.setStep({ method: 'lbfgs' }), /textbook path runs the handout's step as written/);
+  const textbook = masssprings.simulation(scene, { solver: 'textbook' });
+  assert.throws(() => textbook.setMethod({ method: 'lbfgs' }),
+    /textbook path runs the handout's step as written.*; to change them, solve by another solver first$/);
 });

@@ -39,8 +39,8 @@ async function moduleStep(scene) {
   const { obj, png } = JSON.parse(json);
   const files = [{ name: `${scene}.json`, bytes: json }, { name: obj, bytes: readFileSync(join(folder, obj)) }];
   if (png) files.push({ name: png, bytes: readFileSync(join(folder, png)) });
-  masssprings.loadScene(files, `${scene}.json`);
-  const simulation = masssprings.simulation({ solver: 'assignment' });
+  const loaded = masssprings.loadScene(files, `${scene}.json`);
+  const simulation = masssprings.simulation(loaded, { solver: 'assignment' });
   const times = [];
   for (let step = 0; step < STEPS; step += 1) {
     const started = performance.now();

@@ -3,10 +3,10 @@
 //! parameters, timings, the last steps of each).
 
 use super::api::{Compared, Status, StepRecord, HISTORY_LENGTH};
+use super::rules::converged;
 use super::simulation_thread::{Shared, Shown, SimulationThread};
 use crate::app::limits::dense_need;
 use masssprings::memory::{self, gigabytes};
-use super::naming::converged;
 use masssprings::sim::StepReport;
 use std::collections::VecDeque;
 use std::time::Duration;

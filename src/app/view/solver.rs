@@ -12,8 +12,8 @@
 //! How a name becomes options is `SimulationOptions::solved_by`, the one
 //! rule `--textbook` and `--accuracy` use too; nothing here repeats it.
 
-pub use super::naming::{name_of, options_named, solver_names};
-use super::naming::functions;
+use super::rules::functions;
+pub use super::rules::{name_of, options_named, solver_names};
 use crate::app::error::AppError;
 use crate::app::limits::{check_precomputation, precomputation_failed};
 use masssprings::mesh::Scene;
