@@ -4,10 +4,10 @@
 //! (`src/app/view/api.rs`), so that the page reads either backend alike.
 
 use crate::app::view::display_mesh::{display_mesh, DisplayMesh};
-use crate::app::view::rules::{converged, functions, name_of};
+use crate::app::view::rules::{converged, functions, name_of, solver_names};
 use masssprings::mesh::Scene;
 use masssprings::sim::methods::Carried;
-use masssprings::sim::{Simulation, Sparse, StepReport};
+use masssprings::sim::{Simulation, Sparse, StepMethod, StepReport};
 use serde::{Deserialize, Serialize};
 
 /// The backend the module runs on.
@@ -167,6 +167,24 @@ impl SimulationAnswer {
             kernels: options.kernels.name(),
             dragged: simulation.dragged(),
             carried: simulation.carried(),
+        }
+    }
+}
+
+/// The names the page lists in its pickers.
+#[derive(Debug, Serialize)]
+pub struct Names {
+    /// Every method (`StepMethod::ALL`).
+    pub methods: Vec<&'static str>,
+    /// Every solver (`Solver::ALL`).
+    pub solvers: Vec<&'static str>,
+}
+
+impl Names {
+    pub fn new() -> Names {
+        Names {
+            methods: StepMethod::ALL.map(StepMethod::name).to_vec(),
+            solvers: solver_names(),
         }
     }
 }

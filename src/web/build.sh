@@ -5,11 +5,14 @@
 #   bash src/web/build.sh [FOLDER]         # default: target/web
 #   python3 -m http.server -d target/web 8000
 #
-# FOLDER gets the WebAssembly module (masssprings.wasm: the library and
-# src/web/lib.rs, built for wasm32-unknown-unknown with the `wasm` profile),
-# its script (masssprings.mjs), the page, and the bundled scenes of data/
-# with their textures (scenes/, listed in scenes/index.json). The folder is
-# made anew; it is never committed. Needs the Rust target:
+# FOLDER gets the viewer's page (src/app/view/assets: index.html, its
+# script, style and plot) with the backend that runs the simulation in the
+# page (src/web/backend.js, in place of the HTTP one, and the worker
+# host.mjs), the WebAssembly module (masssprings.wasm: the library and
+# src/web/lib.rs, built for wasm32-unknown-unknown with the `wasm` profile)
+# and its script (masssprings.mjs), and the bundled scenes of data/ with
+# their textures (scenes/, listed in scenes/index.json). The folder is made
+# anew; it is never committed. Needs the Rust target:
 # `rustup target add wasm32-unknown-unknown`.
 set -euo pipefail
 web="$(cd "$(dirname "$0")" && pwd)"
@@ -22,14 +25,20 @@ if command -v rustup >/dev/null 2>&1 &&
     "rustup target add wasm32-unknown-unknown" >&2
   exit 1
 fi
-cargo build --manifest-path "$root/Cargo.toml" -p masssprings-web \
+# A warning in the library or the module fails the build (the
+# dependencies' are capped by cargo, as always).
+CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUSTFLAGS="-D warnings" \
+  cargo build --manifest-path "$root/Cargo.toml" -p masssprings-web \
   --target wasm32-unknown-unknown --profile wasm
 wasm="$root/target/wasm32-unknown-unknown/wasm/masssprings_web.wasm"
 
 rm -rf "$out"
 mkdir -p "$out/scenes"
 cp "$wasm" "$out/masssprings.wasm"
-cp "$web/masssprings.mjs" "$out/"
+cp "$web/masssprings.mjs" "$web/host.mjs" "$web/backend.js" "$out/"
+page="$root/src/app/view/assets"
+cp "$page/viewer.html" "$out/index.html"
+cp "$page/viewer.js" "$page/plot.js" "$page/viewer.css" "$out/"
 
 # The bundled scenes, each its JSON and the files it names (the page reads
 # the names from the JSON, as the command line does).

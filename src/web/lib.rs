@@ -253,6 +253,20 @@ pub extern "C" fn ms_reset(handle: i32) -> i32 {
     answer(|state| state.reset(handle))
 }
 
+/// Later steps solved as the simulation's solver solves them by default
+/// (its method, budget and rules), or as the assignment when it has none:
+/// what the viewer's reset returns to.
+#[no_mangle]
+pub extern "C" fn ms_solver_step(handle: i32) -> i32 {
+    answer(|state| state.solver_step(handle))
+}
+
+/// Answers the names the page lists: `{"methods": [...], "solvers": [...]}`.
+#[no_mangle]
+pub extern "C" fn ms_names() -> i32 {
+    answer(|_| Ok(answers::json(&answers::Names::new())))
+}
+
 /// Continues from a state: the input holds `U_prev` then `U_cur`, `6n`
 /// little-endian `f64`, and what the methods carried as JSON after them;
 /// they are `steps` steps after the start, at simulated time `time`.

@@ -17,9 +17,11 @@ const encoder = new TextEncoder();
 const decoder = new TextDecoder();
 
 export class Masssprings {
-  /** The module from the bytes of masssprings_web.wasm. */
-  static async instantiate(bytes) {
-    const { instance } = await WebAssembly.instantiate(bytes, {});
+  /** The module from the bytes of masssprings.wasm, or from it compiled
+   *  (a WebAssembly.Module). */
+  static async instantiate(wasm) {
+    const made = await WebAssembly.instantiate(wasm, {});
+    const instance = made instanceof WebAssembly.Instance ? made : made.instance;
     return new Masssprings(instance.exports);
   }
 
@@ -92,6 +94,11 @@ export class Masssprings {
     }
   }
 
+  /** The names the page lists: { methods, solvers }. */
+  names() {
+    return this.answer('ms_names');
+  }
+
   /** Forgets `scene` (its simulations stay). */
   freeScene(scene) {
     this.exports.ms_scene_free(scene.handle);
@@ -155,6 +162,12 @@ export class Simulation {
 
   reset() {
     this.module.call('ms_reset', this.handle);
+  }
+
+  /** Later steps solved as its solver solves them by default (or the
+   *  assignment when it has none). */
+  solverStep() {
+    this.module.call('ms_solver_step', this.handle);
   }
 
   /** Continues from `previous`, `current` (Float64Array, 3n each), `steps`

@@ -5,7 +5,7 @@
 use crate::answers::{
     json, MethodSettings, NewSimulation, SceneAnswer, SimulationAnswer, StepAnswer,
 };
-use crate::app::view::rules::{check_parameters, method_step, options_named, DragReach};
+use crate::app::view::rules::{check_parameters, method_step, name_of, options_named, DragReach};
 use masssprings::files::{max_input_bytes, InMemory, Source};
 use masssprings::linalg::kernels::Kernels;
 use masssprings::memory;
@@ -255,6 +255,18 @@ impl State {
     /// Back to rest.
     pub fn reset(&mut self, handle: i32) -> Result<String, String> {
         done(self.simulation(handle)?.reset())
+    }
+
+    /// Later steps of simulation `handle` as its solver's, or the
+    /// assignment's.
+    pub fn solver_step(&mut self, handle: i32) -> Result<String, String> {
+        let simulation = self.simulation(handle)?;
+        let initial = SimulationOptions::default();
+        let step = match name_of(simulation.options()) {
+            Some(name) => options_named(initial, name)?.step,
+            None => initial.step,
+        };
+        done(simulation.set_step(step))
     }
 
     /// Continues simulation `handle` from the state in the input, `steps`
