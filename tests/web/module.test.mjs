@@ -1,8 +1,9 @@
 // The WebAssembly module of the page (src/web), run by node as a browser's
 // worker runs it: the same bits as the native program with the portable
-// kernels, the command line's messages for bad files, the memory rule with
-// the page's budget, and a run continued in a fresh module. Run by
-// tests/web/run.sh, which builds the module and the program first.
+// kernels (to 1e-12 with the wind, whose cos and sin each platform's math
+// library rounds), the command line's messages for bad files, the memory
+// rule with the page's budget, and a run continued in a fresh module. Run
+// by tests/web/run.sh, which builds the module and the program first.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync, spawnSync } from 'node:child_process';
@@ -67,6 +68,23 @@ test('100 steps of the flag give the bits of simulate --kernels portable', async
   const differing = [...page].findIndex((x, i) => x !== native[i] || Object.is(x, -0) !== Object.is(native[i], -0));
   assert.equal(differing, -1, `coordinate ${differing}: page ${page[differing]}, native ${native[differing]}`);
   assert.ok(Math.min(...page.filter((_, i) => i % 3 === 1)) < 0, 'the flag has fallen');
+});
+
+test('with the wind, 100 steps agree to 1e-12 relative: its cos and sin are each platform\'s', async () => {
+  const masssprings = await module();
+  const scene = masssprings.loadScene(sceneFiles(join(root, 'data'), 'flag.json'), 'flag.json');
+  const simulation = masssprings.simulation(scene, { solver: 'assignment', wind: true });
+  simulation.steps(100);
+  const page = simulation.positions();
+  const native = inTemporaryFolder((folder) => {
+    const out = join(folder, 'frames');
+    execFileSync(program, ['simulate', join(root, 'data/flag.json'), '--steps', '100', '--every', '100',
+      '--kernels', 'portable', '--wind', '--out', out, '--json']);
+    return lastFrame(out);
+  });
+  const relative = page.map((x, i) => Math.abs(x - native[i]) / Math.max(1, Math.abs(native[i])));
+  const largest = Math.max(...relative);
+  assert.ok(largest <= 1e-12, `differ by ${largest} relative`);
 });
 
 test('a bad file gets the message the command line gives', async () => {
