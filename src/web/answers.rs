@@ -1,8 +1,10 @@
 //! What the module answers and reads as JSON: the scene as the page draws
 //! it, a step's record, a simulation's part of the viewer's status, and the
 //! settings a page sends. The names are those of the viewer's HTTP API
-//! (`src/app/view/api.rs`), so that the page reads either backend alike.
+//! (`src/app/view/api.rs`, whose step record is used as it is), so that the
+//! page reads either backend alike.
 
+use crate::app::view::api::StepRecord;
 use crate::app::view::display_mesh::{display_mesh, DisplayMesh};
 use crate::app::view::rules::{converged, functions, name_of, solver_names};
 use masssprings::mesh::Scene;
@@ -79,32 +81,21 @@ pub struct MethodSettings {
     pub start: Option<String>,
 }
 
-/// What one step did: the viewer's `StepRecord` but the fields the page
-/// adds (its number, its time, the distance between two simulations).
-#[derive(Debug, Serialize)]
-pub struct StepAnswer {
-    pub iterations: usize,
-    pub energy_decrease: Option<f64>,
-    pub relative_gradient: Option<f64>,
-    /// Did it stop on a rule rather than on its budget?
-    pub converged: bool,
-    /// Why it stopped (`Stop::name`: `iterations`, `tolerance`, ...).
-    pub stop: &'static str,
-    /// The mechanical energy after the step.
-    pub energy: f64,
-}
-
-impl StepAnswer {
-    /// The answer for `report`, a step `simulation` just took.
-    pub fn of(report: StepReport, simulation: &Simulation<Sparse>) -> StepAnswer {
-        StepAnswer {
-            iterations: report.iterations,
-            energy_decrease: report.energy_decrease,
-            relative_gradient: report.relative_gradient,
-            converged: converged(report.stop),
-            stop: report.stop.name(),
-            energy: simulation.mechanical_energy(),
-        }
+/// What one step did, `report`, a step `simulation` just took: the
+/// viewer's record of it, but its time (`ms`, which the page's worker
+/// measures around the call) and the distance to a second simulation
+/// (which the worker measures when comparing).
+pub fn step_record(report: StepReport, simulation: &Simulation<Sparse>) -> StepRecord {
+    StepRecord {
+        step: simulation.steps(),
+        iterations: report.iterations,
+        energy_decrease: report.energy_decrease,
+        relative_gradient: report.relative_gradient,
+        converged: converged(report.stop),
+        stop: report.stop.name(),
+        energy: simulation.mechanical_energy(),
+        ms: 0.0,
+        distance: None,
     }
 }
 

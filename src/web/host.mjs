@@ -244,10 +244,10 @@ function finishStep(reports) {
   host.note = null;
   publishFrame();
   const [first, second] = reports;
-  push(host.main.history, { step: host.main.sim.describe().steps, ...first.record, ms: first.ms, distance: null });
+  push(host.main.history, { ...first.record, ms: first.ms });
   if (second) {
     const far = distance(host.main.sim.positions(), second.one.sim.positions());
-    push(second.one.history, { step: second.one.sim.describe().steps, ...second.record, ms: second.ms, distance: far });
+    push(second.one.history, { ...second.record, ms: second.ms, distance: far });
   }
 }
 
@@ -497,22 +497,24 @@ async function loadScene(index) {
 
 /** A simulation of `scene` solved as `one` is, at rest. */
 function remade(one, scene) {
-  const d = one.sim.describe();
-  const plainFirst = d.solver === null && d.plain_first;
-  const sim = module.simulation(scene, { solver: d.solver ?? (plainFirst ? 'accuracy-assignment' : 'assignment'), wind: d.wind });
-  const made = shown(sim);
-  if (d.solver === null) expert(sim, d);
-  const fresh = sim.describe();
-  sim.setParameters(fresh.k, fresh.delta_t, fresh.mass_scale, d.iterations);
-  return made;
+  return shown(solvedAs(one.sim.describe(), scene));
 }
 
-/** The expert's own method and rules of `d` on `sim`. */
-function expert(sim, d) {
-  sim.setMethod({
-    method: d.method, tolerance: d.tolerance, energy_tolerance: d.energy_tolerance,
-    at_least_plain: d.at_least_plain, start: d.start,
-  });
+/** A simulation of `scene`, at rest with the scene's own k, Δt and
+ *  masses, solved as `d` (a simulation's description) says: by its solver,
+ *  or by the expert's own method and rules; with its budget and wind. */
+function solvedAs(d, scene) {
+  const base = d.solver ?? (d.plain_first ? 'accuracy-assignment' : 'assignment');
+  const sim = module.simulation(scene, { solver: base, wind: d.wind });
+  if (d.solver === null) {
+    sim.setMethod({
+      method: d.method, tolerance: d.tolerance, energy_tolerance: d.energy_tolerance,
+      at_least_plain: d.at_least_plain, start: d.start,
+    });
+  }
+  const fresh = sim.describe();
+  sim.setParameters(fresh.k, fresh.delta_t, fresh.mass_scale, d.iterations);
+  return sim;
 }
 
 function showScene(scene, index) {
@@ -581,10 +583,8 @@ async function restored(saved) {
   await startWith(saved.sceneIndex);
   host.main.sim.free();
   const made = saved.shown.map(({ d, previous, current, msPerStep, history }) => {
-    const sim = module.simulation(host.scene, { solver: d.solver ?? (d.plain_first ? 'accuracy-assignment' : 'assignment') });
-    if (d.solver === null) expert(sim, d);
+    const sim = solvedAs(d, host.scene);
     sim.setParameters(d.k, d.delta_t, d.mass_scale, d.iterations);
-    sim.setWind(d.wind);
     sim.setState(previous, current, d.steps, d.time, d.carried);
     return { sim, msPerStep, history };
   });

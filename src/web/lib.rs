@@ -26,8 +26,8 @@
 //! Why not `wasm-bindgen`: it would generate this layer, but it brings a
 //! command-line tool that must match its crate's version exactly, a
 //! generated script to ship, and a dozen crates into the workspace; what
-//! crosses here is numbers, a few strings and arrays of `f64`, which the
-//! fifty lines of `masssprings.mjs` carry.
+//! crosses here is numbers, a few strings and arrays of `f64`, which
+//! `masssprings.mjs` carries in two small classes.
 //!
 //! Everything the module keeps lives in one [`State`] (this thread's: a
 //! WebAssembly module runs on one).
@@ -40,7 +40,7 @@ mod state;
 /// same words: the scene as the page draws it (`display_mesh.rs`, with the
 /// first view of `facing.rs` and the point masses' size of the renderer's
 /// `look.rs`), what the page's controls may ask and the names of how a
-/// step is solved (`rules.rs`). They use
+/// step is solved (`rules.rs`), and a step's record (`api.rs`). They use
 /// only the library; the modules are laid out as in the program, so that
 /// their paths (`super::super::draw`) mean the same here.
 #[allow(dead_code)] // the look's colours and the other names are the program's
@@ -50,6 +50,7 @@ mod app {
         pub mod look;
     }
     pub mod view {
+        pub mod api;
         pub mod display_mesh;
         pub mod facing;
         pub mod rules;
@@ -193,7 +194,7 @@ pub extern "C" fn ms_simulation_free(handle: i32) {
 
 /// Advances simulation `handle` by `count` steps (one for the page; more
 /// for a benchmark's loop without a call a step), answering the last
-/// one's record (`answers::StepAnswer`) as JSON.
+/// one's record (the viewer's `StepRecord`) as JSON.
 #[no_mangle]
 pub extern "C" fn ms_steps(handle: i32, count: u32) -> i32 {
     answer(|state| state.steps(handle, count))

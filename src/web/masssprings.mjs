@@ -120,8 +120,9 @@ export class Simulation {
     this.n = n;
   }
 
-  /** One step: { iterations, energy_decrease, relative_gradient,
-   *  converged, stop, energy }. */
+  /** One step: its record, as the viewer's status keeps it { step,
+   *  iterations, energy_decrease, relative_gradient, converged, stop,
+   *  energy, ms: 0, distance: null } (the caller times it). */
   step() {
     return this.steps(1);
   }

@@ -3,7 +3,7 @@
 //! and the simulations, each by handle.
 
 use crate::answers::{
-    json, MethodSettings, NewSimulation, SceneAnswer, SimulationAnswer, StepAnswer,
+    json, step_record, MethodSettings, NewSimulation, SceneAnswer, SimulationAnswer,
 };
 use crate::app::view::rules::{check_parameters, method_step, name_of, options_named, DragReach};
 use masssprings::files::{max_input_bytes, InMemory, Source};
@@ -185,7 +185,7 @@ impl State {
             last = Some(simulation.step().map_err(|e| e.to_string())?);
         }
         Ok(last.map_or(String::new(), |report| {
-            json(&StepAnswer::of(report, simulation))
+            json(&step_record(report, simulation))
         }))
     }
 
