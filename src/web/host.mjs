@@ -9,8 +9,9 @@
 // here is a server's part: which simulations are shown, real time, the
 // histories and the timings.
 //
-// From the page (backend.js beside this file): { type: 'start', budget,
-// dropped, restore }, { type: 'command', id, body, detached },
+// From the page (backend.js beside this file): { type: 'start', wasm (the
+// module compiled), budget, dropped, restore }, { type: 'command', id,
+// body, detached },
 // { type: 'open', id, files }, { type: 'watching' }. To the page: 'scene',
 // 'frame', 'status', 'busy' (work that may be long, with a snapshot to
 // start again from when the page stops it), 'idle', 'answer', 'failed'.

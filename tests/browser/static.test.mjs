@@ -131,7 +131,8 @@ test('shift-drag pulls a vertex through the solver', async () => {
   assert.ok(s.refactor_ms !== null, 'the drag refactored Q');
 });
 
-/** Writes `files` ({ name: text }) into a fresh folder; their paths. */
+/** Writes `files` ({ name: text or bytes }) into a fresh folder; their
+ *  paths. */
 function written(files) {
   const folder = fs.mkdtempSync(path.join(os.tmpdir(), 'masssprings-static-'));
   return Object.entries(files).map(([name, text]) => {
@@ -140,7 +141,7 @@ function written(files) {
   });
 }
 
-test('a user\'s own scene opens, and a bad one gets the command line\'s message on the page', async () => {
+test('a user\'s own scene opens; a bad one gets the command line\'s message on the page, a broken texture a word', async () => {
   const net = ['net.json', 'net.obj'].map((name) => path.join(root, 'data', name));
   await page.setInputFiles('#open-files', net);
   const opened = await waitForStatus((s) => s.scene === 'net (yours)' && s.n > 0, 'the user\'s net');
@@ -159,6 +160,16 @@ test('a user\'s own scene opens, and a bad one gets the command line\'s message 
   const after = await status();
   assert.equal(after.scene, 'net (yours)', 'the scene shown stays');
   assert.equal(after.scenes.filter((name) => name.startsWith('bad')).length, 0, 'a bad scene is not listed');
+  // a texture with a PNG's signature that the browser cannot decode
+  const flag = fs.readFileSync(path.join(root, 'data/flag.json'), 'utf8');
+  const signature = Buffer.from([0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a]);
+  const broken = written({
+    'broken.json': flag.replace('flag.png', 'broken.png'),
+    'broken.png': Buffer.concat([signature, Buffer.from(' not a picture')]),
+  });
+  await page.setInputFiles('#open-files', [broken[0], path.join(root, 'data/flag.obj'), broken[1]]);
+  await waitForStatus((s) => s.scene === 'broken (yours)', 'a scene whose PNG is broken');
+  await page.waitForFunction(() => document.getElementById('stats').textContent.includes('cannot decode this PNG'));
   await page.selectOption('#scene', '0');
   await waitForStatus((s) => s.scene === 'flag', 'the flag again');
 });

@@ -627,6 +627,12 @@ function loadTexture(url) {
     gpu.texture = texture;
     window.viewer.textureLoaded = true;
   };
+  image.onerror = () => {
+    // a PNG the server decodes is never served broken; a user's own, read
+    // by the page, can be
+    state.refusal = 'texture: the browser cannot decode this PNG; the cloth is drawn without it';
+    window.viewer.textureLoaded = true;
+  };
   image.src = url;
 }
 
