@@ -15,7 +15,7 @@
 //! when it is an input.
 
 use super::error::AppError;
-use masssprings::files::FilePlan;
+use masssprings::files::{shown, FilePlan};
 use masssprings::mesh::Scene;
 use std::fs;
 use std::io::{self, Read, Write};
@@ -31,7 +31,7 @@ pub fn load_scene(path: &Path) -> Result<Scene, AppError> {
     if !looks_like_json(path) {
         return Err(AppError::Failed(format!(
             "{} is not a scene file: scenes are JSON that name an OBJ; see data/README.md",
-            path.display()
+            shown(path)
         )));
     }
     Ok(masssprings::mesh::load_scene(path)?)
@@ -58,13 +58,13 @@ pub fn check_output_folder(folder: &Path, writes: &str) -> Result<(), AppError> 
     if folder == Path::new("-") || folder.as_os_str().is_empty() {
         return Err(AppError::Usage(format!(
             "--out '{}': {writes}; name a folder",
-            folder.display()
+            shown(folder)
         )));
     }
     if std::fs::metadata(folder).is_ok_and(|m| !m.is_dir()) {
         return Err(AppError::Failed(format!(
             "--out {}: this is a file, not a folder; {writes}",
-            folder.display()
+            shown(folder)
         )));
     }
     Ok(())
@@ -194,7 +194,7 @@ impl Write for Comparison {
 }
 
 /// Reads into `buffer` until it is full or the file ends; how many bytes.
-fn read_up_to(mut file: fs::File, buffer: &mut [u8]) -> usize {
+pub fn read_up_to(mut file: fs::File, buffer: &mut [u8]) -> usize {
     let mut filled = 0;
     while filled < buffer.len() {
         match file.read(&mut buffer[filled..]) {
@@ -203,20 +203,6 @@ fn read_up_to(mut file: fs::File, buffer: &mut [u8]) -> usize {
         }
     }
     filled
-}
-
-/// Removes a symbolic link at `path` (not what it points to), so that
-/// the file written there next replaces the link in its folder rather
-/// than a file elsewhere: for files written into a folder by names the user
-/// did not type. Anything else at `path` is left.
-///
-/// # Errors
-/// The link cannot be removed.
-pub fn unlink_link(path: &Path) -> Result<(), AppError> {
-    if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
-        fs::remove_file(path).map_err(|e| AppError::Failed(format!("{}: {e}", path.display())))?;
-    }
-    Ok(())
 }
 
 /// Is there anything at `path` (also a link to nothing)?
@@ -243,9 +229,8 @@ pub fn refuse_foreign(
         .iter()
         .take(3)
         .map(|path| {
-            path.file_name().map_or(path.display().to_string(), |n| {
-                n.to_string_lossy().into_owned()
-            })
+            path.file_name()
+                .map_or(shown(path), |n| shown(std::path::Path::new(n)))
         })
         .collect();
     if foreign.len() > 3 {
