@@ -206,8 +206,8 @@ fn refuse_other_kind(out: &Path, mistake: Option<Mistake>) -> Result<(), AppErro
         ),
     };
     Err(AppError::Failed(format!(
-        "-o {}: the folder holds {holds} of {}; --mistake {} would replace it with a mistaken \
-         one. Give --force to replace it, or choose another folder",
+        "-o {}: the folder holds {holds} of {}; --mistake {} would replace it with a trace with \
+         that mistake. Give --force to replace it, or choose another folder",
         shown(out),
         masssprings::files::escaped(&earlier.scene),
         mistake.name()

@@ -24,6 +24,7 @@ use crate::app::draw::camera::{Camera, Orbit};
 use crate::app::draw::encode::write_png;
 use crate::app::draw::frame::FrameRenderer;
 use crate::app::draw::look::SUPERSAMPLING;
+use masssprings::files::{escaped, number};
 use masssprings::mesh::Scene;
 
 /// The largest width or height asked for.
@@ -108,21 +109,33 @@ fn side_by_side(scene: &Scene) -> Scene {
 /// The view `query` asks for.
 fn parse(query: &str) -> Result<View, String> {
     let value = |name: &str| -> Result<f64, String> {
-        let text = query
+        let mut given = query
             .split('&')
-            .find_map(|pair| pair.strip_prefix(name)?.strip_prefix('='))
+            .filter_map(|pair| pair.strip_prefix(name)?.strip_prefix('='));
+        let text = given
+            .next()
             .ok_or_else(|| format!("the image needs the parameter {name}"))?;
+        if given.next().is_some() {
+            return Err(format!(
+                "the parameter {name} is given more than once; give it once"
+            ));
+        }
         text.parse::<f64>()
             .ok()
             .filter(|x| x.is_finite())
-            .ok_or_else(|| format!("{name}={text}: expected a finite number"))
+            .ok_or_else(|| format!("{name}={}: expected a finite number", escaped(text)))
     };
     let within = |name: &str, low: f64, high: f64| -> Result<f64, String> {
         let x = value(name)?;
         if (low..=high).contains(&x) {
             Ok(x)
         } else {
-            Err(format!("{name}={x}: expected from {low} to {high}"))
+            Err(format!(
+                "{name}={}: expected from {} to {}",
+                number(x),
+                number(low),
+                number(high)
+            ))
         }
     };
     let side = |name: &str| within(name, 16.0, MAX_SIDE).map(|x| x.round() as usize);
@@ -145,7 +158,10 @@ fn parse(query: &str) -> Result<View, String> {
         height,
         orbit,
         springs: within("springs", 0.0, 1.0)? > 0.5,
-        offset: value("ox").unwrap_or(0.0),
+        offset: match query.split('&').any(|pair| pair.starts_with("ox=")) {
+            true => value("ox")?,
+            false => 0.0,
+        },
     })
 }
 

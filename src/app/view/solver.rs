@@ -230,7 +230,16 @@ pub fn options_named(base: SimulationOptions, name: &str) -> Result<SimulationOp
         };
         return Ok(SimulationOptions { step, ..assignment });
     }
-    Ok(base.solved_by(name.parse::<Solver>()?))
+    let solver = name.parse::<Solver>().map_err(|_| {
+        let mut names = solver_names();
+        names.push(CONVERGED);
+        format!(
+            "unknown solver '{}' (expected {})",
+            masssprings::files::escaped(name),
+            names.join(", ")
+        )
+    })?;
+    Ok(base.solved_by(solver))
 }
 
 /// The name of `options` for the status: a solver's, [`CONVERGED`], or
