@@ -15,6 +15,7 @@
 //! when it is an input.
 
 use super::error::AppError;
+use masssprings::files::patient::open_regular;
 use masssprings::files::{shown, FilePlan};
 use masssprings::mesh::Scene;
 use std::fs;
@@ -105,9 +106,9 @@ fn looks_like_json(path: &Path) -> bool {
 /// regular file.
 pub fn starts_with_line(path: &Path, line: &str) -> bool {
     let mut start = vec![0u8; line.len() + 2];
-    let read = match fs::File::open(path) {
-        Ok(file) if file.metadata().is_ok_and(|m| m.is_file()) => read_up_to(file, &mut start),
-        _ => return false,
+    let read = match open_regular(path) {
+        Some(file) => read_up_to(file, &mut start),
+        None => return false,
     };
     let text = &start[..read];
     let text = text.strip_prefix(line.as_bytes()).unwrap_or(b"x");
@@ -118,9 +119,9 @@ pub fn starts_with_line(path: &Path, line: &str) -> bool {
 /// hold `text`? False for anything that is not a regular file.
 pub fn start_holds(path: &Path, text: &str, bytes: usize) -> bool {
     let mut start = vec![0u8; bytes];
-    let read = match fs::File::open(path) {
-        Ok(file) if file.metadata().is_ok_and(|m| m.is_file()) => read_up_to(file, &mut start),
-        _ => return false,
+    let read = match open_regular(path) {
+        Some(file) => read_up_to(file, &mut start),
+        None => return false,
     };
     let needle = text.as_bytes();
     start[..read].windows(needle.len()).any(|w| w == needle)
@@ -129,23 +130,18 @@ pub fn start_holds(path: &Path, text: &str, bytes: usize) -> bool {
 /// Does the regular file at `path` begin with `prefix`?
 pub fn begins_with(path: &Path, prefix: &str) -> bool {
     let mut start = vec![0u8; prefix.len()];
-    match fs::File::open(path) {
-        Ok(file) if file.metadata().is_ok_and(|m| m.is_file()) => {
-            read_up_to(file, &mut start) == prefix.len() && start == prefix.as_bytes()
-        }
-        _ => false,
+    match open_regular(path) {
+        Some(file) => read_up_to(file, &mut start) == prefix.len() && start == prefix.as_bytes(),
+        None => false,
     }
 }
 
 /// Does the regular file at `path` hold exactly `bytes`?
 pub fn holds_bytes(path: &Path, bytes: &[u8]) -> bool {
-    let Ok(file) = fs::File::open(path) else {
+    let Some(file) = open_regular(path) else {
         return false;
     };
-    if !file
-        .metadata()
-        .is_ok_and(|m| m.is_file() && m.len() == bytes.len() as u64)
-    {
+    if !file.metadata().is_ok_and(|m| m.len() == bytes.len() as u64) {
         return false;
     }
     let mut content = vec![0u8; bytes.len()];
@@ -156,9 +152,8 @@ pub fn holds_bytes(path: &Path, bytes: &[u8]) -> bool {
 /// Compared as it writes, chunk by chunk, so nothing the size of the file
 /// is held.
 pub fn writes_same(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> bool {
-    let file = match fs::File::open(path) {
-        Ok(file) if file.metadata().is_ok_and(|m| m.is_file()) => file,
-        _ => return false,
+    let Some(file) = open_regular(path) else {
+        return false;
     };
     let mut compare = Comparison {
         file: io::BufReader::new(file),

@@ -156,10 +156,12 @@ pub fn run(args: SimulateArgs) -> Result<(), AppError> {
     }
     check_files(&scene_path, &scene, run.out.as_deref())?;
     let (mut frames, resumed) = open_frames(&run, &scene, args.resume.as_deref())?;
-    // the run the frames are of: a resumed run's, or this process's
+    // the run the frames are of: a resumed run's, or this process's when
+    // they replace another run's (to be told apart from those)
+    let replaces = frames.as_ref().is_some_and(FrameFolder::replaces);
     run.record.run = match &resumed {
         Some(state) => state.run.clone(),
-        None => Some(Owner::this_process().tag()),
+        None => replaces.then(|| Owner::this_process().tag()),
     };
     let written = (frames.as_mut(), resumed);
     let summary = if dense {

@@ -26,13 +26,17 @@
 //!   texture's bytes; anything else there is refused unless `--force`
 //!   (`file_plan`).
 //!
-//! Each frame's run record names its run (`masssprings-PID-START` of the
-//! process that started it): that is how the frames of two runs in one
-//! folder are told apart.
+//! The frames of a run that replaces another's name their run in their
+//! record (`masssprings-PID-START` of the process that started it; a
+//! resumed run keeps the name): that is how the frames of the two runs are
+//! told apart in one folder, while a killed replacement is completed.
+//! Other runs' frames name none, so that a run and the same run resumed
+//! write the same bytes.
 
 use super::frames::{frame_name, frame_step, is_frame_name, parse_head, Head, RunRecord};
 use crate::app::error::AppError;
 use crate::app::file_plan::{holds_bytes, occupied, read_up_to, refuse_foreign, starts_with_line};
+use masssprings::files::patient::open_regular;
 use masssprings::files::{read_bytes, same_file, shown, Expect, FileError, Leftover, OutputFolder};
 use std::collections::BTreeMap;
 use std::fs;
@@ -116,8 +120,18 @@ impl FrameFolder {
                 if own { Found::Own } else { Found::Other },
             );
         }
-        let staged = (force && !earlier.is_empty()).then(Vec::new);
+        // forced over frames, or over what a stopped run staged: staged
+        // too, so that the stopped run's frames are settled once this
+        // run's are in
+        let replaces = !earlier.is_empty() || !frame_leftovers(&out).is_empty();
+        let staged = (force && replaces).then(Vec::new);
         Ok(FrameFolder { out, found, staged })
+    }
+
+    /// Do this run's frames replace an earlier run's (`--force`)? Then
+    /// they must name their run, to be told from the earlier run's.
+    pub fn replaces(&self) -> bool {
+        self.staged.is_some()
     }
 
     /// The folder itself.
@@ -433,10 +447,10 @@ fn frame_leftovers(out: &OutputFolder) -> Vec<Leftover> {
 
 /// The first two lines of the regular file at `path`, if it is a frame.
 pub fn head(path: &Path) -> Option<Head> {
-    let file = fs::File::open(path).ok()?;
     if !fs::symlink_metadata(path).is_ok_and(|m| m.is_file()) {
-        return None;
+        return None; // a link is no frame simulate wrote
     }
+    let file = open_regular(path)?;
     let mut start = vec![0u8; 16 * 1024];
     let read = read_up_to(file, &mut start);
     parse_head(&String::from_utf8_lossy(&start[..read]))

@@ -75,9 +75,10 @@ pub fn header(scene: &str, step: usize, precision: Option<usize>) -> String {
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RunRecord {
-    /// The run the frame is of: `masssprings-PID-START` of the process
-    /// that started it (a resumed run keeps it), so that the frames of two
-    /// runs are told apart in one folder.
+    /// The run the frame is of, when it replaced another run's frames:
+    /// `masssprings-PID-START` of the process that started it (a resumed
+    /// run keeps it), so that the frames of the two runs are told apart in
+    /// one folder.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub run: Option<String>,
     pub vertices: usize,
@@ -427,11 +428,11 @@ mod tests {
         }
         let mut moved = scene(500.0, &[1.0, 0.5], &[0]);
         moved.vertices[1][1] += 5.0;
-        let differ = ours.differences(&RunRecord::new(&moved, &options, false));
-        assert_eq!(differ.len(), 1, "{differ:?}");
+        let rest = ours.differences(&RunRecord::new(&moved, &options, false));
+        assert_eq!(rest.len(), 1, "{rest:?}");
         assert!(
-            differ[0].starts_with("the rest positions (the scene moved"),
-            "{differ:?}"
+            rest[0].starts_with("the rest positions (the scene moved"),
+            "{rest:?}"
         );
         let mut other_run = ours.clone();
         other_run.run = Some("masssprings-3-4".into());

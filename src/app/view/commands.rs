@@ -347,3 +347,16 @@ fn check_parameters([k, delta_t, mass_scale]: [f64; 3], iterations: usize) -> Re
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::check_parameters;
+
+    #[test]
+    fn refused_parameters_are_written_short() {
+        let refused = check_parameters([1e308, 0.03, 1.0], 10).unwrap_err();
+        assert_eq!(refused, "k = 1e308: expected a stiffness from 1e-6 to 1e12");
+        let refused = check_parameters([1.0, 1e-300, 1.0], 10).unwrap_err();
+        assert!(refused.starts_with("Δt = 1e-300:"), "{refused}");
+    }
+}

@@ -187,4 +187,17 @@ mod tests {
         assert!(many.contains("at most 2000000"), "{many}");
         assert!(parse(&QUERY.replace("d=4", "d=nan")).is_err());
     }
+
+    #[test]
+    fn a_repeated_parameter_is_refused_and_numbers_are_short() {
+        let twice = parse(&format!("{QUERY}&w=16")).unwrap_err();
+        assert_eq!(
+            twice,
+            "the parameter w is given more than once; give it once"
+        );
+        let far = parse(&QUERY.replace("d=4", "d=1e308")).unwrap_err();
+        assert_eq!(far, "d=1e308: expected from 1e-9 to 1000000000000");
+        let offset = parse(&format!("{QUERY}&ox=1&ox=2")).unwrap_err();
+        assert!(offset.contains("ox"), "{offset}");
+    }
 }

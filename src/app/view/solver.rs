@@ -251,3 +251,17 @@ pub fn name_of(options: &SimulationOptions) -> Option<&'static str> {
     let converged = options_named(*options, CONVERGED).ok()?;
     (converged == *options).then_some(CONVERGED)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_unknown_solver_is_refused_naming_every_one_compare_takes() {
+        let refused = options_named(SimulationOptions::default(), "fast\n").unwrap_err();
+        assert!(refused.starts_with("unknown solver 'fast\\n'"), "{refused}");
+        for name in solver_names().into_iter().chain([CONVERGED]) {
+            assert!(refused.contains(name), "{name}: {refused}");
+        }
+    }
+}
