@@ -97,7 +97,7 @@ pub fn write_file(
             ),
         )),
         Ok(metadata) if !metadata.is_file() => write_directly(path, is_fifo(&metadata), write)
-            .map_err(|e| FileError::os(path, "write into it", e)),
+            .map_err(|e| FileError::unwritable(path, e)),
         // A regular file, or nothing (or a link to nothing) yet: replaced
         // at the end of its links, with the permissions it had.
         Ok(_) | Err(_) => {
