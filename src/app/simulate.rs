@@ -5,9 +5,11 @@
 //! already holds frames (`frame-*.obj`, from another run: mixing the two
 //! would be wrong without a warning) unless `--force` is given, whose new
 //! frames replace those once the run is complete (`super::resume::folder`).
-//! Each frame is written all or nothing, with the run's record on its
-//! second line (`super::resume::frames`); the temporaries of a run that was killed
-//! are removed by the next run into the same folder. No frame is written
+//! Each frame is written all or nothing, at a name that is free, with the
+//! run's record on its second line (`super::resume::frames`); the partial
+//! files of a run that was killed are removed by the next run into the
+//! same folder, and the frames a killed `--force` run staged are moved in
+//! by `--resume` (`super::resume::folder`). No frame is written
 //! before the precomputation succeeds. Memory does not grow with `--steps`: the
 //! median step time comes from a bounded sample. Nor does the scene stay in
 //! memory beside the simulation: its faces are dropped before the
@@ -17,6 +19,9 @@
 //!
 //! `--resume DIR` continues the run whose frames are in `DIR` from its last
 //! two (`super::resume`), numbering the new frames on.
+//!
+//! Every file goes through `masssprings::files::outputs`, the one rule of
+//! every output (docs/reliability.md).
 
 use super::draw::texture::{read_png_file, Texture};
 use super::error::AppError;
