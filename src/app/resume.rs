@@ -81,7 +81,8 @@ pub fn last_state(folder: &Path, scene: &Scene, record: &RunRecord) -> Result<Re
         )));
     };
     refuse_two_runs(folder, &frames)?;
-    let (u_cur, carried, run) = read_exact_frame(folder, step, scene, record)?;
+    let last = read_exact_frame(folder, step, scene, record)?;
+    let (u_cur, carried, run) = (last.positions, last.carried, last.run);
     let u_prev = match step.checked_sub(1) {
         None => u_cur.clone(),
         Some(before) => {
@@ -96,7 +97,7 @@ pub fn last_state(folder: &Path, scene: &Scene, record: &RunRecord) -> Result<Re
                     frame_name(step)
                 )));
             }
-            read_exact_frame(folder, before, scene, record)?.0
+            read_exact_frame(folder, before, scene, record)?.positions
         }
     };
     Ok(Resumed {
@@ -176,7 +177,7 @@ fn read_exact_frame(
     step: usize,
     scene: &Scene,
     record: &RunRecord,
-) -> Result<(Vec<[f64; 3]>, Carried, Option<String>), AppError> {
+) -> Result<ExactFrame, AppError> {
     let path = folder.join(frame_name(step));
     let refuse = |why: String| Err(AppError::Failed(format!("{}: {why}", shown(&path))));
     if let Some(kind) = not_a_file(&path) {
@@ -227,7 +228,19 @@ fn read_exact_frame(
             scene.vertices.len()
         ));
     }
-    Ok((frame.positions, written.carried, written.run))
+    Ok(ExactFrame {
+        positions: frame.positions,
+        carried: written.carried,
+        run: written.run,
+    })
+}
+
+/// A frame read back exactly: its positions, what the methods carried
+/// after its step, and the run it names.
+struct ExactFrame {
+    positions: Vec<[f64; 3]>,
+    carried: Carried,
+    run: Option<String>,
 }
 
 /// The step of the frame at `path` (`frame-000012.obj`: 12).

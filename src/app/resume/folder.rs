@@ -406,10 +406,17 @@ fn refuse_odd(earlier: &[PathBuf]) -> Result<(), AppError> {
 /// earlier run, placed or staged.
 fn refuse_earlier(folder: &Path, earlier: &[PathBuf], staged: &[Leftover]) -> Result<(), AppError> {
     if let Some(first) = earlier.first() {
+        let also = match staged.len() {
+            0 => String::new(),
+            n => format!(
+                " and {n} a stopped `simulate --force` staged to replace them (--resume moves \
+                 those in first)"
+            ),
+        };
         return Err(AppError::Failed(format!(
-            "--out {0}: the folder already holds {1} frame(s) of an earlier run ({2}, ...); give \
-             --force to replace them once the new run is complete, --resume {0} to continue that \
-             run, or choose another folder",
+            "--out {0}: the folder already holds {1} frame(s) of an earlier run ({2}, ...){also}; \
+             give --force to replace them once the new run is complete, --resume {0} to continue \
+             that run, or choose another folder",
             shown(folder),
             earlier.len(),
             shown(Path::new(first.file_name().unwrap_or_default()))
