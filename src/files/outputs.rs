@@ -143,7 +143,11 @@ fn fill(
         .write(true)
         .create_new(true)
         .open(&temporary)
-        .map_err(|e| FileError::os(&temporary, "create it", e))?;
+        .map_err(|e| {
+            let name = temporary.file_name().map(Path::new).unwrap_or(&temporary);
+            let operation = format!("create the temporary {} beside it", shown(name));
+            FileError::os(destination, operation, e)
+        })?;
     let filled = (|| {
         let mut out = BufWriter::new(file);
         write(&mut out)?;
@@ -415,7 +419,7 @@ impl OutputFolder {
                     return Err(self.not_its_own(destination));
                 }
                 fs::rename(source, destination).map_err(replace_failed)?;
-                Ok(Moved::Renamed)
+                Ok(Moved::Replaced)
             }
         }
     }
@@ -509,19 +513,24 @@ impl OutputFolder {
     }
 }
 
-/// How a file was moved in: by a plain rename (nothing was there), or by
-/// exchanging it with the old file, now at the source's name.
+/// How a file was moved in: by a rename to a free name, by exchanging it
+/// with the old file (now at the source's name), or by a plain rename over
+/// the old file (where names cannot be exchanged: the old file is gone).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Moved {
     Renamed,
     Exchanged,
+    Replaced,
 }
 
-/// Puts a placed file back: exchanged back, or renamed back to `source`.
+/// Puts a placed file back: exchanged back, or renamed back to `source`;
+/// one that replaced an old file it could not hold stays placed (moving it
+/// back would leave the name empty).
 fn undo(source: &Path, destination: &Path, moved: Moved) {
     let _ = match moved {
         Moved::Exchanged => exchange(source, destination),
         Moved::Renamed => rename_exclusively(destination, source),
+        Moved::Replaced => Ok(()),
     };
 }
 

@@ -71,12 +71,35 @@ enum Found {
     Other,
 }
 
+/// How an extra file is told to be `simulate`'s own, again when it is
+/// replaced.
+#[derive(Debug, Clone)]
+enum OwnExtra {
+    /// The material: its first line.
+    Material(String),
+    /// The texture's copy: the texture's very bytes.
+    Copy(PathBuf),
+}
+
+impl OwnExtra {
+    fn holds(&self, path: &Path) -> bool {
+        match self {
+            OwnExtra::Material(first_line) => starts_with_line(path, first_line),
+            OwnExtra::Copy(texture) => {
+                same_file(texture, path) || read_bytes(texture).is_ok_and(|b| holds_bytes(path, &b))
+            }
+        }
+    }
+}
+
 /// The locked folder of a run's frames.
 #[derive(Debug)]
 pub struct FrameFolder {
     out: OutputFolder,
     /// What the names of the frames and extras held at the start.
     found: BTreeMap<String, Found>,
+    /// How each extra is told to be `simulate`'s, by its name.
+    extras: BTreeMap<String, OwnExtra>,
     /// `--force` over an earlier run's frames: the frames staged so far,
     /// by step, moved in by [`FrameFolder::commit`].
     staged: Option<Vec<(usize, PathBuf)>>,
@@ -96,7 +119,8 @@ impl FrameFolder {
         }
         let out = OutputFolder::open(folder, "simulate")?;
         let force = how == (Use::Fresh { force: true });
-        let mut found = survey_extras(extras);
+        let own_extras = own_extras(extras);
+        let mut found = survey_extras(&own_extras, extras);
         let foreign: Vec<PathBuf> = found
             .iter()
             .filter(|(_, &found)| found == Found::Other)
@@ -125,7 +149,12 @@ impl FrameFolder {
         // run's are in
         let replaces = !earlier.is_empty() || !frame_leftovers(&out).is_empty();
         let staged = (force && replaces).then(Vec::new);
-        Ok(FrameFolder { out, found, staged })
+        Ok(FrameFolder {
+            out,
+            found,
+            extras: own_extras,
+            staged,
+        })
     }
 
     /// Do this run's frames replace an earlier run's (`--force`)? Then
@@ -169,9 +198,14 @@ impl FrameFolder {
         write: impl FnOnce(&mut dyn io::Write) -> io::Result<()>,
     ) -> Result<(), AppError> {
         let name = path.file_name().unwrap_or_default().to_string_lossy();
+        let own = |path: &Path| {
+            self.extras
+                .get(name.as_ref())
+                .is_some_and(|e| e.holds(path))
+        };
         let expect = match self.found.get(name.as_ref()) {
             None => Expect::Nothing,
-            Some(Found::Own) => Expect::Own(&|_| true),
+            Some(Found::Own) => Expect::Own(&own),
             Some(Found::Other) => Expect::Any,
         };
         self.out.write(&name, expect, write)?;
@@ -364,26 +398,39 @@ fn staged_refusal(folder: &Path, leftovers: &[Leftover], why: &str) -> AppError 
     ))
 }
 
-/// What the extras' names held: `simulate`'s own file or another
-/// (missing names left out).
-fn survey_extras(extras: &Extras) -> BTreeMap<String, Found> {
-    let mut found = BTreeMap::new();
-    let mut note = |path: &Path, own: bool| {
-        if occupied(path) {
-            let name = path.file_name().unwrap_or_default().to_string_lossy();
-            found.insert(
-                name.into_owned(),
-                if own { Found::Own } else { Found::Other },
-            );
-        }
+/// How each of the extras is told to be `simulate`'s, by its name.
+fn own_extras(extras: &Extras) -> BTreeMap<String, OwnExtra> {
+    let mut own = BTreeMap::new();
+    let name = |path: &Path| {
+        path.file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned()
     };
     if let Some((material, first_line)) = &extras.material {
-        note(material, starts_with_line(material, first_line));
+        own.insert(name(material), OwnExtra::Material(first_line.clone()));
     }
     if let Some((texture, copy)) = &extras.texture {
-        let ours =
-            same_file(texture, copy) || read_bytes(texture).is_ok_and(|b| holds_bytes(copy, &b));
-        note(copy, ours);
+        own.insert(name(copy), OwnExtra::Copy(texture.to_path_buf()));
+    }
+    own
+}
+
+/// What the extras' names held: `simulate`'s own file or another
+/// (missing names left out).
+fn survey_extras(own: &BTreeMap<String, OwnExtra>, extras: &Extras) -> BTreeMap<String, Found> {
+    let paths = [
+        extras.material.as_ref().map(|(path, _)| path),
+        extras.texture.as_ref().map(|(_, copy)| copy),
+    ];
+    let mut found = BTreeMap::new();
+    for path in paths.into_iter().flatten().filter(|path| occupied(path)) {
+        let name = path.file_name().unwrap_or_default().to_string_lossy();
+        let ours = own.get(name.as_ref()).is_some_and(|e| e.holds(path));
+        found.insert(
+            name.into_owned(),
+            if ours { Found::Own } else { Found::Other },
+        );
     }
     found
 }
