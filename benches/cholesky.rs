@@ -2,13 +2,11 @@
 //! cloths: symbolic analysis, numeric factorization (simplicial and
 //! supernodal) and the 3-column solve.
 //!
-//! `cargo bench --bench cholesky`; add `MASSSPRINGS_BENCH_LARGE=1` for
+//! `cargo bench -p masssprings-benches --bench cholesky`; add `MASSSPRINGS_BENCH_LARGE=1` for
 //! grid-1000. Compare with the peers (`benches/peers/`, `eigen-ref bench`)
 //! run in the same session; `docs/performance.md` has the figures.
 
-mod common;
-
-use common::{assignment_scene, grid_scene, grid_sides, q_matrix};
+use bench_common::{assignment_scene, grid_scene, grid_sides, q_matrix};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use masssprings::linalg::benchmark_right_hand_side as right_hand_side;
 use masssprings::linalg::sparse::{Method, Ordering, SparseCholesky, SymbolicCholesky};

@@ -3,7 +3,7 @@
 //! ratios paired round by round.
 //!
 //! ```text
-//! cargo bench --bench iteration_cost -- [SCENE.json …] [--rounds R] [--methods LIST]
+//! cargo bench -p masssprings-benches --bench iteration_cost -- [SCENE.json …] [--rounds R] [--methods LIST]
 //! ```
 //!
 //! Default: `data/flag.json` and `data/skirt.json`, 15 rounds,
@@ -43,7 +43,7 @@ struct Options {
 }
 
 fn options() -> Options {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let root = bench_common::repository_root();
     let mut options = Options {
         scenes: vec![],
         rounds: 15,

@@ -3,12 +3,10 @@
 //! `MASSSPRINGS_BENCH_LARGE=1`), next to the natural ordering (the identity
 //! permutation) as the floor.
 //!
-//! Run with `cargo bench --bench ordering`; SuiteSparse AMD on the same
+//! Run with `cargo bench -p masssprings-benches --bench ordering`; SuiteSparse AMD on the same
 //! matrices: `benches/peers/cholmod_peer` (`docs/performance.md`).
 
-mod common;
-
-use common::{assignment_scene, grid_scene, grid_sides, q_matrix};
+use bench_common::{assignment_scene, grid_scene, grid_sides, q_matrix};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use masssprings::linalg::sparse::amd::{amd, AmdOptions};
 use masssprings::linalg::sparse::Permutation;

@@ -4,9 +4,7 @@
 //! `shared/tools/eigen-ref/ref bench SCENE.json` run in the same session;
 //! `docs/performance.md` has the figures.
 
-mod common;
-
-use common::{assignment_scene, grid_scene};
+use bench_common::{assignment_scene, grid_scene};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;

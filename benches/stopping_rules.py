@@ -21,8 +21,8 @@ Make the curves first (steps 1..30, flag and skirt):
   done; done
   python3 benches/stopping_rules.py DIR [chebyshev=1.09 anderson=1.32 lbfgs=1.94]
 
-The default costs per iteration are those `cargo bench --bench
-iteration_cost` measured in session 17 on the flag.
+The default costs per iteration are those `cargo bench -p
+masssprings-benches --bench iteration_cost` measured on the flag.
 
 It also prints, per step, plain-50's decrease over plain's first one
 (E(x_0) - E(x_50)) / (E(x_0) - E(x_1)): at most 50 wherever the plain

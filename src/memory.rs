@@ -303,7 +303,7 @@ impl fmt::Display for TooLarge {
 impl std::error::Error for TooLarge {}
 
 /// `bytes` in GB for a message: `1440 GB`, `0.016 GB`, `more than 18 EB`.
-fn gigabytes(bytes: u64) -> String {
+pub fn gigabytes(bytes: u64) -> String {
     if bytes == u64::MAX {
         return "more than 18 million TB (the size overflows 64 bits)".into();
     }

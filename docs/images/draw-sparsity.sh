@@ -6,14 +6,11 @@
 #
 #     bash docs/images/draw-sparsity.sh
 #
-# MASSSPRINGS overrides the program (e.g. MASSSPRINGS=target/debug/masssprings
-# to skip the release build); the pictures do not depend on the build.
+# The program: docs/images/program.sh (the test profile's binary unless
+# MASSSPRINGS names another).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-if [ -z "${MASSSPRINGS:-}" ]; then
-    cargo build --release --quiet
-    MASSSPRINGS=target/release/masssprings
-fi
+source docs/images/program.sh
 grid=$(mktemp -d)
 trap 'rm -rf "$grid"' EXIT
 

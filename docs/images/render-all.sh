@@ -6,12 +6,12 @@
 #     bash docs/images/render-all.sh
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-cargo build --release --quiet
+source docs/images/program.sh
 
 render() {
     local scene=$1
     shift
-    cargo run --release --quiet -- render "data/$scene.json" \
+    "$MASSSPRINGS" render "data/$scene.json" \
         --steps 150 --every 2 --size 360x270 "$@" -o "docs/images/$scene.gif"
 }
 

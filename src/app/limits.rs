@@ -8,6 +8,7 @@ use super::error::AppError;
 use masssprings::files::shown;
 use masssprings::memory::{self, bytes_for, thousands};
 use masssprings::mesh::Scene;
+use masssprings::sim::precomputation;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Dense, LinearAlgebra, Simulation, SimulationError};
 use std::path::Path;
@@ -24,15 +25,38 @@ pub fn precompute<B: LinearAlgebra>(
     scene_path: &Path,
     options: SimulationOptions,
 ) -> Result<Simulation<B>, AppError> {
+    check_precomputation::<B>(scene, scene_path, options)?;
+    Simulation::<B>::from_scene(scene, options)
+        .map_err(|error| precomputation_failed(scene_path, &error))
+}
+
+/// What [`precompute`] checks before it starts: the dense path's memory,
+/// `Q`'s overflow.
+///
+/// # Errors
+/// The refusal.
+pub fn check_precomputation<B: LinearAlgebra>(
+    scene: &Scene,
+    scene_path: &Path,
+    options: SimulationOptions,
+) -> Result<(), AppError> {
     if B::NAME == Dense::NAME {
         check_dense(scene)?;
     }
-    Simulation::<B>::from_scene(scene, options).map_err(|error| {
-        let path = shown(scene_path);
-        AppError::Failed(match error {
-            SimulationError::QOverflow(why) => format!("{path}: {why}"),
-            error => format!("{path}: the precomputation failed: {error}"),
-        })
+    // the library refuses it too; here before any allocation, with the path
+    precomputation::check_q_fits(&scene.springs, &scene.masses, scene.k, options.delta_t)
+        .map_err(|error| precomputation_failed(scene_path, &error))
+}
+
+/// The precomputation of the scene at `scene_path` failed with `error`: a
+/// `Q` that would overflow is named as the library names it (the quantity,
+/// its vertex, the largest value that fits), anything else as a failed
+/// precomputation.
+pub fn precomputation_failed(scene_path: &Path, error: &SimulationError) -> AppError {
+    let path = shown(scene_path);
+    AppError::Failed(match error {
+        SimulationError::QOverflow(why) => format!("{path}: {why}"),
+        error => format!("{path}: the precomputation failed: {error}"),
     })
 }
 
@@ -54,19 +78,24 @@ pub fn dense_bytes(n: usize, springs: usize, pins: usize) -> u64 {
 /// A failure with the estimate, the limit and the advice to use the sparse
 /// path.
 pub fn check_dense(scene: &Scene) -> Result<(), AppError> {
-    let n = scene.vertices.len();
-    memory::check(
-        dense_bytes(n, scene.springs.len(), scene.pinned.len()),
-        || {
-            format!(
-                "the dense path for n = {} ({} springs; five n × n matrices of f64)",
-                thousands(n as u64),
-                thousands(scene.springs.len() as u64)
-            )
-        },
-        "use the sparse path (without --dense)",
-    )?;
+    let (bytes, what) = dense_need(scene);
+    memory::check(bytes, || what, "use the sparse path (without --dense)")?;
     Ok(())
+}
+
+/// What the dense path of `scene` takes: its bytes ([`dense_bytes`]) and
+/// what they are for, as [`check_dense`] says it.
+pub fn dense_need(scene: &Scene) -> (u64, String) {
+    let n = scene.vertices.len();
+    let what = format!(
+        "the dense path for n = {} ({} springs; five n × n matrices of f64)",
+        thousands(n as u64),
+        thousands(scene.springs.len() as u64)
+    );
+    (
+        dense_bytes(n, scene.springs.len(), scene.pinned.len()),
+        what,
+    )
 }
 
 /// Refuses to keep `frames` frames of `bytes_per_frame` each (positions or

@@ -3,7 +3,7 @@
 //!
 //! This file is the dispatcher only: it parses the line, runs one command
 //! and maps its error to an exit code. Below it, each floor uses only the
-//! floors under it (`tests/layers.rs` checks it):
+//! floors under it (`tests/repository/layers.rs` checks it):
 //!
 //! ```text
 //! commands           simulate, render, view/, converge/, trace/, analyze, bench,

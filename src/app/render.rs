@@ -95,7 +95,10 @@ on standard error (none with --json).
 
 With --mistake NAME, draws the handout's step (left) beside the same step with
 one of the usual mistakes made in it (right), in one picture of --size:
-docs/mistakes.md shows every one and what it looks like.")]
+docs/mistakes.md shows every one and what it looks like. With --json too, prints
+the mistake's entry and the figures of the two runs that the gallery quotes
+(lowest point, farthest move, pins moved, extent, distance apart, swing, first
+bottom, first step not finite).")]
 pub struct RenderArgs {
     /// The scene: JSON that names an OBJ (data/README.md).
     #[arg(value_name = "SCENE.json")]
@@ -122,7 +125,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "F", default_value = "all", value_parser = ["rest", "last", "all"])]
     fit: String,
     /// Draw the handout's step beside the same step with one of the usual mistakes in it (docs/mistakes.md).
-    #[arg(long, value_name = "NAME", value_parser = choice::<Mistake>(&Mistake::ALL.map(Mistake::name)), conflicts_with_all = ["json", "fit", "dense"])]
+    #[arg(long, value_name = "NAME", value_parser = choice::<Mistake>(&Mistake::ALL.map(Mistake::name)), conflicts_with_all = ["fit", "dense"])]
     mistake: Option<Mistake>,
     #[command(flatten)]
     json: JsonFlag,
@@ -294,7 +297,7 @@ fn picture(request: &Request) -> mistake::Picture<'_> {
         size: (request.width, request.height),
         options: request.options,
         springs: request.springs,
-        progress: !request.json,
+        json: request.json,
     }
 }
 

@@ -26,7 +26,7 @@
 //! With all of it, `Simulation::set_state(U_prev, U_cur, step)` and
 //! `Simulation::carry` put the simulation where the run stopped, and the
 //! next step gives the same bits as a run that never stopped
-//! (`tests/resume.rs`, every method). Step 0 alone resumes as the start:
+//! (`tests/app/resume.rs`, every method). Step 0 alone resumes as the start:
 //! before step 0 the cloth was at rest, `U_prev = U_cur`.
 
 pub mod folder;

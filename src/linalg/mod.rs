@@ -1,11 +1,13 @@
 //! Hand-written linear algebra: everything the mass-spring solver needs, and
 //! nothing about springs. It imports only `std` and itself (checked by
-//! `tests/layers.rs`), so it could be lifted out as a crate of its own.
+//! `tests/repository/layers.rs`), so it could be lifted out as a crate of its own.
 //!
 //! * [`dense`]: a row-major matrix and a dense Cholesky factorization.
 //! * [`sparse`]: triplets → CSC, CSC operations, orderings (AMD), the sparse
 //!   Cholesky pipeline (analyse once, factor, solve).
 //! * [`huge_pages`]: asking Linux for 2 MB pages under large arrays.
+//! * [`cancel`]: a flag that stops the long dense operations from another
+//!   thread.
 //!
 //! The pipeline from triplets to a solve is walked through in
 //! `docs/sparse-cholesky.md`. Reading and writing its matrices as Matrix
@@ -13,11 +15,13 @@
 //! a reader of files follows the crate's rules for files (size caps, errors
 //! naming file and line, the memory limit), which are not linear algebra.
 
+pub mod cancel;
 pub mod dense;
 pub mod error;
 pub mod huge_pages;
 pub mod sparse;
 
+pub use cancel::Cancel;
 pub use error::LinalgError;
 
 /// The fixed, varied `n × 3` right-hand side every solve benchmark uses

@@ -24,7 +24,9 @@ pub enum SimulationError {
     EnergyNotFinite,
     /// The step was asked to stop between two iterations
     /// ([`Simulation::set_cancel`](super::Simulation::set_cancel)); the state
-    /// is left at the last completed step.
+    /// is left at the last completed step. Or the precomputation was asked
+    /// to stop ([`Simulation::from_scene_cancellable`](super::Simulation::from_scene_cancellable)):
+    /// there is no simulation.
     Cancelled,
 }
 
@@ -45,7 +47,7 @@ impl fmt::Display for SimulationError {
             ),
             SimulationError::Cancelled => write!(
                 f,
-                "the step was cancelled before it was done; the simulation stays at its last completed step"
+                "cancelled before it was done; the simulation stays as it was"
             ),
         }
     }
@@ -54,7 +56,12 @@ impl fmt::Display for SimulationError {
 impl std::error::Error for SimulationError {}
 
 impl From<LinalgError> for SimulationError {
+    /// A cancelled operation is a cancelled simulation, whatever was
+    /// cancelled; every other error stays the linear algebra's.
     fn from(error: LinalgError) -> Self {
-        SimulationError::Linalg(error)
+        match error {
+            LinalgError::Cancelled => SimulationError::Cancelled,
+            error => SimulationError::Linalg(error),
+        }
     }
 }

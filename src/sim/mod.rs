@@ -13,7 +13,7 @@
 //! | [`spring_pass`], [`energy`], [`hessian`] | the energy a step minimises, its gradient and Hessian |
 //! | [`precomputation`], [`exact_pins`] | `r`, `M`, `A`, `C`, `Q` and its factor, constant: the fast path's `MassSpringSystem::new` |
 //! | [`textbook`] | `fast_mass_springs_precomputation/step_{dense,sparse}` as the handout writes them |
-//! | [`mistakes`] | the same, with one of the usual mistakes made on purpose (`render`/`trace --mistake`) |
+//! | [`mistakes`] | the same, with one of the usual mistakes made on purpose (`render`/`trace --mistake`, the diagnosis of `trace --compare`) |
 //! | [`global_step`], [`monitor`] | the fast path's iteration; stopping rules and observers |
 //! | [`methods`] | plain and the four methods that accelerate it |
 //! | [`step`] | one step on the fast path, with its own work arrays |

@@ -17,6 +17,7 @@ use super::monitor::Observer;
 use super::precomputation::{MassSpringSystem, DELTA_T};
 use super::step::{StepReport, StepState};
 use crate::linalg::sparse::{Method, Ordering, SupernodeMerging};
+use crate::linalg::Cancel;
 use crate::mesh::Scene;
 use std::fmt;
 use std::str::FromStr;
@@ -230,6 +231,10 @@ pub struct Simulation<B: LinearAlgebra> {
     /// Diagonal of the rest shape's bounding box (the wind's length scale).
     scale: f64,
     steps: usize,
+    /// The simulated time and the step count when `Δt` last changed (0
+    /// and 0 until it does): the time is that time plus `Δt` for each
+    /// step since.
+    clock: (f64, usize),
     /// The vertex being dragged, if any (an extra, last pin), and where.
     dragged: Option<(usize, [f64; 3])>,
     /// The scene's masses, before [`Simulation::set_parameters`] scales them.
@@ -256,6 +261,46 @@ impl<B: LinearAlgebra> Simulation<B> {
         pinned: &[usize],
         options: SimulationOptions,
     ) -> Result<Self, SimulationError> {
+        Self::build(vertices, springs, k, masses, pinned, options, None)
+    }
+
+    /// The simulation of a loaded scene, starting at rest, whose
+    /// precomputation stops once `cancel` is set, with
+    /// [`SimulationError::Cancelled`] and nothing kept: the dense backend
+    /// looks at the flag while it forms `AᵀA` and factors `Q`, minutes and
+    /// gigabytes on a large scene. Its steps look at the same flag
+    /// ([`Simulation::set_cancel`]), and so do the precomputations the
+    /// handout's functions make again when `k`, `Δt`, the masses or the
+    /// pins change.
+    ///
+    /// # Errors
+    /// As [`Simulation::new`]; [`SimulationError::Cancelled`].
+    pub fn from_scene_cancellable(
+        scene: &Scene,
+        options: SimulationOptions,
+        cancel: Arc<AtomicBool>,
+    ) -> Result<Self, SimulationError> {
+        Self::build(
+            &scene.vertices,
+            &scene.springs,
+            scene.k,
+            &scene.masses,
+            &scene.pinned,
+            options,
+            Some(cancel),
+        )
+    }
+
+    /// [`Simulation::new`], stopped by `cancel` if given.
+    fn build(
+        vertices: &[[f64; 3]],
+        springs: &[[usize; 2]],
+        k: f64,
+        masses: &[f64],
+        pinned: &[usize],
+        options: SimulationOptions,
+        cancel: Option<Arc<AtomicBool>>,
+    ) -> Result<Self, SimulationError> {
         let network = Network {
             vertices,
             springs,
@@ -263,6 +308,7 @@ impl<B: LinearAlgebra> Simulation<B> {
             masses,
             pinned,
             delta_t: options.delta_t,
+            cancel: Cancel::on(cancel.as_deref()),
         };
         let engine = new_engine::<B>(&network, &options)?;
         let n = vertices.len();
@@ -277,10 +323,11 @@ impl<B: LinearAlgebra> Simulation<B> {
             options,
             scale: bounding_box_diagonal(vertices),
             steps: 0,
+            clock: (0.0, 0),
             dragged: None,
             masses: masses.to_vec(),
             mass_scale: 1.0,
-            cancel: None,
+            cancel,
         })
     }
 
@@ -371,9 +418,18 @@ impl<B: LinearAlgebra> Simulation<B> {
         self.steps
     }
 
-    /// Simulated time, `steps · Δt`.
+    /// Simulated time: the sum of every step's own `Δt` since the start
+    /// (`steps · Δt` while `Δt` has not changed).
     pub fn time(&self) -> f64 {
-        self.steps as f64 * self.options.delta_t
+        let (time, steps) = self.clock;
+        time + self.steps.saturating_sub(steps) as f64 * self.options.delta_t
+    }
+
+    /// Says that the current state is at simulated time `time` (a state
+    /// carried over from a simulation whose `Δt` changed on the way; see
+    /// [`Simulation::set_state`]).
+    pub fn set_time(&mut self, time: f64) {
+        self.clock = (time, self.steps);
     }
 
     /// The precomputed system of the fast path (matrices, factorization);
@@ -489,6 +545,9 @@ impl<B: LinearAlgebra> Simulation<B> {
     ) -> Result<(), SimulationError> {
         let masses: Vec<f64> = self.masses.iter().map(|&m| m * mass_scale).collect();
         self.remake(k, delta_t, &masses, None)?;
+        if delta_t != self.options.delta_t {
+            self.set_time(self.time()); // the steps so far took the old Δt
+        }
         self.options.delta_t = delta_t;
         self.mass_scale = mass_scale;
         Ok(())
@@ -560,11 +619,13 @@ impl<B: LinearAlgebra> Simulation<B> {
         self.u_prev.copy_from_slice(&self.rest);
         self.u_cur.copy_from_slice(&self.rest);
         self.steps = 0;
+        self.clock = (0.0, 0);
         Ok(())
     }
 
     /// Continues from a saved state: `U_prev`, `U_cur` and the number of
-    /// steps they are after the start (for the wind's clock).
+    /// steps they are after the start (for the wind's clock: the time is
+    /// `steps · Δt` until [`Simulation::set_time`] says otherwise).
     ///
     /// # Errors
     /// [`SimulationError::InvalidInput`] when a state does not have one
@@ -587,6 +648,7 @@ impl<B: LinearAlgebra> Simulation<B> {
         self.u_prev.copy_from_slice(u_prev);
         self.u_cur.copy_from_slice(u_cur);
         self.steps = steps;
+        self.clock = (0.0, 0);
         Ok(())
     }
 
@@ -696,6 +758,7 @@ impl<B: LinearAlgebra> Simulation<B> {
             masses,
             pinned: &pins,
             delta_t,
+            cancel: Cancel::on(self.cancel.as_deref()),
         };
         self.engine.remake(&network, &targets)
     }

@@ -4,7 +4,7 @@
 //
 // Environment: MASSSPRINGS_BIN (the binary), CHROMIUM (the browser).
 import assert from 'node:assert/strict';
-import { spawn } from 'node:child_process';
+import { execFileSync, spawn } from 'node:child_process';
 import { createInterface } from 'node:readline';
 import fs from 'node:fs';
 import os from 'node:os';
@@ -26,6 +26,12 @@ export const CHROMIUM_FLAGS = [
 
 /** Chromium without WebGL: the page falls back to the server's images. */
 export const NO_WEBGL_FLAGS = ['--disable-webgl', '--disable-3d-apis'];
+
+/** Runs `masssprings simulate SCENE --steps N --out FOLDER` (the frames
+ *  a program writes, for --frames). */
+export function writeFrames(scene, steps, folder) {
+  execFileSync(binary, ['simulate', scene, '--steps', String(steps), '--out', folder, '--force'], { stdio: 'ignore' });
+}
 
 /** Starts `masssprings view SCENE --port 0 FLAGS…` and reads the URL it
  *  prints. */
@@ -59,8 +65,9 @@ export class Session {
     this.foreignRequests = [];
   }
 
-  /** Starts the viewer of `scene` and opens it at `viewport`. */
-  async open(scene, { flags = [], viewport = { width: 1400, height: 900 }, chromiumFlags = [] } = {}) {
+  /** Starts the viewer of `scene` and opens it at `viewport`
+   *  (`touch`: as a phone's browser, with a touch screen). */
+  async open(scene, { flags = [], viewport = { width: 1400, height: 900 }, chromiumFlags = [], touch = false } = {}) {
     fs.mkdirSync(outputFolder, { recursive: true });
     ({ child: this.viewer, url: this.url } = await startViewer(scene, flags));
     this.userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'masssprings-chromium-'));
@@ -69,6 +76,7 @@ export class Session {
       headless: true,
       args: [...CHROMIUM_FLAGS, ...chromiumFlags],
       viewport,
+      ...(touch ? { hasTouch: true, isMobile: true } : {}),
     });
     this.page = this.browser.pages()[0] ?? await this.browser.newPage();
     this.page.on('pageerror', (error) => this.pageErrors.push(String(error)));
@@ -90,6 +98,12 @@ export class Session {
   async status() {
     const response = await fetch(`${this.url}api/status`);
     return response.json();
+  }
+
+  /** The viewer process's resident memory, in MB (Linux). */
+  residentMegabytes() {
+    const status = fs.readFileSync(`/proc/${this.viewer.pid}/status`, 'utf8');
+    return Number(status.match(/VmRSS:\s+(\d+) kB/)[1]) / 1024;
   }
 
   /** Polls `condition(status)` until it holds (or fails after `ms`). */

@@ -9,6 +9,7 @@ use proptest::prelude::*;
 use proptest::test_runner::{Config, FileFailurePersistence};
 
 pub mod network;
+pub mod student;
 #[allow(unused_imports)] // not every test binary uses the networks
 pub use network::*;
 

@@ -14,7 +14,10 @@
 //! and says from which step it stopped.
 //!
 //! `--size` is the size of the whole picture; each panel is half as wide
-//! (`draw/panels.rs` puts them side by side). Cost: two simulations and
+//! (`draw/panels.rs` puts them side by side). With `--json`, the figures
+//! of the two runs (`masssprings::sim::mistakes::figures`) are printed
+//! with the mistake's entry, as one JSON object: the numbers
+//! `docs/mistakes.md` quotes of each picture. Cost: two simulations and
 //! twice the frames of a plain `render`.
 
 use crate::app::draw::camera::{BoundingBox, Camera};
@@ -29,8 +32,9 @@ use crate::app::progress::Progress;
 use masssprings::files::write_file;
 use masssprings::mesh::procedural::RgbImage;
 use masssprings::mesh::Scene;
+use masssprings::sim::mistakes::figures::{Figures, Measuring};
 use masssprings::sim::mistakes::precomputation::precomputation;
-use masssprings::sim::mistakes::step::StudentSimulation;
+use masssprings::sim::mistakes::simulation::StudentSimulation;
 use masssprings::sim::mistakes::Mistake;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::Sparse;
@@ -49,7 +53,8 @@ pub struct Picture<'a> {
     /// How the handout's simulation runs (wind, ordering, Δt).
     pub options: SimulationOptions,
     pub springs: bool,
-    pub progress: bool,
+    /// Print the entry and the figures as JSON (and no progress).
+    pub json: bool,
 }
 
 /// The positions to draw, step 0 and every `every`-th step (a PNG: the
@@ -59,6 +64,31 @@ struct Runs {
     handout: Vec<Vec<[f64; 3]>>,
     student: Vec<Vec<[f64; 3]>>,
     stopped: Option<usize>,
+    figures: Figures,
+}
+
+/// What `render --mistake NAME --json` prints.
+#[derive(serde::Serialize)]
+struct Report<'a> {
+    out: String,
+    frames: usize,
+    mistake: &'a str,
+    wrong: &'a str,
+    right: &'a str,
+    scene: String,
+    steps: usize,
+    /// The quantity `trace --compare` names first for it (gallery).
+    first: &'a str,
+    figures: Figures,
+    /// The figure the gallery quotes, and its value in this run.
+    quoted: Quoted<'a>,
+}
+
+#[derive(serde::Serialize)]
+struct Quoted<'a> {
+    measure: &'a str,
+    words: &'a str,
+    value: f64,
 }
 
 /// Draws the handout's step and `mistake` side by side into `picture.out`.
@@ -89,6 +119,10 @@ pub fn run(
             encode::write_png(out, images.last().expect("a frame"))
         }
     })?;
+    if picture.json {
+        print_json(picture, mistake, &runs, images.len());
+        return Ok(());
+    }
     let bytes = std::fs::metadata(picture.out).map_or(0, |m| m.len());
     println!(
         "wrote {} ({} frame(s) of {width}×{height}: the handout's step | {mistake}, {:.0} KiB)",
@@ -104,8 +138,32 @@ pub fn run(
     Ok(())
 }
 
+/// The entry and the figures, as one JSON object on standard output.
+fn print_json(picture: &Picture, mistake: Mistake, runs: &Runs, frames: usize) {
+    let entry = mistake.entry();
+    let figure = entry.figure;
+    let report = Report {
+        out: picture.out.display().to_string(),
+        frames,
+        mistake: entry.name,
+        wrong: entry.wrong,
+        right: entry.right,
+        scene: picture.scene_path.display().to_string(),
+        steps: picture.steps,
+        first: entry.first,
+        figures: runs.figures,
+        quoted: Quoted {
+            measure: figure.measure.name(),
+            words: figure.quoted,
+            value: runs.figures.get(figure.measure),
+        },
+    };
+    let json = serde_json::to_string_pretty(&report).expect("plain values serialise");
+    println!("{json}");
+}
+
 /// Runs the handout's step and the student's from rest, keeping the
-/// frames to draw.
+/// frames to draw and measuring the figures.
 fn simulate(picture: &Picture, scene: &Scene, mistake: Mistake) -> Result<Runs, AppError> {
     let handout_options = SimulationOptions {
         textbook: true,
@@ -124,9 +182,11 @@ fn simulate(picture: &Picture, scene: &Scene, mistake: Mistake) -> Result<Runs, 
         handout: Vec::new(),
         student: Vec::new(),
         stopped: None,
+        figures: Measuring::new(&scene.vertices, &scene.pinned).finish(),
     };
+    let mut measuring = Measuring::new(&scene.vertices, &scene.pinned);
     let mut last_finite = student.positions().to_vec();
-    let mut progress = Progress::new(picture.steps, picture.progress);
+    let mut progress = Progress::new(picture.steps, !picture.json);
     for step in 0..=picture.steps {
         if step > 0 {
             handout
@@ -139,6 +199,7 @@ fn simulate(picture: &Picture, scene: &Scene, mistake: Mistake) -> Result<Runs, 
                     runs.stopped = Some(step);
                 }
             }
+            measuring.observe(handout.positions(), student.positions());
             progress.step_done(step);
         }
         if keep(step) {
@@ -147,6 +208,7 @@ fn simulate(picture: &Picture, scene: &Scene, mistake: Mistake) -> Result<Runs, 
         }
     }
     progress.finish();
+    runs.figures = measuring.finish();
     Ok(runs)
 }
 

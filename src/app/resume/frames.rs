@@ -53,6 +53,17 @@ pub fn frame_step(name: &str) -> Option<usize> {
     digits.parse().ok()
 }
 
+/// The name and number of a numbered OBJ file, `frame-000012.obj` (a
+/// frame of `simulate`) or any `NAME12.obj`: the part before the trailing
+/// digits, and their value (`("frame-", 12)`, `("cloth_", 12)`); `None`
+/// for another file.
+pub fn numbered_obj(name: &str) -> Option<(&str, usize)> {
+    let stem = name.strip_suffix(".obj")?;
+    let digits = stem.bytes().rev().take_while(u8::is_ascii_digit).count();
+    let (prefix, number) = stem.split_at(stem.len() - digits);
+    Some((prefix, number.parse().ok()?))
+}
+
 /// The words between the scene's name and the step on a frame's first line.
 const FRAME_MARK: &str = " — masssprings frame, step ";
 /// The start of a frame's second line.
@@ -467,6 +478,10 @@ mod tests {
             assert_eq!(error.line(), Some(line), "{text:?}: {error}");
         }
         assert_eq!(frame_step("frame-000012.obj"), Some(12));
+        assert_eq!(numbered_obj("frame-000012.obj"), Some(("frame-", 12)));
+        assert_eq!(numbered_obj("7.obj"), Some(("", 7)));
+        assert_eq!(numbered_obj("cloth.obj"), None);
+        assert_eq!(numbered_obj("cloth12.png"), None);
         assert_eq!(frame_step("frame-12.obj"), None);
         assert_eq!(frame_step("frame-99999999999999999999999.obj"), None);
     }

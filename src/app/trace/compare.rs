@@ -24,11 +24,17 @@
 //! `M` as its diagonal.
 //!
 //! The first `DIFFERS` line is the first quantity to fix: everything after
-//! it is computed from it and may differ because of it.
+//! it is computed from it and may differ because of it. The diagnosis
+//! ([`diagnosis`]) then says what went wrong there: the mistake of the
+//! gallery whose numbers the student's are, or the nearest proven hint;
+//! [`report`] prints it all as a table or, with `--json`, one JSON object.
 
+mod diagnosis;
 mod entries;
 mod factor;
+mod order;
 mod place;
+mod report;
 mod springs;
 mod sum;
 
@@ -46,25 +52,14 @@ use masssprings::linalg::dense::DenseMatrix;
 use masssprings::linalg::sparse::CscMatrix;
 use masssprings::matrix_market::{read, MatrixMarket};
 use masssprings::sim::ITERATIONS;
+use order::in_their_order;
 use place::{Context, Place};
+use report::{Outcome, Report};
 use std::borrow::Cow;
 use std::path::Path;
 
-/// What a comparison found for one quantity.
-#[derive(Debug)]
-enum Outcome {
-    /// Not in the student's folder.
-    NotGiven,
-    /// Within the tolerance; the largest difference, if any, and a remark.
-    Agrees(Option<Place>, String),
-    /// Outside the tolerance (at `Place`), or the file could not be
-    /// compared at all (the reason).
-    Differs(Option<Place>, String),
-    /// Allowed, but worth saying (another ordering `P`, another spring order).
-    Note(String),
-}
-
-pub fn run(ours: &Path, theirs: &Path) -> Result<(), AppError> {
+/// Compares `theirs` with `ours` and reports, as a table or as JSON.
+pub fn run(ours: &Path, theirs: &Path, json: bool) -> Result<(), AppError> {
     let manifest = read_manifest(ours)?;
     check_manifest(&manifest, ours)?;
     check_one_trace(&manifest, ours)?;
@@ -78,30 +73,49 @@ pub fn run(ours: &Path, theirs: &Path) -> Result<(), AppError> {
     let [a, q, p, c] = ["A.mtx", "Q.mtx", "P.mtx", "C.mtx"].map(|name| read_ours(ours, name));
     let mut context = Context::new(manifest.k, [&a?, &q?, &p?, &c?])
         .map_err(|e| AppError::Failed(format!("{}: {e}", shown(ours))))?;
-    println!(
-        "comparing {} with {} ({}, step {}, {} iteration(s), {} ordering){}{}\n\n{}",
-        shown(theirs),
-        shown(ours),
-        escaped(&manifest.scene),
-        manifest.step,
-        manifest.iterations,
-        escaped(&manifest.ordering),
-        mistake_in(theirs, theirs_manifest(theirs).as_ref(), ""),
-        mistake_in(ours, Some(&manifest), ", not the correct quantities"),
-        LEGEND
-    );
-    let (mut given, mut first_wrong, mut wrong) = (0, None, 0);
+    let mut findings = Vec::with_capacity(all.len());
     for quantity in &all {
         let outcome = compare_one(quantity, ours, theirs, &mut context)?;
-        print_line(quantity, &outcome, &context);
-        given += usize::from(!matches!(outcome, Outcome::NotGiven));
-        if let Outcome::Differs(place, reason) = outcome {
-            wrong += 1;
-            first_wrong.get_or_insert((*quantity, place, reason));
-        }
+        findings.push((*quantity, outcome));
     }
-    print_ignored(theirs, &all, manifest.iterations);
-    conclude(theirs, given, wrong, first_wrong, &context)
+    let verdicts: Vec<diagnosis::Finding> = findings
+        .iter()
+        .map(|(quantity, outcome)| diagnosis::Finding {
+            quantity: *quantity,
+            given: !matches!(outcome, Outcome::NotGiven),
+            differs: matches!(outcome, Outcome::Differs(..)),
+        })
+        .collect();
+    let inputs = diagnosis::inputs::Inputs {
+        ours,
+        theirs,
+        context: &context,
+        iterations: manifest.iterations,
+        read: Default::default(),
+    };
+    let report = Report {
+        heading: format!(
+            "comparing {} with {} ({}, step {}, {} iteration(s), {} ordering){}{}",
+            shown(theirs),
+            shown(ours),
+            escaped(&manifest.scene),
+            manifest.step,
+            manifest.iterations,
+            escaped(&manifest.ordering),
+            mistake_in(theirs, theirs_manifest(theirs).as_ref(), ""),
+            mistake_in(ours, Some(&manifest), ", not the correct quantities"),
+        ),
+        diagnosis: diagnosis::diagnose(&inputs, &verdicts),
+        findings,
+        ignored: report::ignored(theirs, &all),
+        context: &context,
+        iterations: manifest.iterations,
+    };
+    match json {
+        true => report.print_json(),
+        false => report.print_text(),
+    }
+    report.conclude(theirs)
 }
 
 /// Refuses a manifest whose iterations `trace` cannot have written,
@@ -159,48 +173,6 @@ fn mistake_in(folder: &Path, manifest: Option<&Manifest>, remark: &str) -> Strin
         ),
         None => String::new(),
     }
-}
-
-/// What the columns of the table are.
-const LEGEND: &str = "\
-relative:  the largest |ours − yours| of the quantity divided by the scale named under \"where\"
-           (|ours|, |yours|, or what the entry is held to); tolerance is the largest that agrees
-where:     vertices, springs and pins count from 0 as in V, E and b (and Eigen); the file's row
-           and column count from 1; at vertices the place shown is a free one unless only a pin differs
-
-quantity  result     relative   tolerance  where";
-
-/// The closing line, and the exit status: an error when anything differs
-/// or nothing was given.
-fn conclude(
-    theirs: &Path,
-    given: usize,
-    wrong: usize,
-    first_wrong: Option<(Quantity, Option<Place>, String)>,
-    context: &Context,
-) -> Result<(), AppError> {
-    if given == 0 {
-        return Err(AppError::Failed(format!(
-            "{} holds none of the files trace writes (A.mtx, r.mtx, M.mtx, …): nothing was compared",
-            shown(theirs)
-        )));
-    }
-    let Some((quantity, place, reason)) = first_wrong else {
-        println!("\nall {given} quantities given agree");
-        return Ok(());
-    };
-    let file = quantity.file_name();
-    let at = match place {
-        Some(place) => context.describe(quantity.spec, &place),
-        None => reason
-            .strip_prefix(&format!("{}: ", shown(&theirs.join(&file))))
-            .map_or(reason.clone(), str::to_string),
-    };
-    println!("\nfirst wrong quantity: {} ({file}): {at}", quantity.name());
-    Err(AppError::Failed(format!(
-        "{wrong} of the {given} quantities given differ; the first is {}",
-        quantity.name()
-    )))
 }
 
 /// One quantity: ours against the student's, when given. A file that
@@ -337,8 +309,12 @@ fn entries(
     };
     let dense = matches!(*our, MatrixMarket::Dense(_));
     let shape = entries::shape(&our);
-    let their = conform(their, shape, dense, spec.symbol == "M")
-        .map_err(|e| format!("{e} ({}){}", spec.shape, shape_hint(spring_rows, context)))?;
+    let their = conform(their, shape, dense, spec.symbol == "M").map_err(|e| {
+        joined(
+            &format!("{e} ({})", spec.shape),
+            shape_hint(spring_rows, context),
+        )
+    })?;
     let largest = match (&*our, &their) {
         (MatrixMarket::Dense(a), MatrixMarket::Dense(b)) => {
             dense_difference(a, b, reference, &kinds)
@@ -347,32 +323,9 @@ fn entries(
     };
     let mut outcome = verdict(largest, tolerance, remark);
     if let Outcome::Differs(_, reason) = &mut outcome {
-        reason.push_str(order_hint(spring_rows, context));
+        *reason = joined(reason, order_hint(spring_rows, context));
     }
     Ok(outcome)
-}
-
-/// Ours in the student's spring order: row `e′` is our row of their
-/// spring `e′`, negated when `oriented` and the spring is reversed; rows
-/// of springs that are not ours are skipped.
-fn in_their_order(
-    our: &DenseMatrix,
-    matching: &springs::Matching,
-    oriented: bool,
-) -> (DenseMatrix, Vec<RowKind>) {
-    let mut ordered = DenseMatrix::zeros(matching.ours_of.len(), our.ncols());
-    let mut kinds = vec![RowKind::Skipped; matching.ours_of.len()];
-    for (e, matched) in matching.ours_of.iter().enumerate() {
-        let Some((ours, reversed)) = *matched else {
-            continue;
-        };
-        let sign = if oriented && reversed { -1.0 } else { 1.0 };
-        for (to, from) in ordered.row_mut(e).iter_mut().zip(our.row(ours)) {
-            *to = sign * from;
-        }
-        kinds[e] = RowKind::Free;
-    }
-    (ordered, kinds)
 }
 
 /// Says when springs were compared through a matching that is not all of
@@ -388,7 +341,7 @@ fn matched_remark(matching: &springs::Matching) -> String {
 /// For a spring quantity compared in our order: how to compare in yours.
 fn order_hint(spring_rows: bool, context: &Context) -> &'static str {
     match spring_rows && context.matching().is_none() {
-        true => "; compared in our spring order: give your A.mtx to compare in yours",
+        true => "compared in our spring order: give your A.mtx to compare in yours",
         false => "",
     }
 }
@@ -396,8 +349,17 @@ fn order_hint(spring_rows: bool, context: &Context) -> &'static str {
 /// For a spring quantity of another shape: what its rows must be.
 fn shape_hint(spring_rows: bool, context: &Context) -> &'static str {
     match (spring_rows, context.matching()) {
-        (true, Some(_)) => "; ours in your spring order: a row per spring of your A",
+        (true, Some(_)) => "ours in your spring order: a row per spring of your A",
         _ => order_hint(spring_rows, context),
+    }
+}
+
+/// `first; second`, or whichever is not empty.
+fn joined(first: &str, second: &str) -> String {
+    match (first.is_empty(), second.is_empty()) {
+        (_, true) => first.to_string(),
+        (true, false) => second.to_string(),
+        (false, false) => format!("{first}; {second}"),
     }
 }
 
@@ -506,118 +468,5 @@ fn orderings(context: &Context) -> Vec<(String, Vec<usize>)> {
                 (0..context.our_perm.len()).collect(),
             ),
         ],
-    }
-}
-
-/// One line of the table.
-fn print_line(quantity: &Quantity, outcome: &Outcome, context: &Context) {
-    let tolerance = match quantity.spec.check {
-        Check::Entries { tolerance } | Check::Factor { tolerance } | Check::Sum { tolerance }
-            if tolerance > 0.0 =>
-        {
-            format!("{tolerance:e}")
-        }
-        Check::Ordering => "any".into(),
-        _ => "exact".into(),
-    };
-    let (result, place, remark) = match outcome {
-        Outcome::NotGiven => ("not given", None, ""),
-        Outcome::Agrees(place, remark) => ("agrees", place.as_ref(), remark.as_str()),
-        Outcome::Differs(place, reason) => ("DIFFERS", place.as_ref(), reason.as_str()),
-        Outcome::Note(remark) => ("note", None, remark.as_str()),
-    };
-    let place = place.filter(|p| p.relative() > 0.0); // no place for no difference
-    let numeric = !matches!(quantity.spec.check, Check::Ordering | Check::Incidence);
-    let difference = match (place, outcome) {
-        (Some(place), _) => format!("{:.2e}", place.relative()),
-        (None, Outcome::Agrees(..)) if numeric => "0".into(),
-        _ => String::new(),
-    };
-    let at = place.map(|p| context.describe(quantity.spec, p));
-    let at = match (at, remark.is_empty()) {
-        (Some(at), false) => format!("{at} ({remark})"),
-        (Some(at), true) => at,
-        (None, _) => remark.to_string(),
-    };
-    let tolerance = match outcome {
-        Outcome::NotGiven => "",
-        _ => tolerance.as_str(),
-    };
-    let line = format!(
-        "{:<9} {result:<10} {difference:<10} {tolerance:<10} {at}",
-        quantity.name()
-    );
-    println!("{}", line.trim_end());
-}
-
-/// The `.mtx` files of `theirs` that are not quantities of this trace.
-fn print_ignored(theirs: &Path, all: &[Quantity], iterations: usize) {
-    let Ok(entries) = std::fs::read_dir(theirs) else {
-        return;
-    };
-    let mut ignored: Vec<String> = entries
-        .flatten()
-        .map(|entry| escaped(&entry.file_name().to_string_lossy()).into_owned())
-        .filter(|name| name.ends_with(".mtx") && !all.iter().any(|q| q.file_name() == *name))
-        .collect();
-    ignored.sort();
-    if !ignored.is_empty() {
-        println!(
-            "\nignored (not a file of this trace of {iterations} iteration(s)): {}",
-            in_runs(&ignored).join(", ")
-        );
-    }
-}
-
-/// `names` with each run of three or more numbered files of one quantity
-/// (`b_3.mtx`, `b_4.mtx`, … `b_50.mtx`) written as its ends, `b_3.mtx …
-/// b_50.mtx`: a student's trace of 50 iterations against ours of 2 is
-/// three short runs, not 144 names.
-fn in_runs(names: &[String]) -> Vec<String> {
-    let mut numbered: std::collections::BTreeMap<&str, Vec<usize>> = Default::default();
-    let mut listed = Vec::new();
-    for name in names {
-        let split = name
-            .strip_suffix(".mtx")
-            .and_then(|stem| stem.rsplit_once('_'));
-        match split.and_then(|(quantity, n)| Some((quantity, n.parse::<usize>().ok()?))) {
-            Some((quantity, n)) => numbered.entry(quantity).or_default().push(n),
-            None => listed.push(name.clone()),
-        }
-    }
-    for (quantity, mut numbers) in numbered {
-        numbers.sort_unstable();
-        for run in numbers.chunk_by(|a, b| b.checked_sub(*a) == Some(1)) {
-            let name = |n: usize| format!("{quantity}_{n}.mtx");
-            match run {
-                [first, .., last] if run.len() >= 3 => {
-                    listed.push(format!("{} … {}", name(*first), name(*last)))
-                }
-                _ => listed.extend(run.iter().map(|&n| name(n))),
-            }
-        }
-    }
-    listed
-}
-
-#[cfg(test)]
-mod tests {
-    use super::in_runs;
-
-    #[test]
-    fn numbered_files_are_listed_by_their_runs() {
-        let mut names: Vec<String> = (3..=50).map(|n| format!("b_{n}.mtx")).collect();
-        names.extend(["d_3.mtx", "d_4.mtx", "d_9.mtx", "notes.mtx", "x_y.mtx"].map(String::from));
-        assert_eq!(
-            in_runs(&names),
-            [
-                "notes.mtx",
-                "x_y.mtx",
-                "b_3.mtx … b_50.mtx",
-                "d_3.mtx",
-                "d_4.mtx",
-                "d_9.mtx"
-            ]
-        );
     }
 }

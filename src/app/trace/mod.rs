@@ -10,7 +10,9 @@
 //! | [`quantities`] | the table: each file's symbol, equation, shape, function and check |
 //! | [`compute`] | the quantities, by the handout's functions in the handout's order |
 //! | [`readme`] | `DIR/README.md`, from the table |
-//! | [`compare`] | `--compare`: quantity by quantity, the largest difference and where |
+//! | [`compare`] | `--compare`: quantity by quantity, the largest difference and where, and the diagnosis |
+//! | [`mistaken`] | `--mistake`: the files of a student who made one of the gallery's mistakes |
+//! | `masssprings_trace.h` | `--cpp-header`: the C++ header that writes a student's files from the starter code |
 //!
 //! Sparse matrices are written as `coordinate real general` files, dense
 //! ones as `array real general` (column-major), 17 significant digits, both
@@ -29,7 +31,7 @@ mod readme;
 
 use super::error::AppError;
 use super::file_plan::load_scene;
-use super::flags::{choice, whole, OrderingFlag};
+use super::flags::{choice, whole, JsonFlag, OrderingFlag};
 use compute::{labelled, trace, TraceOptions, Value};
 use folder::TraceFolder;
 use manifest::{Manifest, MANIFEST};
@@ -52,19 +54,25 @@ digits), with DIR/README.md saying what each holds and how to compare.
 With --compare DIR OTHER, compares the files of OTHER (same names and formats,
 any subset: yours) with those of DIR (written by trace), in the handout's
 order, and exits with 1 when one differs: the first DIFFERS line is the first
-quantity to fix.
+quantity to fix, and the diagnosis says what went wrong there (the usual
+mistake whose numbers yours are, or the nearest sign, factor, swap or
+transpose that holds). With --json, one JSON object instead of the table.
 
 With --mistake NAME, writes instead the files of a student who made one of the
 usual mistakes (docs/mistakes.md), from our U_prev and U_cur of step K: trace
 the scene into DIR as well, and --compare DIR names the quantity that mistake
 makes wrong first. Use a step K of 2 or more: at step 1, U_prev = U_cur hides
-some of them.")]
+some of them.
+
+With --cpp-header, prints masssprings_trace.h: included in the assignment's C++
+starter code, one line per quantity writes your files for --compare (its first
+lines say where each goes and the environment variables it reads).")]
 pub struct TraceArgs {
     /// The scene: JSON that names an OBJ (data/README.md).
-    #[arg(value_name = "SCENE.json", required_unless_present = "compare")]
+    #[arg(value_name = "SCENE.json", required_unless_present_any = ["compare", "cpp_header"])]
     scene: Option<PathBuf>,
     /// The folder to write.
-    #[arg(short, long, value_name = "DIR", required_unless_present = "compare")]
+    #[arg(short, long, value_name = "DIR", required_unless_present_any = ["compare", "cpp_header"])]
     out: Option<PathBuf>,
     /// The step to trace, from 1 (3: the first whose U_prev, U_cur and V all
     /// differ, so that no term of the step hides; DIR/README.md says why).
@@ -84,11 +92,28 @@ pub struct TraceArgs {
     /// Compare OTHER's files with DIR's (instead of tracing a scene).
     #[arg(long, num_args = 2, value_names = ["DIR", "OTHER"], conflicts_with_all = ["scene", "out", "step", "iterations", "ordering", "mistake"])]
     compare: Option<Vec<PathBuf>>,
+    #[command(flatten)]
+    json: JsonFlag,
+    /// Print a C++ header (Eigen only) that writes your own files for --compare from the assignment's starter code, one line per quantity.
+    #[arg(long, conflicts_with_all = ["scene", "out", "step", "iterations", "ordering", "mistake", "compare", "force"])]
+    cpp_header: bool,
 }
 
+/// The header `--cpp-header` prints.
+const CPP_HEADER: &str = include_str!("masssprings_trace.h");
+
 pub fn run(args: TraceArgs) -> Result<(), AppError> {
+    if args.cpp_header {
+        print!("{CPP_HEADER}");
+        return Ok(());
+    }
     if let Some([ours, theirs]) = args.compare.as_deref() {
-        return compare::run(ours, theirs);
+        return compare::run(ours, theirs, args.json.json);
+    }
+    if args.json.json {
+        return Err(AppError::Usage(
+            "--json prints the report of --compare DIR OTHER as JSON; give --compare".into(),
+        ));
     }
     let (Some(scene_path), Some(out)) = (args.scene, args.out) else {
         unreachable!("clap requires SCENE.json and -o without --compare");

@@ -7,7 +7,7 @@ use super::compute::Value;
 use super::folder::README_START;
 use super::manifest::Manifest;
 use super::quantities::{Check, Quantity, SPECS};
-use masssprings::sim::mistakes::Mistake;
+use masssprings::sim::mistakes::{Mistake, Part};
 use std::fmt::Write;
 
 /// The README of a trace.
@@ -148,55 +148,30 @@ fn tolerances(text: &mut String) {
     );
 }
 
-/// Mistakes of a student's step, the first quantity each makes wrong when
-/// the step starts from our `U_prev` and `U_cur`, and whether step 1,
-/// step 2 and step 3 or later show it (found by planting each in a
-/// solution of the handout and comparing it with the trace of the flag at
-/// each step).
-const MISTAKES: [[&str; 5]; 6] = [
-    [
-        "`U_prev` and `U_cur` swapped: `y = M (2 U_prev − U_cur)/Δt² + f_ext`",
-        "`y`",
-        "cannot: `U_prev = U_cur = V`",
-        "shows",
-        "shows",
-    ],
-    [
-        "the velocity forgotten: `y = M U_cur/Δt² + f_ext`",
-        "`y`",
-        "cannot: `2 U_cur − U_prev = U_cur`",
-        "shows",
-        "shows",
-    ],
-    [
-        "`U_prev` never advanced by your loop over steps (it stays `V`)",
-        "`U_prev` (written by your own steps from rest)",
-        "cannot",
-        "cannot: `U_prev = V` at step 2",
-        "shows",
-    ],
-    [
-        "`d` not scaled to the rest length: `d = pᵢ − pⱼ`",
-        "`d_1` (step 1: `d_2`)",
-        "from `d_2` only: at rest `‖Vᵢ − Vⱼ‖ = rᵢⱼ`",
-        "shows",
-        "shows",
-    ],
-    [
-        "the pins held where they are, `w CᵀC U_cur`, not at `V`",
-        "`b_1`",
-        "cannot: `U_cur = V`",
-        "shows",
-        "shows",
-    ],
-    [
-        "a wrong mass, spring, pin or `Q`; a spring in `d` not in the orientation of its row of `A`",
-        "`M`, `A`, `C`, `Q`, `d_1`",
-        "shows",
-        "shows",
-        "shows",
-    ],
-];
+/// A row of the table of what each step shows: the mistake, the first
+/// file it makes wrong, and whether steps 1, 2 and 3 show it (from the
+/// gallery's entry, which `tests/sim/mistakes.rs` holds to the program).
+fn step_row(mistake: Mistake) -> String {
+    let entry = mistake.entry();
+    let (from, why) = entry.shows_from;
+    let at = |step: usize| match (step >= from, step) {
+        (true, _) => "shows".to_string(),
+        (false, 1) => format!("cannot: {why}"),
+        (false, _) => format!("cannot: {why} still"),
+    };
+    let first = match entry.part {
+        Part::Loop => format!("`{}` (written by your own steps from rest)", entry.first),
+        _ => format!("`{}`", entry.first),
+    };
+    format!(
+        "| `{}`: `{}` | {first} | {} | {} | {} |",
+        entry.name,
+        entry.wrong,
+        at(1),
+        at(2),
+        at(3)
+    )
+}
 
 /// Which mistakes each step can and cannot show, and why `trace` traces
 /// step 3 unless told otherwise.
@@ -204,31 +179,30 @@ fn what_a_step_shows(text: &mut String, m: &Manifest) {
     text.push_str(
         "## What this step can and cannot show\n\n\
          Every term of the step shows in the files only when it changes something. At step 1 \
-         `U_prev = U_cur = V` and every spring is at its rest length, so a step that confuses \
-         `U_prev` with `U_cur`, forgets the velocity or scales `d` wrongly gives the same `y` and \
-         `d_1` as the handout's. At step 2 `U_prev` is still `V`. Step 3 is the first at which \
+         `U_prev = U_cur = V` and every spring is at its rest length, so a step that swaps \
+         `U_prev` and `U_cur`, rest lengths measured on `U_cur` or a loop that loses the \
+         velocity give the same files as the handout's. At step 2 `U_prev` is still `V`. \
+         Step 3 is the first at which \
          `V`, `U_prev` and `U_cur` all differ and the springs are stretched, which is why \
          `trace` traces it unless `--step` says otherwise; it is also early enough that two \
          correct solutions started from rest still agree to the tolerances above.\n\n\
+         The mistakes of the gallery (`docs/mistakes.md` in the masssprings repository):\n\n\
          | mistake | first file it makes wrong (from our `U_prev`, `U_cur`) | step 1 | step 2 | step 3 and later |\n\
          |---|---|---|---|---|\n",
     );
-    for row in MISTAKES {
-        let _ = writeln!(text, "| {} |", row.join(" | "));
+    for mistake in Mistake::ALL {
+        let _ = writeln!(text, "{}", step_row(mistake));
     }
-    let _ = write!(
-        text,
-        "\nThis trace is of step {step}{warning}. Started from our `U_prev.mtx` and `U_cur.mtx`, \
-         your step is compared term by term but your loop over steps is not exercised; the \
-         `U_prev` and `U_cur` your own steps from rest reach are worth comparing too, and there \
-         a mistake of the step shows first (it made your earlier steps wrong).\n\n",
-        step = m.step,
-        warning = match m.step {
-            1 => ": the mistakes marked \"cannot\" in its column pass unseen; trace step 3 too",
-            2 => ": a loop that never advances `U_prev` passes unseen; trace step 3 too",
-            _ => "",
-        },
-    );
+    let hidden: Vec<String> = Mistake::ALL
+        .iter()
+        .filter(|mistake| mistake.entry().shows_from.0 > m.step)
+        .map(|mistake| format!("`{mistake}`"))
+        .collect();
+    let warning = match hidden.is_empty() {
+        true => String::new(),
+        false => format!(": {} pass unseen here; trace step 3 too", hidden.join(", ")),
+    };
+    let _ = writeln!(text, "\nThis trace is of step {}{warning}.\n", m.step);
 }
 
 fn how_to_compare(text: &mut String, m: &Manifest) {
@@ -244,30 +218,79 @@ fn how_to_compare(text: &mut String, m: &Manifest) {
          agrees, its largest difference relative to the scale it names, and where: the \
          vertex, spring or pin counted from 0 as in the handout and Eigen (your spring and ours \
          beside it when your order differs), with the file's row and column counted from 1. \
-         The first `DIFFERS` line is the first piece of code to look at, and the exit code \
-         is 1 when any quantity differs.\n\n\
-         From C++ with Eigen (`#include <unsupported/Eigen/SparseExtra>`): \
-         `Eigen::saveMarket(A, \"A.mtx\")` for a sparse matrix; \
-         `Eigen::saveMarketVector(r, \"r.mtx\")` for a vector. Eigen 3.4 has no writer for \
-         a dense matrix (later versions have `saveMarketDense`): for an n × 3 matrix write \
-         the line `%%MatrixMarket matrix array real general`, then `rows cols`, then the \
-         values column by column with `std::setprecision(17)`; read ours the same way. \
-         For `P` from \
-         `Eigen::SimplicialLLT`, write the triplets `(P.indices()(i), i, 1)` of \
-         `P = prefactorization.permutationP()`, and `L` as \
-         `Eigen::SparseMatrix<double> L = prefactorization.matrixL();`. Your dense code \
-         writes the same files (a dense `M` or `Q` is read as it is); trace a small scene \
-         for it, since an n × n array of this scene holds {n2} values.\n\n\
-         For a step K > 1, start your step from our `U_prev.mtx` and `U_cur.mtx` \
-         rather than from \
-         your own K − 1 steps: two correct solutions drift apart by their rounding from step \
-         to step, slowly on the flag and within a few steps on the skirt, whose buckling \
-         turns rounding into centimetres; from the same state, `y`, `d`, `b` and `p` agree \
-         to the tolerances above.\n\n\
-         From Python: `scipy.io.mmread(\"A.mtx\")` gives a sparse matrix for a coordinate \
+         The first `DIFFERS` line is the first piece of code to look at, and the `diagnosis:` \
+         line says what went wrong there: it computes that quantity again from your own \
+         inputs (your files, else ours), by the handout's line and by each mistake of the \
+         gallery, and names the mistake that gives your numbers, with its line as written and \
+         as it should be; when none does, the nearest thing it can prove (a sign, a factor \
+         such as `k` or `Δt`, a swapped pair, a transposed matrix). The exit code is 1 when \
+         any quantity differs; `--json` prints one JSON object instead of the table.\n\n\
+         Compare twice, in this order:\n\n\
+         1. **Your own run from rest**, as your program runs it: the files of step {step} \
+         written from the `U_prev` and `U_cur` your own loop over steps reached. This is the \
+         comparison that exercises the loop: one that loses the velocity (`U_cur = U_next; \
+         U_prev = U_cur`) makes every step right from a wrong state. Where your state differs \
+         from ours, the diagnosis says whether the loop did it (your `U_prev` equal to your \
+         `U_cur`), and computes your step again from your own state, where a mistake of the \
+         step is named as well.\n\
+         2. **Your step from our state**: step {step} started from our `U_prev.mtx` and \
+         `U_cur.mtx`. Two correct solutions drift apart by their rounding from step to step, \
+         slowly on the flag and within a few steps on the skirt, whose buckling turns rounding \
+         into centimetres; from the same state, `y`, `d`, `b` and `p` agree to the tolerances \
+         above, and the first `DIFFERS` line is the line of your step to fix.\n\n",
+        step = m.step,
+    );
+    writing_your_files(text, m);
+}
+
+/// How a student writes their files: from the assignment's C++ with the
+/// header of `--cpp-header`, by hand with Eigen, or from Python.
+fn writing_your_files(text: &mut String, m: &Manifest) {
+    let _ = write!(
+        text,
+        "## Writing your files\n\n\
+         **From the assignment's C++ starter code**, `masssprings trace --cpp-header > \
+         include/masssprings_trace.h` writes a header (Eigen only) that writes these files, \
+         17 significant digits, with one line per quantity where your code computes it:\n\n\
+         ```cpp\n\
+         #include \"masssprings_trace.h\"\n\
+         // fast_mass_springs_precomputation_sparse, after each is made:\n\
+         masssprings_trace::write(\"r\", r);  masssprings_trace::write(\"M\", M);\n\
+         masssprings_trace::write(\"A\", A);  masssprings_trace::write(\"C\", C);\n\
+         masssprings_trace::write(\"Q\", Q);\n\
+         masssprings_trace::write_factor(prefactorization);  // after compute(Q): P and L\n\
+         // fast_mass_springs_step_sparse:\n\
+         masssprings_trace::start_step(Uprev, Ucur);         // its first line\n\
+         masssprings_trace::write(\"y\", y);\n\
+         // in each iteration:\n\
+         masssprings_trace::write(\"d\", d);  masssprings_trace::write(\"b\", b);  masssprings_trace::write(\"p\", p);\n\
+         ```\n\n\
+         ```sh\n\
+         MASSSPRINGS_TRACE_DIR=mine MASSSPRINGS_TRACE_STEP={step} MASSSPRINGS_TRACE_ITERATIONS={iterations} \
+         ./masssprings_sparse ../data/flag.json\n\
+         ```\n\n\
+         writes your own run's step {step} into `mine` (the first comparison above); \
+         `MASSSPRINGS_TRACE_FRAMES=frames` writes every step's positions as OBJ frames too. For \
+         the second, move the `start_step` line to `main.cpp`'s step, before `const \
+         Eigen::MatrixXd U_stash = U;`, as `masssprings_trace::start_step(Uprev, U);`, and \
+         set `MASSSPRINGS_TRACE_FROM=DIR`: the traced step then starts from our `U_prev.mtx` \
+         and `U_cur.mtx`. The dense code is written the same way (`Eigen::MatrixXd`, \
+         `Eigen::LLT`); trace a small scene for it, since an n × n array of this scene \
+         holds {n2} values.\n\n\
+         **By hand with Eigen** (`#include <unsupported/Eigen/SparseExtra>`): \
+         `Eigen::saveMarket(A, \"A.mtx\")` for a sparse matrix, \
+         `Eigen::saveMarketVector(r, \"r.mtx\")` for a vector; Eigen 3.4 has no writer for a \
+         dense matrix: write the line `%%MatrixMarket matrix array real general`, then \
+         `rows cols`, then the values column by column with `std::setprecision(17)`. `P` of \
+         `Eigen::SimplicialLLT` is the triplets `(P.indices()(i), i, 1)` of \
+         `permutationP()`, and `L` is `Eigen::SparseMatrix<double> L = \
+         prefactorization.matrixL();`.\n\n\
+         **From Python**: `scipy.io.mmread(\"A.mtx\")` gives a sparse matrix for a coordinate \
          file and an array for an array file, with the shapes of the table; \
          `scipy.io.mmwrite` writes files `--compare` reads. In MATLAB, `mmread.m` from the \
          Matrix Market site reads both.\n",
+        step = m.step,
+        iterations = m.iterations,
         n2 = m.vertices * m.vertices,
     );
 }

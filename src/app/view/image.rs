@@ -12,7 +12,7 @@
 //! | `fov` | the vertical field of view, radians |
 //! | `sx`, `sy` | the lens shift, a fraction of the half width and height (−1 to 1) |
 //! | `springs` | `1`: draw the springs and point masses (key L) |
-//! | `ox` | when comparing, how far along x the second simulation is drawn beside the first (`0`: over it) |
+//! | `ox`, `oz` | when comparing, how far along x and z the second simulation is drawn beside the first (`0`: over it) |
 //!
 //! A missing or malformed parameter is a `400` naming it. Drawing the flag
 //! at 800 × 450 takes a few tens of milliseconds; the page asks for the
@@ -42,7 +42,8 @@ struct View {
     height: usize,
     orbit: Orbit,
     springs: bool,
-    offset: f64,
+    /// Where the second simulation is drawn, from the first: along x, z.
+    offset: [f64; 2],
 }
 
 /// The PNG of the latest frame seen as `query` says, a `400` naming what
@@ -70,7 +71,8 @@ pub fn respond(shared: &Shared, query: Option<&str>) -> Response {
     let scene: &Scene = match second {
         Some(second) if second.len() == positions.len() => {
             doubled = side_by_side(&scene);
-            let shift = |p: [f64; 3]| [p[0] + view.offset, p[1], p[2]];
+            let [x, z] = view.offset;
+            let shift = |p: [f64; 3]| [p[0] + x, p[1], p[2] + z];
             positions.extend(second.into_iter().map(shift));
             &doubled
         }
@@ -138,6 +140,15 @@ fn parse(query: &str) -> Result<View, String> {
             ))
         }
     };
+    // a parameter the page may leave out: 0 then, but refused when malformed
+    // or repeated, as any other
+    let optional = |name: &str| match query
+        .split('&')
+        .any(|pair| pair.starts_with(&format!("{name}=")))
+    {
+        true => value(name),
+        false => Ok(0.0),
+    };
     let side = |name: &str| within(name, 16.0, MAX_SIDE).map(|x| x.round() as usize);
     let (width, height) = (side("w")?, side("h")?);
     if width * height > MAX_PIXELS {
@@ -158,10 +169,7 @@ fn parse(query: &str) -> Result<View, String> {
         height,
         orbit,
         springs: within("springs", 0.0, 1.0)? > 0.5,
-        offset: match query.split('&').any(|pair| pair.starts_with("ox=")) {
-            true => value("ox")?,
-            false => 0.0,
-        },
+        offset: [optional("ox")?, optional("oz")?],
     })
 }
 
@@ -178,7 +186,7 @@ mod tests {
         assert_eq!((view.width, view.height, view.springs), (320, 200, false));
         assert_eq!(view.orbit.target, [0.0, 1.0, 0.0]);
         assert_eq!(view.orbit.shift, [0.1, 0.0]);
-        assert_eq!(view.offset, 0.0);
+        assert_eq!(view.offset, [0.0, 0.0]);
         let missing = parse("w=320").unwrap_err();
         assert!(missing.contains("h"), "{missing}");
         let huge = parse(&QUERY.replace("w=320", "w=99999")).unwrap_err();

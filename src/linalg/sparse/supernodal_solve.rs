@@ -24,7 +24,7 @@
 //! by a stored `1 / L_jj` gained 7% more, but it rounds differently from
 //! the division; the skirt's buckling amplifies that about 25× per step,
 //! which failed the trajectory check at step 10 that the one-step checks
-//! of `tests/fidelity.rs` have since replaced. The division stays until it
+//! of `tests/sim/fidelity.rs` have since replaced. The division stays until it
 //! is measured again.)
 //!
 //! As there, the right-hand side is a block of `W` columns stored row by

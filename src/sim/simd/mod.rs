@@ -5,7 +5,7 @@
 //! the same arithmetic lane by lane on a CPU with AVX2 (checked at run time)
 //! and fall back to the formula elsewhere; the tests hold each to its
 //! formula, bit for bit where the order of the sums is the same
-//! (`tests/kernels.rs`).
+//! (`tests/linalg/kernels.rs`).
 //!
 //! | here | the formula |
 //! |---|---|

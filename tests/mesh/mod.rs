@@ -1,0 +1,3 @@
+//! The mesh layer: scenes, springs, Voronoi masses, procedural scenes.
+
+mod scenes;
