@@ -207,18 +207,8 @@ fn read_exact_frame(
                 .into(),
         );
     };
-    let differences = written.differences(record);
-    if !differences.is_empty() {
-        return refuse(format!(
-            "the frames are of a run with other settings: {}; resume with the scene and the \
-             flags of that run",
-            differences.join(", ")
-        ));
-    }
-    if let Err(problem) = check_carried(&written.carried) {
-        return refuse(format!(
-            "its run record holds what no run carries: {problem} (the file was edited?)"
-        ));
+    if let Err(why) = check_record(&written, record) {
+        return refuse(why);
     }
     if frame.positions.len() != scene.vertices.len() {
         return refuse(format!(
@@ -232,6 +222,22 @@ fn read_exact_frame(
         positions: frame.positions,
         carried: written.carried,
         run: written.run,
+    })
+}
+
+/// Refuses a frame's run record `written` that another run wrote (other
+/// settings than `record`'s, each named) or that no run writes.
+fn check_record(written: &RunRecord, record: &RunRecord) -> Result<(), String> {
+    let differences = written.differences(record);
+    if !differences.is_empty() {
+        return Err(format!(
+            "the frames are of a run with other settings: {}; resume with the scene and the \
+             flags of that run",
+            differences.join(", ")
+        ));
+    }
+    check_carried(&written.carried).map_err(|problem| {
+        format!("its run record holds what no run carries: {problem} (the file was edited?)")
     })
 }
 

@@ -108,47 +108,40 @@ fn side_by_side(scene: &Scene) -> Scene {
     both
 }
 
+/// The number the parameter `name` has in `query`, `None` when it is
+/// not there; refused when it is not a finite number or given twice.
+fn parameter(query: &str, name: &str) -> Result<Option<f64>, String> {
+    let mut given = query
+        .split('&')
+        .filter_map(|pair| pair.strip_prefix(name)?.strip_prefix('='));
+    let Some(text) = given.next() else {
+        return Ok(None);
+    };
+    if given.next().is_some() {
+        return Err(format!(
+            "the parameter {name} is given more than once; give it once"
+        ));
+    }
+    let x = text.parse::<f64>().ok().filter(|x| x.is_finite());
+    x.map(Some)
+        .ok_or_else(|| format!("{name}={}: expected a finite number", escaped(text)))
+}
+
 /// The view `query` asks for.
 fn parse(query: &str) -> Result<View, String> {
-    let value = |name: &str| -> Result<f64, String> {
-        let mut given = query
-            .split('&')
-            .filter_map(|pair| pair.strip_prefix(name)?.strip_prefix('='));
-        let text = given
-            .next()
-            .ok_or_else(|| format!("the image needs the parameter {name}"))?;
-        if given.next().is_some() {
-            return Err(format!(
-                "the parameter {name} is given more than once; give it once"
-            ));
-        }
-        text.parse::<f64>()
-            .ok()
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| format!("{name}={}: expected a finite number", escaped(text)))
+    let value = |name: &str| {
+        parameter(query, name)?.ok_or_else(|| format!("the image needs the parameter {name}"))
     };
     let within = |name: &str, low: f64, high: f64| -> Result<f64, String> {
         let x = value(name)?;
         if (low..=high).contains(&x) {
-            Ok(x)
-        } else {
-            Err(format!(
-                "{name}={}: expected from {} to {}",
-                number(x),
-                number(low),
-                number(high)
-            ))
+            return Ok(x);
         }
+        let [x, low, high] = [x, low, high].map(number);
+        Err(format!("{name}={x}: expected from {low} to {high}"))
     };
-    // a parameter the page may leave out: 0 then, but refused when malformed
-    // or repeated, as any other
-    let optional = |name: &str| match query
-        .split('&')
-        .any(|pair| pair.starts_with(&format!("{name}=")))
-    {
-        true => value(name),
-        false => Ok(0.0),
-    };
+    // a parameter the page may leave out: 0 then
+    let optional = |name: &str| parameter(query, name).map(|x| x.unwrap_or(0.0));
     let side = |name: &str| within(name, 16.0, MAX_SIDE).map(|x| x.round() as usize);
     let (width, height) = (side("w")?, side("h")?);
     if width * height > MAX_PIXELS {
