@@ -11,6 +11,7 @@ use super::simulation_thread::{
 use super::solver::{self, Backend, NotBuilt, Run};
 use crate::app::error::AppError;
 use crate::app::limits::dense_need;
+use masssprings::files::number;
 use masssprings::memory::gigabytes;
 use masssprings::mesh::bounding_box::BoundingBox;
 use masssprings::mesh::Scene;
@@ -427,14 +428,21 @@ fn precomputing_for(name: &str, backend: Backend, scene: &Scene) -> String {
 fn check_parameters([k, delta_t, mass_scale]: [f64; 3], iterations: usize) -> Reply {
     let in_range = |x: f64, low: f64, high: f64| x.is_finite() && (low..=high).contains(&x);
     if !in_range(k, 1e-6, 1e12) {
-        return Err(format!("k = {k}: expected a stiffness from 1e-6 to 1e12"));
+        return Err(format!(
+            "k = {}: expected a stiffness from 1e-6 to 1e12",
+            number(k)
+        ));
     }
     if !in_range(delta_t, 1e-4, 1.0) {
-        return Err(format!("Δt = {delta_t}: expected from 0.0001 to 1 s"));
+        return Err(format!(
+            "Δt = {}: expected from 0.0001 to 1 s",
+            number(delta_t)
+        ));
     }
     if !in_range(mass_scale, 1e-3, 1e3) {
         return Err(format!(
-            "mass scale {mass_scale}: expected from 0.001 to 1000"
+            "mass scale {}: expected from 0.001 to 1000",
+            number(mass_scale)
         ));
     }
     if !(1..=MAX_ITERATIONS).contains(&iterations) {
@@ -443,4 +451,17 @@ fn check_parameters([k, delta_t, mass_scale]: [f64; 3], iterations: usize) -> Re
         ));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::check_parameters;
+
+    #[test]
+    fn refused_parameters_are_written_short() {
+        let refused = check_parameters([1e308, 0.03, 1.0], 10).unwrap_err();
+        assert_eq!(refused, "k = 1e308: expected a stiffness from 1e-6 to 1e12");
+        let refused = check_parameters([1.0, 1e-300, 1.0], 10).unwrap_err();
+        assert!(refused.starts_with("Δt = 1e-300:"), "{refused}");
+    }
 }

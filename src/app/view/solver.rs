@@ -279,7 +279,16 @@ pub fn options_named(base: SimulationOptions, name: &str) -> Result<SimulationOp
         };
         return Ok(SimulationOptions { step, ..assignment });
     }
-    Ok(base.solved_by(name.parse::<Solver>()?))
+    let solver = name.parse::<Solver>().map_err(|_| {
+        let mut names = solver_names();
+        names.push(CONVERGED);
+        format!(
+            "unknown solver '{}' (expected {})",
+            masssprings::files::escaped(name),
+            names.join(", ")
+        )
+    })?;
+    Ok(base.solved_by(solver))
 }
 
 /// The name of `options` for the status: a solver's, [`CONVERGED`], or
@@ -290,4 +299,18 @@ pub fn name_of(options: &SimulationOptions) -> Option<&'static str> {
     }
     let converged = options_named(*options, CONVERGED).ok()?;
     (converged == *options).then_some(CONVERGED)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_unknown_solver_is_refused_naming_every_one_compare_takes() {
+        let refused = options_named(SimulationOptions::default(), "fast\n").unwrap_err();
+        assert!(refused.starts_with("unknown solver 'fast\\n'"), "{refused}");
+        for name in solver_names().into_iter().chain([CONVERGED]) {
+            assert!(refused.contains(name), "{name}: {refused}");
+        }
+    }
 }
