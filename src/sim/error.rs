@@ -13,6 +13,10 @@ pub enum SimulationError {
     InvalidInput(String),
     /// The linear algebra failed, e.g. `Q` is not positive definite.
     Linalg(LinalgError),
+    /// `Q = k AᵀA + M/Δt² + w CᵀC` would overflow `f64` on its diagonal:
+    /// which quantity, at which vertex, and the largest value that fits
+    /// (`precomputation::check_q_fits`).
+    QOverflow(String),
     /// A step produced NaN or infinity, first at this vertex (0-based).
     NotFinite { vertex: usize },
     /// A step's energy or gradient overflowed (positions beyond what
@@ -31,6 +35,7 @@ impl fmt::Display for SimulationError {
         match self {
             SimulationError::InvalidInput(why) => write!(f, "invalid input: {why}"),
             SimulationError::Linalg(error) => write!(f, "{error}"),
+            SimulationError::QOverflow(why) => f.write_str(why),
             SimulationError::NotFinite { vertex } => write!(
                 f,
                 "the step produced a non-finite position (vertex {}, 1-based); the simulation stopped",

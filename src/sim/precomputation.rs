@@ -166,6 +166,7 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
                 self.n()
             )));
         }
+        check_q_fits(&self.springs, m, k, delta_t)?;
         let previous = (self.k, self.delta_t, self.m.clone());
         self.install_parameters(k, delta_t, m);
         if let Err(error) = self.assemble_and_refactor() {
@@ -329,7 +330,10 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
     ///
     /// # Errors
     /// [`SimulationError::InvalidInput`] for inconsistent sizes or indices;
-    /// [`SimulationError::Linalg`] when `Q` is not positive definite.
+    /// [`SimulationError::QOverflow`] when `k` or a mass is so large that
+    /// `Q` would overflow `f64` ([`check_q_fits`]: the vertex and the
+    /// largest value that fits); [`SimulationError::Linalg`] when `Q` is
+    /// not positive definite.
     pub fn new(
         v: &[[f64; 3]],
         springs: &[[usize; 2]],
@@ -364,6 +368,7 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
         let n = v.len();
         check_inputs(v, springs, m)?;
         check_pins(n, pinned, pinned.len())?;
+        check_q_fits(springs, m, k, delta_t)?;
         let r = rest_lengths(v, springs);
         let c = selection_matrix::<B>(n, pinned);
         let q = network_q::<B>(springs, m, &c, k, delta_t, PIN_WEIGHT, cancel)?;
@@ -551,6 +556,65 @@ pub(crate) fn check_inputs(
         ));
     }
     Ok(())
+}
+
+/// Refuses a stiffness `k`, time step `delta_t` or masses `m` whose
+/// `Q = k AᵀA + M/Δt² + w CᵀC` would overflow `f64` on its diagonal
+/// (`k` times the springs at a vertex, plus `mᵢ/Δt²`, plus `w` per pin),
+/// naming the quantity, its vertex (1-based, as a file's line) and the
+/// largest value that works; otherwise the factorization would only say
+/// "not positive definite: pivot inf". Each term may take half of the
+/// largest `f64`, so that their sum is finite too.
+///
+/// # Errors
+/// [`SimulationError::QOverflow`] with that sentence.
+pub fn check_q_fits(
+    springs: &[[usize; 2]],
+    m: &[f64],
+    k: f64,
+    delta_t: f64,
+) -> Result<(), SimulationError> {
+    let mut springs_at = vec![0u64; m.len()];
+    for spring in springs {
+        for &vertex in spring {
+            if let Some(count) = springs_at.get_mut(vertex) {
+                *count += 1;
+            }
+        }
+    }
+    let room = f64::MAX / 2.0;
+    let refuse = |why: String| Err(SimulationError::QOverflow(why));
+    if let Some((vertex, &count)) = springs_at.iter().enumerate().max_by_key(|(_, &c)| c) {
+        let count = count.max(1) as f64;
+        if k * count > room {
+            return refuse(format!(
+                "k = {k:e} overflows Q: its diagonal holds k × {count} (the springs at vertex \
+                 {}), more than f64 holds (1.8e308); Q fits with k up to {} here",
+                vertex + 1,
+                rounded_down(room / count)
+            ));
+        }
+    }
+    let per_second_squared = 1.0 / (delta_t * delta_t);
+    if let Some(vertex) = m.iter().position(|&mi| mi * per_second_squared > room) {
+        return refuse(format!(
+            "the mass {:e} of vertex {} overflows Q: its diagonal holds m / Δt² = m × {}, more \
+             than f64 holds (1.8e308); Q fits with masses up to {}",
+            m[vertex],
+            vertex + 1,
+            crate::files::number(per_second_squared),
+            rounded_down(room / per_second_squared)
+        ));
+    }
+    Ok(())
+}
+
+/// `x` (> 0) rounded down to two significant digits, as `2.9e307`: a bound
+/// that is within the limit as printed.
+fn rounded_down(x: f64) -> String {
+    let exponent = x.log10().floor();
+    let mantissa = (x / 10f64.powf(exponent) * 10.0).floor() / 10.0;
+    format!("{mantissa:.1}e{exponent}")
 }
 
 /// Every pin is a vertex, and there is one target per pin.

@@ -48,8 +48,8 @@ use super::control::ITERATIONS;
 use super::error::SimulationError;
 use super::local_step::project_springs;
 use super::precomputation::{
-    assemble_q_cancellable, check_inputs, check_pins, mass_matrix, rest_lengths, selection_matrix,
-    PIN_WEIGHT,
+    assemble_q_cancellable, check_inputs, check_pins, check_q_fits, mass_matrix, rest_lengths,
+    selection_matrix, PIN_WEIGHT,
 };
 use super::signed_incidence::signed_incidence_matrix;
 use crate::linalg::dense::{back_substitution_dense, forward_substitution_dense};
@@ -180,6 +180,7 @@ pub(crate) fn precomputation<B: LinearAlgebra>(
     let n = V.len();
     check_inputs(V, springs, m)?;
     check_pins(n, pinned, pinned.len())?;
+    check_q_fits(springs, m, k, delta_t)?; // k, m/Δt² each within f64
     let w = PIN_WEIGHT;
     let r = rest_lengths(V, springs); // rᵢⱼ = ‖Vᵢ − Vⱼ‖
     let M = mass_matrix::<B>(m); // M = diag(m)

@@ -6,13 +6,13 @@ use crate::answers::{
     json, step_record, MethodSettings, NewSimulation, SceneAnswer, SimulationAnswer,
 };
 use crate::app::view::rules::{check_parameters, method_step, name_of, options_named, DragReach};
-use masssprings::files::{max_input_bytes, InMemory, Source};
+use masssprings::files::{max_input_bytes, shown, InMemory, Source};
 use masssprings::linalg::kernels::Kernels;
 use masssprings::memory;
 use masssprings::mesh::{load_scene_from, Scene, PNG_SIGNATURE};
 use masssprings::sim::methods::Carried;
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::{Simulation, Sparse, StepControl};
+use masssprings::sim::{Simulation, SimulationError, Sparse, StepControl};
 use std::path::PathBuf;
 
 /// Things kept by handle: handle `h` is entry `h − 1` (`None` once freed).
@@ -161,8 +161,12 @@ impl State {
             ..SimulationOptions::default()
         };
         let options = options_named(base, &wanted.solver)?;
-        let simulation = Simulation::<Sparse>::from_scene(scene, options)
-            .map_err(|error| format!("{}: the precomputation failed: {error}", path.display()))?;
+        // named as the command line names it (`app::limits::precomputation_failed`)
+        let simulation =
+            Simulation::<Sparse>::from_scene(scene, options).map_err(|error| match error {
+                SimulationError::QOverflow(why) => format!("{}: {why}", shown(path)),
+                error => format!("{}: the precomputation failed: {error}", shown(path)),
+            })?;
         Ok(self.simulations.keep(simulation))
     }
 

@@ -109,6 +109,16 @@ test('a bad file gets the message the command line gives', async () => {
       return true;
     });
   }
+  // a Q that would overflow is refused when the simulation is made, as the
+  // command line refuses it
+  const hostile = join(root, 'tests/hostile');
+  const overflow = masssprings.loadScene(sceneFiles(hostile, 'k-1e308.json'), 'k-1e308.json');
+  const run = spawnSync(program, ['simulate', 'k-1e308.json', '--steps', '1'], { cwd: hostile, encoding: 'utf8' });
+  assert.throws(() => masssprings.simulation(overflow), (error) => {
+    assert.match(error.message, /^k-1e308\.json: k = 1e308 overflows Q/);
+    assert.ok(run.stderr.includes(error.message), `the command line said ${run.stderr}`);
+    return true;
+  });
   const missing = [{ name: 'lone.json', bytes: Buffer.from('{"obj": "mesh.obj", "k": 1, "b": []}') }];
   assert.throws(() => masssprings.loadScene(missing, 'lone.json'), /^Error: mesh\.obj: cannot read the file/);
 });

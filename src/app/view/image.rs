@@ -24,6 +24,7 @@ use crate::app::draw::camera::{Camera, Orbit};
 use crate::app::draw::encode::write_png;
 use crate::app::draw::frame::FrameRenderer;
 use crate::app::draw::look::SUPERSAMPLING;
+use masssprings::files::{escaped, number};
 use masssprings::mesh::Scene;
 
 /// The largest width or height asked for.
@@ -107,26 +108,40 @@ fn side_by_side(scene: &Scene) -> Scene {
     both
 }
 
+/// The number the parameter `name` has in `query`, `None` when it is
+/// not there; refused when it is not a finite number or given twice.
+fn parameter(query: &str, name: &str) -> Result<Option<f64>, String> {
+    let mut given = query
+        .split('&')
+        .filter_map(|pair| pair.strip_prefix(name)?.strip_prefix('='));
+    let Some(text) = given.next() else {
+        return Ok(None);
+    };
+    if given.next().is_some() {
+        return Err(format!(
+            "the parameter {name} is given more than once; give it once"
+        ));
+    }
+    let x = text.parse::<f64>().ok().filter(|x| x.is_finite());
+    x.map(Some)
+        .ok_or_else(|| format!("{name}={}: expected a finite number", escaped(text)))
+}
+
 /// The view `query` asks for.
 fn parse(query: &str) -> Result<View, String> {
-    let value = |name: &str| -> Result<f64, String> {
-        let text = query
-            .split('&')
-            .find_map(|pair| pair.strip_prefix(name)?.strip_prefix('='))
-            .ok_or_else(|| format!("the image needs the parameter {name}"))?;
-        text.parse::<f64>()
-            .ok()
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| format!("{name}={text}: expected a finite number"))
+    let value = |name: &str| {
+        parameter(query, name)?.ok_or_else(|| format!("the image needs the parameter {name}"))
     };
     let within = |name: &str, low: f64, high: f64| -> Result<f64, String> {
         let x = value(name)?;
         if (low..=high).contains(&x) {
-            Ok(x)
-        } else {
-            Err(format!("{name}={x}: expected from {low} to {high}"))
+            return Ok(x);
         }
+        let [x, low, high] = [x, low, high].map(number);
+        Err(format!("{name}={x}: expected from {low} to {high}"))
     };
+    // a parameter the page may leave out: 0 then
+    let optional = |name: &str| parameter(query, name).map(|x| x.unwrap_or(0.0));
     let side = |name: &str| within(name, 16.0, MAX_SIDE).map(|x| x.round() as usize);
     let (width, height) = (side("w")?, side("h")?);
     if width * height > MAX_PIXELS {
@@ -147,7 +162,7 @@ fn parse(query: &str) -> Result<View, String> {
         height,
         orbit,
         springs: within("springs", 0.0, 1.0)? > 0.5,
-        offset: [value("ox").unwrap_or(0.0), value("oz").unwrap_or(0.0)],
+        offset: [optional("ox")?, optional("oz")?],
     })
 }
 
@@ -172,5 +187,18 @@ mod tests {
         let many = parse(&QUERY.replace("w=320&h=200", "w=2000&h=2000")).unwrap_err();
         assert!(many.contains("at most 2000000"), "{many}");
         assert!(parse(&QUERY.replace("d=4", "d=nan")).is_err());
+    }
+
+    #[test]
+    fn a_repeated_parameter_is_refused_and_numbers_are_short() {
+        let twice = parse(&format!("{QUERY}&w=16")).unwrap_err();
+        assert_eq!(
+            twice,
+            "the parameter w is given more than once; give it once"
+        );
+        let far = parse(&QUERY.replace("d=4", "d=1e308")).unwrap_err();
+        assert_eq!(far, "d=1e308: expected from 1e-9 to 1000000000000");
+        let offset = parse(&format!("{QUERY}&ox=1&ox=2")).unwrap_err();
+        assert!(offset.contains("ox"), "{offset}");
     }
 }

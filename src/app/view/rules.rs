@@ -11,6 +11,7 @@
 //! the one rule `--textbook` and `--accuracy` use too; nothing here
 //! repeats it.
 
+use masssprings::files::{escaped, number};
 use masssprings::mesh::bounding_box::BoundingBox;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Solver, Start, StepControl, StepMethod, Stop};
@@ -30,14 +31,21 @@ pub fn check_parameters(
 ) -> Result<(), String> {
     let in_range = |x: f64, low: f64, high: f64| x.is_finite() && (low..=high).contains(&x);
     if !in_range(k, 1e-6, 1e12) {
-        return Err(format!("k = {k}: expected a stiffness from 1e-6 to 1e12"));
+        return Err(format!(
+            "k = {}: expected a stiffness from 1e-6 to 1e12",
+            number(k)
+        ));
     }
     if !in_range(delta_t, 1e-4, 1.0) {
-        return Err(format!("Δt = {delta_t}: expected from 0.0001 to 1 s"));
+        return Err(format!(
+            "Δt = {}: expected from 0.0001 to 1 s",
+            number(delta_t)
+        ));
     }
     if !in_range(mass_scale, 1e-3, 1e3) {
         return Err(format!(
-            "mass scale {mass_scale}: expected from 0.001 to 1000"
+            "mass scale {}: expected from 0.001 to 1000",
+            number(mass_scale)
         ));
     }
     if !(1..=MAX_ITERATIONS).contains(&iterations) {
@@ -140,7 +148,16 @@ pub fn options_named(base: SimulationOptions, name: &str) -> Result<SimulationOp
         };
         return Ok(SimulationOptions { step, ..assignment });
     }
-    Ok(base.solved_by(name.parse::<Solver>()?))
+    let solver = name.parse::<Solver>().map_err(|_| {
+        let mut names = solver_names();
+        names.push(CONVERGED);
+        format!(
+            "unknown solver '{}' (expected {})",
+            escaped(name),
+            names.join(", ")
+        )
+    })?;
+    Ok(base.solved_by(solver))
 }
 
 /// The name of `options` for the status: a solver's, [`CONVERGED`], or
@@ -183,4 +200,26 @@ pub fn converged(stop: Stop) -> bool {
         stop,
         Stop::Tolerance | Stop::EnergyTolerance | Stop::AtLeastPlain
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn refused_parameters_are_written_short() {
+        let refused = check_parameters([1e308, 0.03, 1.0], 10).unwrap_err();
+        assert_eq!(refused, "k = 1e308: expected a stiffness from 1e-6 to 1e12");
+        let refused = check_parameters([1.0, 1e-300, 1.0], 10).unwrap_err();
+        assert!(refused.starts_with("Δt = 1e-300:"), "{refused}");
+    }
+
+    #[test]
+    fn an_unknown_solver_is_refused_naming_every_one_compare_takes() {
+        let refused = options_named(SimulationOptions::default(), "fast\n").unwrap_err();
+        assert!(refused.starts_with("unknown solver 'fast\\n'"), "{refused}");
+        for name in solver_names().into_iter().chain([CONVERGED]) {
+            assert!(refused.contains(name), "{name}: {refused}");
+        }
+    }
 }

@@ -39,8 +39,8 @@ function tickText(x) {
   return String(Number(x.toPrecision(3)));
 }
 
-/** Tick values from 0 (or `low`) to at least `high`: 1, 2 or 5 × 10^k
- *  apart, at most `count` + 1 of them. */
+/** Tick values from 0 (or `low`) up to `high`: 1, 2 or 5 × 10^k apart,
+ *  at most `count` + 1 of them. */
 function niceTicks(low, high, count = 4) {
   const span = Math.max(high - low, 1e-300);
   const raw = span / count;
@@ -219,8 +219,10 @@ function drawPanel(c, panel, box, font, texts) {
   const row = area.bottom + 1.4 * font;
   const name = c.measureText('step').width;
   for (const step of stepTicks(first, last)) {
-    const x = xOf(step);
-    if (x - c.measureText(String(step)).width / 2 > name + 0.5 * font) write(String(step), x, row, 'center');
+    const [x, half] = [xOf(step), c.measureText(String(step)).width / 2];
+    if (x - half <= name + 0.5 * font) continue;
+    if (x + half > box.width) write(String(step), box.width, row, 'right'); // the last, inside the canvas
+    else write(String(step), x, row, 'center');
   }
   write('step', 0, row);
   // The series: bars first, then lines.
@@ -232,6 +234,10 @@ function drawPanel(c, panel, box, font, texts) {
       c.fillRect(xOf(step) - columnWidth / 2, top, columnWidth, area.bottom - top);
     }
   }
+  c.save();
+  c.beginPath();
+  c.rect(area.left, area.top, area.right - area.left, area.bottom - area.top);
+  c.clip(); // nothing drawn over the title, the ticks or the legend
   for (const serie of panel.series.filter((s) => !s.bars)) {
     c.strokeStyle = serie.colour;
     c.fillStyle = serie.colour;
@@ -246,6 +252,7 @@ function drawPanel(c, panel, box, font, texts) {
       c.fillRect(xOf(step) - 3, yOf(value) - 3, 6, 6);
     }
   }
+  c.restore();
   drawLegend(c, panel.series, { left: 0, top: box.top + box.height - 0.6 * font, width: box.width }, font, write);
 }
 
@@ -267,6 +274,9 @@ function valueAxis(values, scale) {
   }
   const high = Math.max(...values, 0);
   const ticks = niceTicks(0, high > 0 ? high : 1, 3);
+  // one tick more when the largest value lies above the last one
+  const last = ticks[ticks.length - 1];
+  if (ticks.length > 1 && last < high) ticks.push(Number((2 * last - ticks[ticks.length - 2]).toPrecision(12)));
   const top = ticks[ticks.length - 1];
   return { map: (v) => v, low: 0, high: top, ticks: ticks.map((t) => ({ value: t, text: tickText(t) })) };
 }
