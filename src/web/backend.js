@@ -35,6 +35,7 @@ const backend = (() => {
   let work = null; // { what, since, snapshot } while the worker says it works
   let ready = null;
   let lastWatching = 0;
+  let waiting = 0; // commands sent during long work, not answered yet
   const compiled = compile();
 
   /** The WebAssembly module, compiled once for every worker. */
@@ -99,7 +100,7 @@ const backend = (() => {
       ...s,
       busy: work ? work.what : null,
       busy_ms: work ? performance.now() - work.since : null,
-      queued: answered.size,
+      queued: waiting,
     };
   }
 
@@ -110,6 +111,12 @@ const backend = (() => {
       answered.set(id, resolve);
       worker.postMessage({ ...message, id });
     });
+  }
+
+  /** Sends a command during long work: answered after it. */
+  function queue(body) {
+    waiting += 1;
+    ask({ type: 'command', body, detached: true }).finally(() => { waiting -= 1; });
   }
 
   /** Ends the worker in its long work and starts a fresh one from the
@@ -172,7 +179,7 @@ const backend = (() => {
       }
       if (work && work.snapshot) {
         // long work in progress: applied after it, refused then in the note
-        ask({ type: 'command', body, detached: true });
+        queue(body);
         return { status: 202, ok: true, waits: true, answer: decorated() };
       }
       const { code, answer } = await ask({ type: 'command', body });
