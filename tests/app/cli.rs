@@ -278,7 +278,15 @@ fn simulate_writes_frames_that_read_back_exactly() {
 fn simulate_runs_the_portable_kernels_on_request_and_says_which_ran() {
     let flag = data("flag.json");
     let run = |kernels: &str| {
-        let args = ["simulate", &flag, "--steps", "2", "--kernels", kernels, "--json"];
+        let args = [
+            "simulate",
+            &flag,
+            "--steps",
+            "2",
+            "--kernels",
+            kernels,
+            "--json",
+        ];
         json(&masssprings(&args))
     };
     assert_eq!(run("portable")["kernels"], "portable");
@@ -286,7 +294,10 @@ fn simulate_runs_the_portable_kernels_on_request_and_says_which_ran() {
     let refused = masssprings(&["simulate", &flag, "--kernels", "fast"]);
     assert_eq!(refused.status.code(), Some(2));
     let message = stderr(&refused);
-    assert!(message.contains("native") && message.contains("portable"), "{message}");
+    assert!(
+        message.contains("native") && message.contains("portable"),
+        "{message}"
+    );
 }
 
 #[test]
