@@ -27,6 +27,10 @@
 //!   skipped (editors on Windows write one), so the first line reads as
 //!   written in every format.
 //!
+//! A reader that takes a [`Source`] reads the same way from files held in
+//! memory ([`InMemory`]: a page in a browser has no file system), with the
+//! same messages.
+//!
 //! Every output (matrices, frames, scenes, images, CSV) is written by
 //! [`outputs`], which keeps one rule: a file is replaced by renaming a
 //! temporary from its own folder over it, the folder synced after; a
@@ -39,12 +43,14 @@
 //! This module sits below every layer and knows nothing about what the
 //! files contain.
 
+mod in_memory;
 mod lock;
 pub mod outputs;
 pub mod patient;
 mod plan;
 mod temporaries;
 
+pub use in_memory::InMemory;
 pub use lock::{FolderLock, LOCK_FILE};
 pub use outputs::{write_file, Expect, Held, OutputFolder};
 pub use plan::{follow_links, resolve, same_file, FilePlan};
@@ -242,7 +248,13 @@ const BYTE_ORDER_MARK: char = '\u{feff}';
 /// [`FileError`] naming the path (and the line, for a NUL or a byte that is
 /// not UTF-8) when the file cannot be read, is too large, or is not text.
 pub fn read_text(path: &Path) -> Result<String, FileError> {
-    let bytes = read_limited(path, Content::Text)?;
+    text_of(path, read_limited(path, Content::Text)?)
+}
+
+/// The text of `bytes`, the checked content of the file at `path`: UTF-8
+/// (a byte that is not is reported with its line), a leading byte-order
+/// mark removed.
+fn text_of(path: &Path, bytes: Vec<u8>) -> Result<String, FileError> {
     let text = String::from_utf8(bytes).map_err(|error| {
         let bytes = error.as_bytes();
         let valid = error.utf8_error().valid_up_to();
@@ -281,6 +293,49 @@ pub fn read_bytes_of_format(
     format: &str,
 ) -> Result<Vec<u8>, FileError> {
     read_limited(path, Content::Format(signature, format))
+}
+
+/// Where the readers get their files: the file system ([`Disk`]), or files
+/// held in memory ([`InMemory`]: those a page in a browser was given).
+/// Both apply the rules of the module header but the waiting (a file in
+/// memory is all there), so a file gets the same message from each.
+pub trait Source {
+    /// The text of the file at `path`, as [`read_text`] reads it.
+    ///
+    /// # Errors
+    /// As [`read_text`].
+    fn text(&self, path: &Path) -> Result<String, FileError>;
+
+    /// The bytes of the file at `path`, which must start with `signature`,
+    /// as [`read_bytes_of_format`] reads them.
+    ///
+    /// # Errors
+    /// As [`read_bytes_of_format`].
+    fn bytes_of_format(
+        &self,
+        path: &Path,
+        signature: &[u8],
+        format: &str,
+    ) -> Result<Vec<u8>, FileError>;
+}
+
+/// The file system, read by [`read_text`] and [`read_bytes_of_format`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Disk;
+
+impl Source for Disk {
+    fn text(&self, path: &Path) -> Result<String, FileError> {
+        read_text(path)
+    }
+
+    fn bytes_of_format(
+        &self,
+        path: &Path,
+        signature: &[u8],
+        format: &str,
+    ) -> Result<Vec<u8>, FileError> {
+        read_bytes_of_format(path, signature, format)
+    }
 }
 
 /// What a reader expects of the bytes.
@@ -333,16 +388,9 @@ fn is_fifo(_: &fs::Metadata) -> bool {
 fn read_limited(path: &Path, content: Content) -> Result<Vec<u8>, FileError> {
     let unreadable = |error| FileError::unreadable(path, error);
     let max = max_input_bytes();
-    let too_large = || {
-        FileError::invalid(format!(
-            "the file is larger than {max} bytes, the most read here (an eighth of the memory \
-             limit, see docs/reliability.md)"
-        ))
-        .in_file(path)
-    };
     let (file, length) = open_input(path).map_err(|e| e.in_file(path))?;
-    if length.is_some_and(|length| length > max) {
-        return Err(too_large());
+    if let Some(length) = length {
+        check_length(path, length)?;
     }
     let mut reader = file.take(max.saturating_add(1));
     let mut bytes = Vec::new();
@@ -354,40 +402,67 @@ fn read_limited(path: &Path, content: Content) -> Result<Vec<u8>, FileError> {
             Err(error) if error.kind() == io::ErrorKind::Interrupted => continue,
             Err(error) => return Err(unreadable(error)),
         };
-        if let Content::Text = content {
-            if let Some(position) = chunk[..count].iter().position(|&byte| byte == 0) {
-                let offset = bytes.len() + position;
-                bytes.extend_from_slice(&chunk[..position]);
-                return Err(FileError::invalid(format!(
+        let before = bytes.len();
+        bytes.extend_from_slice(&chunk[..count]);
+        check_read(content, &bytes, before).map_err(|e| e.in_file(path))?;
+        check_length(path, bytes.len() as u64)?;
+    }
+    check_whole(content, &bytes).map_err(|e| e.in_file(path))?;
+    Ok(bytes)
+}
+
+/// Refuses a file of `length` bytes, the declared or the read length of
+/// the file at `path`, beyond [`max_input_bytes`].
+fn check_length(path: &Path, length: u64) -> Result<(), FileError> {
+    let max = max_input_bytes();
+    if length <= max {
+        return Ok(());
+    }
+    Err(FileError::invalid(format!(
+        "the file is larger than {max} bytes, the most read here (an eighth of the memory \
+         limit, see docs/reliability.md)"
+    ))
+    .in_file(path))
+}
+
+/// Checks `bytes[from..]`, just read, as `content` requires: no NUL byte in
+/// a text (its offset and line named), a format's signature so far.
+fn check_read(content: Content, bytes: &[u8], from: usize) -> Result<(), FileError> {
+    match content {
+        Content::Bytes => Ok(()),
+        Content::Text => match bytes[from..].iter().position(|&byte| byte == 0) {
+            None => Ok(()),
+            Some(position) => {
+                let offset = from + position;
+                Err(FileError::invalid(format!(
                     "a NUL byte at byte offset {offset}: this is not a text file"
                 ))
-                .at_line(line_of_offset(&bytes, offset))
-                .in_file(path));
+                .at_line(line_of_offset(bytes, offset)))
             }
-        }
-        bytes.extend_from_slice(&chunk[..count]);
-        if let Content::Format(signature, format) = content {
+        },
+        Content::Format(signature, format) => {
             let checked = bytes.len().min(signature.len());
-            if bytes[..checked] != signature[..checked] {
-                return Err(FileError::invalid(format!(
-                    "this is not a {format} file (it does not start with the {format} signature)"
-                ))
-                .in_file(path));
+            if bytes[..checked] == signature[..checked] {
+                return Ok(());
             }
-        }
-        if bytes.len() as u64 > max {
-            return Err(too_large());
+            Err(FileError::invalid(format!(
+                "this is not a {format} file (it does not start with the {format} signature)"
+            )))
         }
     }
-    if let Content::Format(signature, format) = content {
-        if bytes.len() < signature.len() {
-            return Err(FileError::invalid(format!(
+}
+
+/// Checks the whole of a file's `bytes` as `content` requires: a format's
+/// file at least as long as its signature.
+fn check_whole(content: Content, bytes: &[u8]) -> Result<(), FileError> {
+    match content {
+        Content::Format(signature, format) if bytes.len() < signature.len() => {
+            Err(FileError::invalid(format!(
                 "this is not a {format} file (shorter than the {format} signature)"
-            ))
-            .in_file(path));
+            )))
         }
+        _ => Ok(()),
     }
-    Ok(bytes)
 }
 
 /// The 1-based line of the byte at `offset`.

@@ -73,6 +73,8 @@ struct Summary {
     /// Which code ran the steps: `fast` or `textbook` (the handout's
     /// functions as written).
     path: &'static str,
+    /// The kernels that ran (`native` or `portable`: `--kernels`).
+    kernels: &'static str,
     /// The step the run continued from (`--resume`), if any.
     resumed_from: Option<usize>,
 }
@@ -385,6 +387,7 @@ fn summarize(
         stops: tally.stops,
         relative_gradient_median: Some(tally.gradients.median()).filter(|m| !m.is_nan()),
         path: if options.textbook { "textbook" } else { "fast" },
+        kernels: options.kernels.name(),
         resumed_from: None,
     }
 }

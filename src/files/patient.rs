@@ -26,6 +26,7 @@ const POLL: Duration = Duration::from_millis(5);
 
 /// `O_NONBLOCK` of this platform (the standard library does not export it);
 /// `None` where not known here, and a pipe is then opened the ordinary way.
+#[cfg(unix)]
 const O_NONBLOCK: Option<i32> = if cfg!(any(target_os = "linux", target_os = "android")) {
     if cfg!(any(
         target_arch = "mips",

@@ -6,6 +6,7 @@
 //! * [`sparse`]: triplets → CSC, CSC operations, orderings (AMD), the sparse
 //!   Cholesky pipeline (analyse once, factor, solve).
 //! * [`huge_pages`]: asking Linux for 2 MB pages under large arrays.
+//! * [`kernels`]: the native kernels (AVX2, FMA) or the portable loops.
 //! * [`cancel`]: a flag that stops the long dense operations from another
 //!   thread.
 //!
@@ -19,6 +20,7 @@ pub mod cancel;
 pub mod dense;
 pub mod error;
 pub mod huge_pages;
+pub mod kernels;
 pub mod sparse;
 
 pub use cancel::Cancel;

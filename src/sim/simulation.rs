@@ -16,6 +16,7 @@ use super::methods::Carried;
 use super::monitor::Observer;
 use super::precomputation::{MassSpringSystem, DELTA_T};
 use super::step::{StepReport, StepState};
+use crate::linalg::kernels::{self, Kernels};
 use crate::linalg::sparse::{Method, Ordering, SupernodeMerging};
 use crate::linalg::Cancel;
 use crate::mesh::Scene;
@@ -50,6 +51,11 @@ pub struct SimulationOptions {
     /// instead of the fast path: plain iterations, penalty pins, the
     /// simplicial factor; `step` then only gives the iteration count.
     pub textbook: bool,
+    /// The native kernels (AVX2, FMA where the CPU has them) or the
+    /// portable loops, which compute what a WebAssembly build computes, to
+    /// the bit ([`kernels`](crate::linalg::kernels)): the precomputation
+    /// and every step run with this choice.
+    pub kernels: Kernels,
 }
 
 impl SimulationOptions {
@@ -186,6 +192,7 @@ impl Default for SimulationOptions {
             factorization: Method::default(),
             supernodes: SupernodeMerging::default(),
             textbook: false,
+            kernels: Kernels::Native,
         }
     }
 }
@@ -310,7 +317,7 @@ impl<B: LinearAlgebra> Simulation<B> {
             delta_t: options.delta_t,
             cancel: Cancel::on(cancel.as_deref()),
         };
-        let engine = new_engine::<B>(&network, &options)?;
+        let engine = kernels::with(options.kernels, || new_engine::<B>(&network, &options))?;
         let n = vertices.len();
         Ok(Simulation {
             engine,
@@ -384,9 +391,10 @@ impl<B: LinearAlgebra> Simulation<B> {
             u_cur: &self.u_cur,
         };
         let cancel = self.cancel.as_ref();
-        let report = self
-            .engine
-            .step(control, state, &mut self.u_next, observer, cancel)?;
+        let report = kernels::with(self.options.kernels, || {
+            self.engine
+                .step(control, state, &mut self.u_next, observer, cancel)
+        })?;
         std::mem::swap(&mut self.u_prev, &mut self.u_cur); // U_prev ← U_cur
         std::mem::swap(&mut self.u_cur, &mut self.u_next); // U_cur ← U
         self.steps += 1;
@@ -700,7 +708,9 @@ impl<B: LinearAlgebra> Simulation<B> {
         if let Some((vertex, _)) = self.dragged {
             let mut targets = self.pin_rest_targets();
             targets.push(target);
-            self.engine.set_pin_targets(&targets)?;
+            kernels::with(self.options.kernels, || {
+                self.engine.set_pin_targets(&targets)
+            })?;
             self.dragged = Some((vertex, target));
         }
         Ok(())
@@ -760,7 +770,9 @@ impl<B: LinearAlgebra> Simulation<B> {
             delta_t,
             cancel: Cancel::on(self.cancel.as_deref()),
         };
-        self.engine.remake(&network, &targets)
+        kernels::with(self.options.kernels, || {
+            self.engine.remake(&network, &targets)
+        })
     }
 }
 

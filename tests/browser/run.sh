@@ -7,6 +7,11 @@
 # --update-screenshots, the six docs/viewer.md shows are then copied to
 # docs/images/. With --targets, it prints instead the figures of the
 # viewer's targets in front of a class (targets.mjs).
+#
+# With --static, it tests instead the page that runs the simulation itself
+# (static.test.mjs: the static build of src/web/build.sh, served by a
+# static server); with --static-targets [ROUNDS], it prints that page's
+# figures (static-targets.mjs, beside the release program).
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
@@ -20,10 +25,25 @@ fi
 if [ ! -d "$here/node_modules" ]; then
   (cd "$here" && npm ci --no-audit --no-fund)
 fi
+export CHROMIUM="$(command -v chromium)"
+case "${1:-}" in
+  --static)
+    bash "$root/src/web/build.sh"
+    (cd "$root" && cargo build --bin masssprings)
+    cd "$here"
+    MASSSPRINGS_BIN="$root/target/debug/masssprings" exec node --test static.test.mjs
+    ;;
+  --static-targets)
+    bash "$root/src/web/build.sh"
+    (cd "$root" && cargo build --release --bin masssprings)
+    cd "$here"
+    MASSSPRINGS_BIN="$root/target/release/masssprings" exec node static-targets.mjs "${@:2}"
+    ;;
+esac
 (cd "$root" && cargo build --bin masssprings)
 
 cd "$here"
-export MASSSPRINGS_BIN="$root/target/debug/masssprings" CHROMIUM="$(command -v chromium)"
+export MASSSPRINGS_BIN="$root/target/debug/masssprings"
 if [ "${1:-}" = "--targets" ]; then
   exec node targets.mjs
 fi

@@ -260,6 +260,9 @@ test('a long step is answered at once, can be stopped from the page, and stays a
       .test(document.getElementById('stats').textContent), null, { timeout: 30000 })
       .catch(async (error) => { throw new Error(`${error}: ${await page.textContent('#stats')}`); });
     assert.equal(await page.isEnabled('#stop'), true);
+    // the step's own answer first (202 too), so that it cannot come after
+    // the wind's and take its place as the last command answered
+    await page.waitForFunction(() => window.viewer.lastCommand && window.viewer.lastCommand.command === 'step');
     await page.click('#wind');
     await page.waitForFunction(() => window.viewer.lastCommand && window.viewer.lastCommand.command === 'toggle_wind')
       .catch(async (error) => {

@@ -24,6 +24,7 @@
 //! text at all (`fuzz/fuzz_targets/frame.rs`).
 
 use masssprings::files::{fingerprint, number, FileError};
+use masssprings::linalg::kernels::Kernels;
 use masssprings::linalg::sparse::SupernodeMerging;
 use masssprings::mesh::obj::parse_obj;
 use masssprings::mesh::Scene;
@@ -260,6 +261,10 @@ fn option_values(options: &SimulationOptions, dense: bool) -> BTreeMap<String, S
         values.push(("--ordering", options.ordering.name().to_string()));
         values.push(("--factorization", options.factorization.name().to_string()));
         values.push(("--supernodes", supernodes.to_string()));
+    }
+    if options.kernels != Kernels::Native {
+        // recorded only when given, so that earlier runs' records still match
+        values.push(("--kernels", options.kernels.name().to_string()));
     }
     values
         .into_iter()

@@ -5,18 +5,15 @@
 
 use super::api::Command;
 use super::recording::{Recording, RECORDING};
-use super::simulation_thread::{
-    scene_name, Reply, SceneAssets, Shared, Shown, SimulationThread, MAX_ITERATIONS,
-};
+use super::rules::{check_parameters, method_step, DragReach};
+use super::simulation_thread::{scene_name, Reply, SceneAssets, Shared, Shown, SimulationThread};
 use super::solver::{self, Backend, NotBuilt, Run};
 use crate::app::error::AppError;
 use crate::app::limits::dense_need;
-use masssprings::files::number;
 use masssprings::memory::gigabytes;
-use masssprings::mesh::bounding_box::BoundingBox;
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::{Solver, Start, StepControl, StepMethod};
+use masssprings::sim::{Solver, StepControl};
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
 use std::time::Instant;
@@ -133,22 +130,14 @@ impl SimulationThread {
         at_least_plain: Option<f64>,
         start: Option<&str>,
     ) -> Reply {
-        let method: StepMethod = method.parse()?;
         let current = self.main.run.options().step;
-        let start: Start = match start {
-            Some(name) => name.parse()?,
-            None => current.start,
-        };
-        let step = StepControl {
+        let step = method_step(
+            current,
             method,
-            tolerance,
-            energy_tolerance,
+            [tolerance, energy_tolerance],
             at_least_plain,
             start,
-            plain_first: current.plain_first && method == current.method,
-            ..current
-        };
-        step.check_rules()?;
+        )?;
         self.main
             .run
             .set_step(step)
@@ -329,15 +318,7 @@ impl SimulationThread {
 
     /// A drag target must be finite and near the scene.
     fn check_target(&self, target: [f64; 3]) -> Reply {
-        let distance = (0..3)
-            .map(|axis| (target[axis] - self.center[axis]).powi(2))
-            .sum::<f64>()
-            .sqrt();
-        if distance.is_finite() && distance <= self.reach {
-            Ok(())
-        } else {
-            Err("the drag target is too far from the scene".into())
-        }
+        self.drag_reach.check(target)
     }
 
     /// Switches to scene `index`: loads it, precomputes every simulation
@@ -391,9 +372,7 @@ impl SimulationThread {
     /// Shows `scene`, just loaded: its assets, bounds, frame and status.
     fn show_scene(&mut self, scene: Scene) {
         self.refactor = None; // a new precomputation, not a refactorization
-        let bounds = BoundingBox::of(&scene.vertices);
-        self.center = bounds.centre();
-        self.reach = 10.0 * bounds.diagonal().max(1.0);
+        self.drag_reach = DragReach::of(&scene.vertices);
         self.show_springs = scene.faces.first().is_none_or(|face| face.len() < 3);
         self.error = None;
         self.set_animating(false);
@@ -421,47 +400,5 @@ fn precomputing_for(name: &str, backend: Backend, scene: &Scene) -> String {
             let (bytes, need) = dense_need(scene);
             format!("{what}: {need}, {}", gigabytes(bytes))
         }
-    }
-}
-
-/// Refuses parameters out of the sliders' ranges, saying which.
-fn check_parameters([k, delta_t, mass_scale]: [f64; 3], iterations: usize) -> Reply {
-    let in_range = |x: f64, low: f64, high: f64| x.is_finite() && (low..=high).contains(&x);
-    if !in_range(k, 1e-6, 1e12) {
-        return Err(format!(
-            "k = {}: expected a stiffness from 1e-6 to 1e12",
-            number(k)
-        ));
-    }
-    if !in_range(delta_t, 1e-4, 1.0) {
-        return Err(format!(
-            "Δt = {}: expected from 0.0001 to 1 s",
-            number(delta_t)
-        ));
-    }
-    if !in_range(mass_scale, 1e-3, 1e3) {
-        return Err(format!(
-            "mass scale {}: expected from 0.001 to 1000",
-            number(mass_scale)
-        ));
-    }
-    if !(1..=MAX_ITERATIONS).contains(&iterations) {
-        return Err(format!(
-            "{iterations} iterations: expected from 1 to {MAX_ITERATIONS}"
-        ));
-    }
-    Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::check_parameters;
-
-    #[test]
-    fn refused_parameters_are_written_short() {
-        let refused = check_parameters([1e308, 0.03, 1.0], 10).unwrap_err();
-        assert_eq!(refused, "k = 1e308: expected a stiffness from 1e-6 to 1e12");
-        let refused = check_parameters([1.0, 1e-300, 1.0], 10).unwrap_err();
-        assert!(refused.starts_with("Δt = 1e-300:"), "{refused}");
     }
 }

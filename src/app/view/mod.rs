@@ -31,6 +31,7 @@ mod pool;
 mod publish;
 mod recording;
 mod routes;
+mod rules;
 mod simulation_thread;
 mod solver;
 mod stepping;

@@ -3,10 +3,11 @@
 //! parameters, timings, the last steps of each).
 
 use super::api::{Compared, Status, StepRecord, HISTORY_LENGTH};
+use super::rules::converged;
 use super::simulation_thread::{Shared, Shown, SimulationThread};
 use crate::app::limits::dense_need;
 use masssprings::memory::{self, gigabytes};
-use masssprings::sim::{StepReport, Stop};
+use masssprings::sim::StepReport;
 use std::collections::VecDeque;
 use std::time::Duration;
 
@@ -168,10 +169,7 @@ fn step_record(shown: &Shown, report: &StepReport, time: Duration) -> StepRecord
         iterations: report.iterations,
         energy_decrease: report.energy_decrease,
         relative_gradient: report.relative_gradient,
-        converged: matches!(
-            report.stop,
-            Stop::Tolerance | Stop::EnergyTolerance | Stop::AtLeastPlain
-        ),
+        converged: converged(report.stop),
         stop: report.stop.name(),
         energy: shown.run.mechanical_energy(),
         ms: 1e3 * time.as_secs_f64(),

@@ -21,10 +21,10 @@
 use super::api::{Command, Frame, FramesGiven, Status, HISTORY_LENGTH};
 use super::display_mesh::display_mesh;
 use super::recording::{Frames, RECORDING};
+use super::rules::DragReach;
 use super::solver::{self, Backend, Run};
 use super::watchers::Watchers;
 use crate::app::draw::texture::{read_png_file, Texture};
-use masssprings::mesh::bounding_box::BoundingBox;
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::StepMethod;
@@ -34,10 +34,7 @@ use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
-/// The most iterations a step of the viewer may take, from the command line
-/// as from the page: a step must end within moments for the viewer to
-/// answer and to stop (and any can be cancelled).
-pub const MAX_ITERATIONS: usize = 1000;
+pub use super::rules::MAX_ITERATIONS;
 
 /// The scene's PNG texture, read from the path the scene names; `None`
 /// (with a warning) when it cannot be read or is not a PNG.
@@ -232,10 +229,8 @@ pub struct SimulationThread {
     pub(super) error: Option<String>,
     /// What happened that is not an error (a step cancelled, …).
     pub(super) note: Option<String>,
-    /// A drag target must lie within this distance of `center` (a guard
-    /// against targets that would blow the solve up).
-    pub(super) center: [f64; 3],
-    pub(super) reach: f64,
+    /// Where a drag target may lie.
+    pub(super) drag_reach: DragReach,
     /// The scene files the page may switch to, and the one shown.
     pub(super) scenes: Vec<PathBuf>,
     pub(super) scene_index: usize,
@@ -265,8 +260,7 @@ impl SimulationThread {
     /// Wraps the simulation of `start` (paused at rest; a cloth without
     /// its springs shown) and publishes its first frame.
     pub fn new(start: Start, shared: Arc<Shared>) -> Self {
-        let bounds = BoundingBox::of(start.main.run.rest_positions());
-        let (center, diagonal) = (bounds.centre(), bounds.diagonal());
+        let drag_reach = DragReach::of(start.main.run.rest_positions());
         let show_springs = start.scene.faces.first().is_none_or(|face| face.len() < 3);
         let default_backend = start.main.backend;
         let mut thread = SimulationThread {
@@ -280,8 +274,7 @@ impl SimulationThread {
             rate: StepRate::new(),
             error: None,
             note: None,
-            center,
-            reach: 10.0 * diagonal.max(1.0),
+            drag_reach,
             scenes: start.scenes,
             scene_index: start.scene_index,
             refactor: None,

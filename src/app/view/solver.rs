@@ -12,13 +12,14 @@
 //! How a name becomes options is `SimulationOptions::solved_by`, the one
 //! rule `--textbook` and `--accuracy` use too; nothing here repeats it.
 
+use super::rules::functions;
+pub use super::rules::{name_of, options_named, solver_names};
 use crate::app::error::AppError;
 use crate::app::limits::{check_precomputation, precomputation_failed};
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{
-    Dense, LinearAlgebra, Simulation, SimulationError, Solver, Sparse, StepControl, StepMethod,
-    StepReport,
+    Dense, LinearAlgebra, Simulation, SimulationError, Sparse, StepControl, StepReport,
 };
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
@@ -131,7 +132,7 @@ where
         name_of(Simulation::options(self))
     }
     fn path(&self) -> String {
-        functions(Simulation::options(self), Backend::of::<B>())
+        functions(Simulation::options(self), Backend::of::<B>().name())
     }
 }
 
@@ -230,87 +231,4 @@ pub fn carry_over(from: &dyn Run, to: &mut dyn Run) -> Result<(), String> {
     to.set_state(from.previous_positions(), from.positions(), from.steps());
     to.set_time(from.time());
     Ok(())
-}
-
-/// Which path runs a step of `options` on `backend`, and its functions,
-/// for the status panel.
-fn functions(options: &SimulationOptions, backend: Backend) -> String {
-    let factor = match backend {
-        Backend::Dense => "dense Cholesky",
-        Backend::Sparse if options.textbook => "simplicial sparse Cholesky",
-        Backend::Sparse => "supernodal sparse Cholesky",
-    };
-    if options.textbook {
-        let name = backend.name();
-        return format!(
-            "the handout's code as written: sim/textbook.rs, \
-             fast_mass_springs_step_{name} ({factor})"
-        );
-    }
-    let step = &options.step;
-    let method = match step.method {
-        StepMethod::Lbfgs if step.plain_first => "plain_then_lbfgs",
-        method => method.name(),
-    };
-    format!("fast path: sim/step.rs solve_step → sim/methods/{method}.rs ({factor})")
-}
-
-/// The names a page may ask for: the solvers, and what `compare` takes
-/// besides ([`CONVERGED`]).
-pub fn solver_names() -> Vec<&'static str> {
-    Solver::ALL.map(Solver::name).to_vec()
-}
-
-/// The comparison's name for a step solved far: L-BFGS until an
-/// iteration takes off at most a thousandth of the step's decrease, at
-/// most 200 iterations (`--method lbfgs --energy-tolerance 1e-3
-/// --iterations 200`).
-pub const CONVERGED: &str = "converged";
-
-/// The options of `name` (a solver, or [`CONVERGED`]) on top of `base`.
-pub fn options_named(base: SimulationOptions, name: &str) -> Result<SimulationOptions, String> {
-    if name == CONVERGED {
-        let assignment = base.solved_by(Solver::Assignment);
-        let step = StepControl {
-            method: StepMethod::Lbfgs,
-            energy_tolerance: Some(1e-3),
-            iterations: 200,
-            ..assignment.step
-        };
-        return Ok(SimulationOptions { step, ..assignment });
-    }
-    let solver = name.parse::<Solver>().map_err(|_| {
-        let mut names = solver_names();
-        names.push(CONVERGED);
-        format!(
-            "unknown solver '{}' (expected {})",
-            masssprings::files::escaped(name),
-            names.join(", ")
-        )
-    })?;
-    Ok(base.solved_by(solver))
-}
-
-/// The name of `options` for the status: a solver's, [`CONVERGED`], or
-/// `None` (the expert's own method and rules).
-pub fn name_of(options: &SimulationOptions) -> Option<&'static str> {
-    if let Some(solver) = options.solver() {
-        return Some(solver.name());
-    }
-    let converged = options_named(*options, CONVERGED).ok()?;
-    (converged == *options).then_some(CONVERGED)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn an_unknown_solver_is_refused_naming_every_one_compare_takes() {
-        let refused = options_named(SimulationOptions::default(), "fast\n").unwrap_err();
-        assert!(refused.starts_with("unknown solver 'fast\\n'"), "{refused}");
-        for name in solver_names().into_iter().chain([CONVERGED]) {
-            assert!(refused.contains(name), "{name}: {refused}");
-        }
-    }
 }

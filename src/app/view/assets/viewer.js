@@ -627,6 +627,12 @@ function loadTexture(url) {
     gpu.texture = texture;
     window.viewer.textureLoaded = true;
   };
+  image.onerror = () => {
+    // a PNG the server decodes is never served broken; a user's own, read
+    // by the page, can be
+    state.refusal = 'texture: the browser cannot decode this PNG; the cloth is drawn without it';
+    window.viewer.textureLoaded = true;
+  };
   image.src = url;
 }
 
@@ -900,7 +906,10 @@ function drawImage() {
       window.viewer.imagesDrawn++;
       window.viewer.framesDrawn++;
     })
-    .catch((error) => { window.viewer.error = String(error); })
+    .catch((error) => {
+      window.viewer.error = String(error);
+      state.refusal = error.message;
+    })
     .finally(() => { imageView.pending = false; });
 }
 
@@ -1528,6 +1537,7 @@ function syncSolveLabels(s) {
     : `the handout's code, dense (${gigabytes}: over the limit)`;
   for (const select of [controls.solver, controls.compare]) {
     const option = select.querySelector('option[value="textbook:dense"]');
+    option.hidden = !s.dense_memory; // a page that runs the simulation itself has no dense path
     option.textContent = dense;
     option.title = `${s.dense_memory}; Esc stops its setup`;
     const fast = select.querySelector('option[value="accuracy-assignment"]');
@@ -1905,6 +1915,38 @@ canvas.addEventListener('touchend', (event) => {
 // ---------------------------------------------------------------------------
 // Start: fetch the status and the scene, then draw on every animation frame
 // of the browser (with WebGL, or the server's images without it).
+
+// ---------------------------------------------------------------------------
+// A scene of the user's own, where the backend can open one (a page that
+// runs the simulation itself, src/web/backend.js): its JSON, the OBJ and
+// the PNG it names, picked with "open…" or dropped on the page. A file
+// that cannot be read is refused in the command line's words, shown on the
+// overlay.
+
+async function openFiles(files) {
+  if (files.length === 0) return;
+  const { ok, answer } = await backend.openFiles(files);
+  state.status = ok ? answer : state.status;
+  state.refusal = ok ? null : `your scene: ${answer.error}`;
+  window.viewer.lastOpen = { ok, error: ok ? null : answer.error };
+  onStatus();
+}
+
+if (backend.openFiles) {
+  const openButton = document.getElementById('open');
+  const picker = document.getElementById('open-files');
+  openButton.hidden = false;
+  openButton.addEventListener('click', () => picker.click());
+  picker.addEventListener('change', () => {
+    openFiles(Array.from(picker.files));
+    picker.value = ''; // the same files can be picked again
+  });
+  window.addEventListener('dragover', (event) => event.preventDefault());
+  window.addEventListener('drop', (event) => {
+    event.preventDefault();
+    openFiles(Array.from(event.dataTransfer.files));
+  });
+}
 
 function everyAnimationFrame() {
   if (!state.loadingScene && state.scene) {
