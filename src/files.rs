@@ -27,42 +27,39 @@
 //!   skipped (editors on Windows write one), so the first line reads as
 //!   written in every format.
 //!
-//! Every writer (matrices, frames, scenes, images, CSV) goes through
-//! [`write_file`], after the command has checked its [`FilePlan`] (no
-//! output is an input or another output, `outputs`). What it does
-//! depends on what is at the path:
+//! A reader that takes a [`Source`] reads the same way from files held in
+//! memory ([`InMemory`]: a page in a browser has no file system), with the
+//! same messages.
 //!
-//! * **nothing, or a regular file**: the content is written to a temporary
-//!   file beside the destination, flushed to disk and renamed into place,
-//!   so a failure never leaves a half-written file behind (a file replaced
-//!   keeps its permissions). The temporary is removed on every error; a
-//!   process killed while writing leaves it, named
-//!   `.NAME.masssprings-PID-START-N.tmp` (`temporaries`), and the next
-//!   run that takes the folder's lock ([`FolderLock`]) removes it.
-//! * **a symbolic link**: followed; its target is replaced as above, and the
-//!   link stays a link.
-//! * **a FIFO, a device, `-`**: written to directly (a FIFO waits at most
-//!   [`patient::PATIENCE`] for its reader), never replaced: `/dev/null`
-//!   stays a device, and `-` is standard output.
+//! Every output (matrices, frames, scenes, images, CSV) is written by
+//! [`outputs`], which keeps one rule: a file is replaced by renaming a
+//! temporary from its own folder over it, the folder synced after; a
+//! folder is never replaced, exchanged or removed, unless the command made
+//! it in this run and left it empty; an old file is removed only once
+//! everything that replaces it is in place; and a file the command did not
+//! write is never removed, whenever it appeared. A command checks its
+//! [`FilePlan`] first (no output is an input or another output, `plan`).
 //!
 //! This module sits below every layer and knows nothing about what the
 //! files contain.
 
+mod in_memory;
 mod lock;
-mod outputs;
+pub mod outputs;
 pub mod patient;
+mod plan;
 mod temporaries;
 
+pub use in_memory::InMemory;
 pub use lock::{FolderLock, LOCK_FILE};
-pub use outputs::{resolve, same_file, FilePlan};
-pub use temporaries::{
-    exchange_folders, remove_temporaries_of, temporary_folder, temporary_owner, temporary_path,
-    Owner,
-};
+pub use outputs::{write_file, Expect, Held, OutputFolder};
+pub use plan::{follow_links, resolve, same_file, FilePlan};
+pub use temporaries::{is_reserved, temporary, temporary_owner, Kind, Leftover, Owner, Temporary};
 
+use std::borrow::Cow;
 use std::fmt;
 use std::fs;
-use std::io::{self, BufWriter, Read, Write};
+use std::io::{self, Read};
 use std::path::{Path, PathBuf};
 
 /// A file that could not be read, written or understood: which file, which
@@ -78,6 +75,8 @@ pub struct FileError {
 enum Problem {
     Unreadable(io::Error),
     Unwritable(io::Error),
+    /// An operation on the file failed: what it was ("rename it to …").
+    Os(String, io::Error),
     Invalid(String),
 }
 
@@ -109,6 +108,16 @@ impl FileError {
         }
     }
 
+    /// The operation `operation` (a phrase after "cannot": "replace it by
+    /// …", "make the folder") on the file at `path` failed with `error`.
+    pub fn os(path: &Path, operation: impl Into<String>, error: io::Error) -> Self {
+        FileError {
+            path: Some(path.to_path_buf()),
+            line: None,
+            problem: Problem::Os(operation.into(), error),
+        }
+    }
+
     /// Places the problem on a 1-based line.
     pub fn at_line(mut self, line: usize) -> Self {
         self.line = Some(line);
@@ -135,6 +144,7 @@ impl FileError {
     pub fn io_error(&self) -> Option<&io::Error> {
         match &self.problem {
             Problem::Unreadable(error) | Problem::Unwritable(error) => Some(error),
+            Problem::Os(_, error) => Some(error),
             Problem::Invalid(_) => None,
         }
     }
@@ -143,14 +153,15 @@ impl FileError {
 impl fmt::Display for FileError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match (&self.path, self.line) {
-            (Some(path), Some(line)) => write!(f, "{}:{line}: ", path.display())?,
-            (Some(path), None) => write!(f, "{}: ", path.display())?,
+            (Some(path), Some(line)) => write!(f, "{}:{line}: ", shown(path))?,
+            (Some(path), None) => write!(f, "{}: ", shown(path))?,
             (None, Some(line)) => write!(f, "line {line}: ")?,
             (None, None) => {}
         }
         match &self.problem {
             Problem::Unreadable(error) => write!(f, "cannot read the file: {error}"),
             Problem::Unwritable(error) => write!(f, "cannot write the file: {error}"),
+            Problem::Os(operation, error) => write!(f, "cannot {operation}: {error}"),
             Problem::Invalid(message) => f.write_str(message),
         }
     }
@@ -160,6 +171,63 @@ impl std::error::Error for FileError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         self.io_error().map(|error| error as _)
     }
+}
+
+/// `text` as it may be printed: every control character (a line break, a
+/// tab, the escape that starts a terminal's colour codes) written as
+/// Rust's escape for it (`\n`, `\t`, `\u{1b}`), so that a name or a line
+/// read from a file can neither break a message's line nor drive the
+/// terminal. Everything else, accents and all, is kept.
+pub fn escaped(text: &str) -> Cow<'_, str> {
+    if !text.chars().any(char::is_control) {
+        return Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    Cow::Owned(out)
+}
+
+/// A path as messages show it: [`escaped`], bytes that are not UTF-8 as
+/// `\u{fffd}` (`�`).
+pub fn shown(path: &Path) -> String {
+    escaped(&path.to_string_lossy()).into_owned()
+}
+
+/// `x` as a message shows it: the shortest decimal that reads back to the
+/// same `f64`, in exponent form when it would take more than 16 digits
+/// before the point or 4 zeros after it (`1e308`, not 309 digits;
+/// `2.5e-7`), else as a plain decimal (`500`, `0.03333333333333333`).
+pub fn number(x: f64) -> String {
+    let plain = x == 0.0 || (1e-4..1e16).contains(&x.abs());
+    if plain || !x.is_finite() {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// A fingerprint of `words` that a file can carry to say what it was
+/// written from (a frame, its scene's rest positions; a trace's file, the
+/// trace): 64-bit FNV-1a of the words (each as 8 little-endian bytes) and
+/// their count, `fnv1a64:0123456789abcdef of N`. Two lists that differ
+/// give two fingerprints but for one chance in 2⁶⁴.
+pub fn fingerprint(words: impl IntoIterator<Item = u64>) -> String {
+    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut count = 0u64;
+    for word in words {
+        for byte in word.to_le_bytes() {
+            hash ^= u64::from(byte);
+            hash = hash.wrapping_mul(0x0100_0000_01b3);
+        }
+        count += 1;
+    }
+    format!("fnv1a64:{hash:016x} of {count}")
 }
 
 /// The largest file the readers read: an eighth of the memory limit
@@ -180,7 +248,13 @@ const BYTE_ORDER_MARK: char = '\u{feff}';
 /// [`FileError`] naming the path (and the line, for a NUL or a byte that is
 /// not UTF-8) when the file cannot be read, is too large, or is not text.
 pub fn read_text(path: &Path) -> Result<String, FileError> {
-    let bytes = read_limited(path, Content::Text)?;
+    text_of(path, read_limited(path, Content::Text)?)
+}
+
+/// The text of `bytes`, the checked content of the file at `path`: UTF-8
+/// (a byte that is not is reported with its line), a leading byte-order
+/// mark removed.
+fn text_of(path: &Path, bytes: Vec<u8>) -> Result<String, FileError> {
     let text = String::from_utf8(bytes).map_err(|error| {
         let bytes = error.as_bytes();
         let valid = error.utf8_error().valid_up_to();
@@ -219,6 +293,49 @@ pub fn read_bytes_of_format(
     format: &str,
 ) -> Result<Vec<u8>, FileError> {
     read_limited(path, Content::Format(signature, format))
+}
+
+/// Where the readers get their files: the file system ([`Disk`]), or files
+/// held in memory ([`InMemory`]: those a page in a browser was given).
+/// Both apply the rules of the module header but the waiting (a file in
+/// memory is all there), so a file gets the same message from each.
+pub trait Source {
+    /// The text of the file at `path`, as [`read_text`] reads it.
+    ///
+    /// # Errors
+    /// As [`read_text`].
+    fn text(&self, path: &Path) -> Result<String, FileError>;
+
+    /// The bytes of the file at `path`, which must start with `signature`,
+    /// as [`read_bytes_of_format`] reads them.
+    ///
+    /// # Errors
+    /// As [`read_bytes_of_format`].
+    fn bytes_of_format(
+        &self,
+        path: &Path,
+        signature: &[u8],
+        format: &str,
+    ) -> Result<Vec<u8>, FileError>;
+}
+
+/// The file system, read by [`read_text`] and [`read_bytes_of_format`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Disk;
+
+impl Source for Disk {
+    fn text(&self, path: &Path) -> Result<String, FileError> {
+        read_text(path)
+    }
+
+    fn bytes_of_format(
+        &self,
+        path: &Path,
+        signature: &[u8],
+        format: &str,
+    ) -> Result<Vec<u8>, FileError> {
+        read_bytes_of_format(path, signature, format)
+    }
 }
 
 /// What a reader expects of the bytes.
@@ -271,16 +388,9 @@ fn is_fifo(_: &fs::Metadata) -> bool {
 fn read_limited(path: &Path, content: Content) -> Result<Vec<u8>, FileError> {
     let unreadable = |error| FileError::unreadable(path, error);
     let max = max_input_bytes();
-    let too_large = || {
-        FileError::invalid(format!(
-            "the file is larger than {max} bytes, the most read here (an eighth of the memory \
-             limit, see docs/reliability.md)"
-        ))
-        .in_file(path)
-    };
     let (file, length) = open_input(path).map_err(|e| e.in_file(path))?;
-    if length.is_some_and(|length| length > max) {
-        return Err(too_large());
+    if let Some(length) = length {
+        check_length(path, length)?;
     }
     let mut reader = file.take(max.saturating_add(1));
     let mut bytes = Vec::new();
@@ -292,40 +402,67 @@ fn read_limited(path: &Path, content: Content) -> Result<Vec<u8>, FileError> {
             Err(error) if error.kind() == io::ErrorKind::Interrupted => continue,
             Err(error) => return Err(unreadable(error)),
         };
-        if let Content::Text = content {
-            if let Some(position) = chunk[..count].iter().position(|&byte| byte == 0) {
-                let offset = bytes.len() + position;
-                bytes.extend_from_slice(&chunk[..position]);
-                return Err(FileError::invalid(format!(
+        let before = bytes.len();
+        bytes.extend_from_slice(&chunk[..count]);
+        check_read(content, &bytes, before).map_err(|e| e.in_file(path))?;
+        check_length(path, bytes.len() as u64)?;
+    }
+    check_whole(content, &bytes).map_err(|e| e.in_file(path))?;
+    Ok(bytes)
+}
+
+/// Refuses a file of `length` bytes, the declared or the read length of
+/// the file at `path`, beyond [`max_input_bytes`].
+fn check_length(path: &Path, length: u64) -> Result<(), FileError> {
+    let max = max_input_bytes();
+    if length <= max {
+        return Ok(());
+    }
+    Err(FileError::invalid(format!(
+        "the file is larger than {max} bytes, the most read here (an eighth of the memory \
+         limit, see docs/reliability.md)"
+    ))
+    .in_file(path))
+}
+
+/// Checks `bytes[from..]`, just read, as `content` requires: no NUL byte in
+/// a text (its offset and line named), a format's signature so far.
+fn check_read(content: Content, bytes: &[u8], from: usize) -> Result<(), FileError> {
+    match content {
+        Content::Bytes => Ok(()),
+        Content::Text => match bytes[from..].iter().position(|&byte| byte == 0) {
+            None => Ok(()),
+            Some(position) => {
+                let offset = from + position;
+                Err(FileError::invalid(format!(
                     "a NUL byte at byte offset {offset}: this is not a text file"
                 ))
-                .at_line(line_of_offset(&bytes, offset))
-                .in_file(path));
+                .at_line(line_of_offset(bytes, offset)))
             }
-        }
-        bytes.extend_from_slice(&chunk[..count]);
-        if let Content::Format(signature, format) = content {
+        },
+        Content::Format(signature, format) => {
             let checked = bytes.len().min(signature.len());
-            if bytes[..checked] != signature[..checked] {
-                return Err(FileError::invalid(format!(
-                    "this is not a {format} file (it does not start with the {format} signature)"
-                ))
-                .in_file(path));
+            if bytes[..checked] == signature[..checked] {
+                return Ok(());
             }
-        }
-        if bytes.len() as u64 > max {
-            return Err(too_large());
+            Err(FileError::invalid(format!(
+                "this is not a {format} file (it does not start with the {format} signature)"
+            )))
         }
     }
-    if let Content::Format(signature, format) = content {
-        if bytes.len() < signature.len() {
-            return Err(FileError::invalid(format!(
+}
+
+/// Checks the whole of a file's `bytes` as `content` requires: a format's
+/// file at least as long as its signature.
+fn check_whole(content: Content, bytes: &[u8]) -> Result<(), FileError> {
+    match content {
+        Content::Format(signature, format) if bytes.len() < signature.len() => {
+            Err(FileError::invalid(format!(
                 "this is not a {format} file (shorter than the {format} signature)"
-            ))
-            .in_file(path));
+            )))
         }
+        _ => Ok(()),
     }
-    Ok(bytes)
 }
 
 /// The 1-based line of the byte at `offset`.
@@ -336,108 +473,28 @@ fn line_of_offset(bytes: &[u8], offset: usize) -> usize {
         .count()
 }
 
-/// Writes what `write` produces to `path`: a regular file (or nothing yet)
-/// is created or replaced all or nothing, through a symbolic link to its
-/// target; a FIFO or a device is written to directly; `-` is standard
-/// output (see the module header).
-///
-/// A regular file is filled as a temporary in the same folder, flushed to
-/// disk and renamed to `path`; if `write` or any step fails, the temporary
-/// is removed and `path` is left as it was.
-///
-/// ```no_run
-/// # use masssprings::files::write_file;
-/// # use std::io::Write;
-/// write_file("hello.txt".as_ref(), |out| writeln!(out, "hello"))?;
-/// # Ok::<(), masssprings::files::FileError>(())
-/// ```
-///
-/// # Errors
-/// The first I/O error (from `write`, creating, syncing or renaming), with
-/// `path` in the message; a folder at `path` is refused.
-pub fn write_file(
-    path: &Path,
-    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
-) -> Result<(), FileError> {
-    let unwritable = |error| FileError::unwritable(path, error);
-    if path == Path::new("-") {
-        let mut out = BufWriter::new(io::stdout().lock());
-        return write(&mut out)
-            .and_then(|()| out.flush())
-            .map_err(unwritable);
-    }
-    match fs::metadata(path) {
-        Ok(metadata) if metadata.is_dir() => Err(unwritable(io::Error::new(
-            io::ErrorKind::InvalidInput,
-            "this is a folder; name a file in it",
-        ))),
-        Ok(metadata) if !metadata.is_file() => {
-            write_directly(path, is_fifo(&metadata), write).map_err(unwritable)
-        }
-        // A regular file, or nothing (or a link to nothing) yet: replaced
-        // at the end of its links, with the permissions it had.
-        Ok(_) | Err(_) => {
-            let target = resolve(path).map_err(unwritable)?;
-            let permissions = fs::metadata(&target).ok().map(|m| m.permissions());
-            replace(&target, permissions, write).map_err(unwritable)
-        }
-    }
-}
-
-/// Writes into a FIFO or a device as it is: no temporary, no rename.
-fn write_directly(
-    path: &Path,
-    fifo: bool,
-    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
-) -> io::Result<()> {
-    let file: Box<dyn Write> = if fifo {
-        Box::new(patient::PatientWriter::open(path)?)
-    } else {
-        Box::new(fs::OpenOptions::new().write(true).open(path)?)
-    };
-    let mut out = BufWriter::new(file);
-    write(&mut out)?;
-    out.flush()
-}
-
-/// Replaces (or creates) the regular file `target` all or nothing.
-fn replace(
-    target: &Path,
-    permissions: Option<fs::Permissions>,
-    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
-) -> io::Result<()> {
-    let temporary = temporary_path(target)?;
-    let result = write_then_rename(&temporary, target, permissions, write);
-    if result.is_err() {
-        // The temporary may not exist (creation failed, or it was renamed); either is fine.
-        let _ = fs::remove_file(&temporary);
-    }
-    result
-}
-
-fn write_then_rename(
-    temporary: &Path,
-    path: &Path,
-    permissions: Option<fs::Permissions>,
-    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
-) -> io::Result<()> {
-    let file = fs::OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(temporary)?;
-    let mut out = BufWriter::new(file);
-    write(&mut out)?;
-    let file = out.into_inner().map_err(|e| e.into_error())?;
-    if let Some(permissions) = permissions {
-        file.set_permissions(permissions)?;
-    }
-    file.sync_all()?;
-    fs::rename(temporary, path)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn names_are_printed_without_control_characters() {
+        assert_eq!(escaped("plain é"), "plain é");
+        assert_eq!(escaped("a\nb\u{1b}[31m"), "a\\nb\\u{1b}[31m");
+        let error = FileError::invalid("x").in_file(Path::new("evil\nname"));
+        assert_eq!(error.to_string(), "evil\\nname: x");
+    }
+
+    #[test]
+    fn numbers_are_short() {
+        assert_eq!(number(1e308), "1e308");
+        assert_eq!(number(-2.5e-7), "-2.5e-7");
+        assert_eq!(number(500.0), "500");
+        assert_eq!(number(1.0 / 30.0), "0.03333333333333333");
+        assert_eq!(number(0.0), "0");
+        assert_eq!(number(f64::INFINITY), "inf");
+        assert_eq!(number(f64::MAX), "1.7976931348623157e308");
+    }
 
     #[test]
     fn line_of_offset_counts_line_breaks_before_it() {

@@ -26,6 +26,10 @@
 //!   GB, decimals allowed) replaces the available memory (not halved), to
 //!   allow more on a dedicated machine or less in a test; the process's own
 //!   limits still apply, since going past them aborts it.
+//!
+//!   Where there is no `/proc` to read (WebAssembly in a browser), the host
+//!   gives the memory the program may use in all, its budget
+//!   ([`set_budget`]: a page gives its tab's), and the limit is half of it.
 //! * **an estimate** is a count times the bytes of one item, computed with
 //!   saturating arithmetic, so a size of 2⁶⁴ − 1 gives "too large", not an
 //!   overflow.
@@ -61,10 +65,30 @@ pub struct Limit {
     pub source: &'static str,
 }
 
+/// The limit, once decided.
+static LIMIT: OnceLock<Limit> = OnceLock::new();
+
 /// The limit of this process (decided once, on first use).
 pub fn limit() -> Limit {
-    static LIMIT: OnceLock<Limit> = OnceLock::new();
     *LIMIT.get_or_init(decide_limit)
+}
+
+/// Decides the limit from a budget the host gives, `bytes` in all (a
+/// browser's tab for its WebAssembly memory, where no `/proc` tells what is
+/// available): half of it, as the limit is half of `MemAvailable`, the
+/// other half left for the work that follows each allocation checked.
+/// `source` says where the budget came from, for messages ("half of the
+/// page's budget, ..."). To be called before anything is read or checked.
+///
+/// # Errors
+/// The limit in force when it was decided already (it then stays).
+pub fn set_budget(bytes: u64, source: &'static str) -> Result<(), Limit> {
+    LIMIT
+        .set(Limit {
+            bytes: bytes / 2,
+            source,
+        })
+        .map_err(|_| limit())
 }
 
 /// The limit [`LIMIT_VARIABLE`] asks for, in GB: `Ok(None)` when it is
@@ -303,7 +327,7 @@ impl fmt::Display for TooLarge {
 impl std::error::Error for TooLarge {}
 
 /// `bytes` in GB for a message: `1440 GB`, `0.016 GB`, `more than 18 EB`.
-fn gigabytes(bytes: u64) -> String {
+pub fn gigabytes(bytes: u64) -> String {
     if bytes == u64::MAX {
         return "more than 18 million TB (the size overflows 64 bits)".into();
     }

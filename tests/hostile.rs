@@ -1599,3 +1599,285 @@ fn each_message_names_the_real_problem() {
         );
     }
 }
+
+// ------------------------- 6. the one rule of outputs, under attack --
+
+#[test]
+fn names_masssprings_keeps_for_itself_are_no_outputs() {
+    small_own_limit();
+    let folder = temp_folder("reserved");
+    copy_scene(&folder, "flag");
+    for reserved in [".masssprings-lock", ".x.masssprings-1-2-3.tmp"] {
+        // a texture of that name would be copied over the frames' lock
+        std::fs::copy(folder.join("flag.png"), folder.join(reserved)).unwrap();
+        let scene = std::fs::read_to_string(folder.join("flag.json"))
+            .unwrap()
+            .replace("flag.png", reserved);
+        std::fs::write(folder.join("r.json"), scene).unwrap();
+        let out = folder.join("out");
+        std::fs::create_dir_all(&out).unwrap();
+        let output = run_in(
+            &folder,
+            &[
+                "simulate", "r.json", "--steps", "1", "--out", "out", "--force",
+            ],
+        );
+        assert_fails(&output, &[reserved, "one masssprings keeps for itself"]);
+        assert!(names_in(&out).is_empty(), "{:?}", names_in(&out));
+        let named = run_in(&folder, &["export-q", "r.json", "-o", reserved]);
+        assert_fails(&named, &["keeps for itself"]);
+        assert_eq!(
+            std::fs::read(folder.join(reserved)).unwrap(),
+            std::fs::read(folder.join("flag.png")).unwrap()
+        );
+    }
+}
+
+#[test]
+fn a_working_folder_deeper_than_an_absolute_path_may_be_works() {
+    small_own_limit();
+    let folder = temp_folder("deep");
+    let name = "d".repeat(200);
+    // made and entered one level at a time: no path here is longer than 4 KB
+    let script = format!(
+        "set -e; for i in $(seq 22); do mkdir {name}; cd {name}; done; \
+         cp '{net}.json' '{net}.obj' .; M='{bin}'; \
+         \"$M\" export-q net.json -o q.mtx; \"$M\" trace net.json -o T; \"$M\" trace net.json -o T; \
+         \"$M\" simulate net.json --steps 2 --out F; \"$M\" simulate net.json --steps 1 --out F --force; \
+         \"$M\" generate grid 3 --out G; test -f q.mtx; test -f T/trace.json; \
+         test -f F/frame-000001.obj; test ! -e F/frame-000002.obj; test -f G/grid-3.obj; \
+         test $(pwd | wc -c) -gt 4096; echo deep-ok",
+        net = data("net"),
+        bin = env!("CARGO_BIN_EXE_masssprings"),
+    );
+    // bash: dash's cd makes the path absolute, and fails past 4 KB
+    let output = Command::new("bash")
+        .args(["-c", &script])
+        .current_dir(&folder)
+        .env(masssprings::memory::LIMIT_VARIABLE, CHILD_LIMIT_GB)
+        .output()
+        .unwrap();
+    assert!(
+        String::from_utf8_lossy(&output.stdout).contains("deep-ok"),
+        "{}",
+        stderr(&output)
+    );
+    assert!(
+        !stderr(&output).contains("File name too long"),
+        "{}",
+        stderr(&output)
+    );
+    // removed by the folder's clean-up (std's remove_dir_all goes down by
+    // file descriptors, not by paths)
+}
+
+#[test]
+fn a_trace_into_a_mount_point_or_the_current_folder_is_written_in_place() {
+    small_own_limit();
+    let folder = temp_folder("mounted");
+    copy_scene(&folder, "net");
+    let (source, mounted) = (folder.join("source"), folder.join("mounted"));
+    std::fs::create_dir_all(&source).unwrap();
+    std::fs::create_dir_all(&mounted).unwrap();
+    // a bind mount where the test may mount (root with CAP_SYS_ADMIN);
+    // elsewhere the same folder, unmounted: what is checked either way is
+    // that the folder is written in place, never renamed nor exchanged,
+    // which is what lets a mount point (EBUSY) or an overlay (EXDEV) work
+    let bound = Command::new("mount")
+        .args(["--bind", &text(&source), &text(&mounted)])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    let inode = |path: &Path| {
+        use std::os::unix::fs::MetadataExt;
+        let m = std::fs::metadata(path).unwrap();
+        (m.dev(), m.ino())
+    };
+    let before = inode(&mounted);
+    for _ in 0..2 {
+        let output = run_in(&folder, &["trace", "net.json", "-o", "mounted"]);
+        assert!(
+            output.status.success(),
+            "bound {bound}: {}",
+            stderr(&output)
+        );
+        let forced = run_in(&folder, &["trace", "net.json", "-o", "mounted", "--force"]);
+        assert!(forced.status.success(), "{}", stderr(&forced));
+    }
+    assert_eq!(inode(&mounted), before);
+    if bound {
+        assert!(
+            source.join("trace.json").exists(),
+            "written through the mount"
+        );
+        let _ = Command::new("umount").arg(&mounted).status();
+    }
+    // the current folder, where a shell may be
+    let here = inode(&folder);
+    for _ in 0..2 {
+        let output = run_in(&folder, &["trace", "net.json", "-o", ".", "--force"]);
+        assert!(output.status.success(), "{}", stderr(&output));
+    }
+    assert_eq!(inode(&folder), here);
+    let dash = run_in(&folder, &["trace", "net.json", "-o", "-"]);
+    assert_eq!(dash.status.code(), Some(2), "{}", stderr(&dash));
+    assert!(
+        stderr(&dash).contains("-o -: trace writes a folder"),
+        "{}",
+        stderr(&dash)
+    );
+    assert!(!folder.join("-").exists());
+}
+
+#[test]
+fn trace_compare_names_links_pivots_mistakes_and_escapes() {
+    small_own_limit();
+    let folder = temp_folder("compare-messages");
+    copy_scene(&folder, "net");
+    let ours_ok = run_in(&folder, &["trace", "net.json", "-o", "ours"]);
+    assert!(ours_ok.status.success(), "{}", stderr(&ours_ok));
+    let theirs = folder.join("theirs");
+    std::fs::create_dir_all(&theirs).unwrap();
+    let compare = || run_in(&folder, &["trace", "--compare", "ours", "theirs"]);
+    // L with its first column negated: L Lᵀ is the same, L is no Cholesky factor
+    let l = std::fs::read_to_string(folder.join("ours/L.mtx")).unwrap();
+    let negated: Vec<String> = l
+        .lines()
+        .map(|line| {
+            let parts: Vec<&str> = line.split_whitespace().collect();
+            match parts.as_slice() {
+                [i, "1", v] if !line.starts_with('%') => match v.strip_prefix('-') {
+                    Some(positive) => format!("{i} 1 {positive}"),
+                    None => format!("{i} 1 -{v}"),
+                },
+                _ => line.to_string(),
+            }
+        })
+        .collect();
+    std::fs::write(theirs.join("L.mtx"), negated.join("\n") + "\n").unwrap();
+    std::fs::copy(folder.join("ours/P.mtx"), theirs.join("P.mtx")).unwrap();
+    let output = compare();
+    let out = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(
+        out.contains("its diagonal must be positive, and pivot 1 (entry (1, 1)) is -"),
+        "{out}"
+    );
+    assert!(
+        out.contains("theirs/L.mtx: not a Cholesky factor"),
+        "with its folder: {out}"
+    );
+    // links that dangle or loop are named as such, not "not given"
+    std::fs::remove_file(theirs.join("L.mtx")).unwrap();
+    std::os::unix::fs::symlink("nowhere.mtx", theirs.join("L.mtx")).unwrap();
+    std::os::unix::fs::symlink("y.mtx", theirs.join("y.mtx")).unwrap();
+    let out = String::from_utf8_lossy(&compare().stdout).into_owned();
+    assert!(
+        out.contains("a link to nowhere.mtx, which does not exist"),
+        "{out}"
+    );
+    assert!(out.contains("y.mtx: a link that loops"), "{out}");
+    // names from the folder escaped: no line broken, no terminal driven
+    std::fs::write(theirs.join("evil\n\u{1b}[31m.mtx"), "x").unwrap();
+    let out = String::from_utf8_lossy(&compare().stdout).into_owned();
+    assert!(out.contains("evil\\n\\u{1b}[31m.mtx"), "{out}");
+    assert!(!out.contains('\u{1b}'), "{out}");
+    // a mistake's trace: refused over a correct one, named when compared
+    let refused = run_in(
+        &folder,
+        &[
+            "trace",
+            "net.json",
+            "-o",
+            "ours",
+            "--mistake",
+            "mass-doubled",
+        ],
+    );
+    assert_fails(&refused, &["holds a correct trace (no mistake)", "--force"]);
+    let made = run_in(
+        &folder,
+        &[
+            "trace",
+            "net.json",
+            "-o",
+            "mistaken",
+            "--mistake",
+            "mass-doubled",
+        ],
+    );
+    assert!(made.status.success(), "{}", stderr(&made));
+    let other = run_in(
+        &folder,
+        &["trace", "net.json", "-o", "mistaken", "--mistake", "a-sign"],
+    );
+    assert_fails(&other, &["holds a trace with the mistake mass-doubled"]);
+    let compared = run_in(&folder, &["trace", "--compare", "ours", "mistaken"]);
+    let first = String::from_utf8_lossy(&compared.stdout)
+        .lines()
+        .next()
+        .unwrap_or("")
+        .to_string();
+    assert!(
+        first.contains("mistaken holds a trace with the mistake mass-doubled"),
+        "{first}"
+    );
+    let compared = run_in(&folder, &["trace", "--compare", "mistaken", "ours"]);
+    let first = String::from_utf8_lossy(&compared.stdout)
+        .lines()
+        .next()
+        .unwrap_or("")
+        .to_string();
+    assert!(first.contains("not the correct quantities"), "{first}");
+}
+
+#[test]
+fn converge_keeps_a_users_file_beside_its_oracle_plot() {
+    small_own_limit();
+    let folder = temp_folder("oracle-csv");
+    copy_scene(&folder, "net");
+    std::fs::write(folder.join("res.csv"), "my table\n").unwrap();
+    let args = [
+        "converge",
+        "net.json",
+        "--steps",
+        "1",
+        "--accuracy",
+        "assignment",
+        "--oracle",
+        "res.png",
+    ];
+    let output = run_in(&folder, &args);
+    assert_fails(
+        &output,
+        &["res.csv, which holds something else", "would be replaced"],
+    );
+    assert_eq!(
+        std::fs::read_to_string(folder.join("res.csv")).unwrap(),
+        "my table\n"
+    );
+    assert!(!folder.join("res.png").exists());
+}
+
+#[test]
+fn the_library_refuses_a_q_that_would_overflow() {
+    small_own_limit();
+    use masssprings::sim::precomputation::MassSpringSystem;
+    use masssprings::sim::{SimulationError, Sparse};
+    let v = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let springs = [[0, 1], [1, 2], [1, 2]];
+    let refused = MassSpringSystem::<Sparse>::new(&v, &springs, 1e308, &[1.0; 3], &[0], 0.03);
+    match refused {
+        Err(SimulationError::QOverflow(why)) => assert!(
+            why.contains("k × 3 (the springs at vertex 2)")
+                && why.contains("Q fits with k up to 2.9e307"),
+            "{why}"
+        ),
+        other => panic!("{:?}", other.map(|_| ())),
+    }
+    let heavy =
+        MassSpringSystem::<Sparse>::new(&v, &springs[..1], 1.0, &[1.0, 1e308, 1.0], &[0], 0.03);
+    assert!(
+        matches!(&heavy, Err(SimulationError::QOverflow(why)) if why.contains("the mass 1e308 of vertex 2")),
+        "{:?}",
+        heavy.map(|_| ())
+    );
+}

@@ -135,6 +135,9 @@ pub fn run(args: ConvergeArgs) -> Result<(), AppError> {
         plan.output("--oracle's table", &path.with_extension("csv"));
     }
     plan.output("the table", Path::new("-")).check()?;
+    if let Some(path) = &request.oracle {
+        oracle::check_table(path)?;
+    }
     check_records(&request)?;
     if let Some(steps) = request.over_steps {
         return run_over_steps(&request, &scene, steps);

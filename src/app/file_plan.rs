@@ -15,7 +15,8 @@
 //! when it is an input.
 
 use super::error::AppError;
-use masssprings::files::FilePlan;
+use masssprings::files::patient::open_regular;
+use masssprings::files::{shown, FilePlan};
 use masssprings::mesh::Scene;
 use std::fs;
 use std::io::{self, Read, Write};
@@ -31,7 +32,7 @@ pub fn load_scene(path: &Path) -> Result<Scene, AppError> {
     if !looks_like_json(path) {
         return Err(AppError::Failed(format!(
             "{} is not a scene file: scenes are JSON that name an OBJ; see data/README.md",
-            path.display()
+            shown(path)
         )));
     }
     Ok(masssprings::mesh::load_scene(path)?)
@@ -58,13 +59,13 @@ pub fn check_output_folder(folder: &Path, writes: &str) -> Result<(), AppError> 
     if folder == Path::new("-") || folder.as_os_str().is_empty() {
         return Err(AppError::Usage(format!(
             "--out '{}': {writes}; name a folder",
-            folder.display()
+            shown(folder)
         )));
     }
     if std::fs::metadata(folder).is_ok_and(|m| !m.is_dir()) {
         return Err(AppError::Failed(format!(
             "--out {}: this is a file, not a folder; {writes}",
-            folder.display()
+            shown(folder)
         )));
     }
     Ok(())
@@ -105,9 +106,9 @@ fn looks_like_json(path: &Path) -> bool {
 /// regular file.
 pub fn starts_with_line(path: &Path, line: &str) -> bool {
     let mut start = vec![0u8; line.len() + 2];
-    let read = match fs::File::open(path) {
-        Ok(file) if file.metadata().is_ok_and(|m| m.is_file()) => read_up_to(file, &mut start),
-        _ => return false,
+    let read = match open_regular(path) {
+        Some(file) => read_up_to(file, &mut start),
+        None => return false,
     };
     let text = &start[..read];
     let text = text.strip_prefix(line.as_bytes()).unwrap_or(b"x");
@@ -118,9 +119,9 @@ pub fn starts_with_line(path: &Path, line: &str) -> bool {
 /// hold `text`? False for anything that is not a regular file.
 pub fn start_holds(path: &Path, text: &str, bytes: usize) -> bool {
     let mut start = vec![0u8; bytes];
-    let read = match fs::File::open(path) {
-        Ok(file) if file.metadata().is_ok_and(|m| m.is_file()) => read_up_to(file, &mut start),
-        _ => return false,
+    let read = match open_regular(path) {
+        Some(file) => read_up_to(file, &mut start),
+        None => return false,
     };
     let needle = text.as_bytes();
     start[..read].windows(needle.len()).any(|w| w == needle)
@@ -129,23 +130,18 @@ pub fn start_holds(path: &Path, text: &str, bytes: usize) -> bool {
 /// Does the regular file at `path` begin with `prefix`?
 pub fn begins_with(path: &Path, prefix: &str) -> bool {
     let mut start = vec![0u8; prefix.len()];
-    match fs::File::open(path) {
-        Ok(file) if file.metadata().is_ok_and(|m| m.is_file()) => {
-            read_up_to(file, &mut start) == prefix.len() && start == prefix.as_bytes()
-        }
-        _ => false,
+    match open_regular(path) {
+        Some(file) => read_up_to(file, &mut start) == prefix.len() && start == prefix.as_bytes(),
+        None => false,
     }
 }
 
 /// Does the regular file at `path` hold exactly `bytes`?
 pub fn holds_bytes(path: &Path, bytes: &[u8]) -> bool {
-    let Ok(file) = fs::File::open(path) else {
+    let Some(file) = open_regular(path) else {
         return false;
     };
-    if !file
-        .metadata()
-        .is_ok_and(|m| m.is_file() && m.len() == bytes.len() as u64)
-    {
+    if !file.metadata().is_ok_and(|m| m.len() == bytes.len() as u64) {
         return false;
     }
     let mut content = vec![0u8; bytes.len()];
@@ -156,9 +152,8 @@ pub fn holds_bytes(path: &Path, bytes: &[u8]) -> bool {
 /// Compared as it writes, chunk by chunk, so nothing the size of the file
 /// is held.
 pub fn writes_same(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> bool {
-    let file = match fs::File::open(path) {
-        Ok(file) if file.metadata().is_ok_and(|m| m.is_file()) => file,
-        _ => return false,
+    let Some(file) = open_regular(path) else {
+        return false;
     };
     let mut compare = Comparison {
         file: io::BufReader::new(file),
@@ -194,7 +189,7 @@ impl Write for Comparison {
 }
 
 /// Reads into `buffer` until it is full or the file ends; how many bytes.
-fn read_up_to(mut file: fs::File, buffer: &mut [u8]) -> usize {
+pub fn read_up_to(mut file: fs::File, buffer: &mut [u8]) -> usize {
     let mut filled = 0;
     while filled < buffer.len() {
         match file.read(&mut buffer[filled..]) {
@@ -203,20 +198,6 @@ fn read_up_to(mut file: fs::File, buffer: &mut [u8]) -> usize {
         }
     }
     filled
-}
-
-/// Removes a symbolic link at `path` (not what it points to), so that
-/// the file written there next replaces the link in its folder rather
-/// than a file elsewhere: for files written into a folder by names the user
-/// did not type. Anything else at `path` is left.
-///
-/// # Errors
-/// The link cannot be removed.
-pub fn unlink_link(path: &Path) -> Result<(), AppError> {
-    if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
-        fs::remove_file(path).map_err(|e| AppError::Failed(format!("{}: {e}", path.display())))?;
-    }
-    Ok(())
 }
 
 /// Is there anything at `path` (also a link to nothing)?
@@ -243,9 +224,8 @@ pub fn refuse_foreign(
         .iter()
         .take(3)
         .map(|path| {
-            path.file_name().map_or(path.display().to_string(), |n| {
-                n.to_string_lossy().into_owned()
-            })
+            path.file_name()
+                .map_or(shown(path), |n| shown(std::path::Path::new(n)))
         })
         .collect();
     if foreign.len() > 3 {

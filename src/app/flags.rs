@@ -2,7 +2,7 @@
 //! `Args` struct) and flattened into the commands it applies to, so that a
 //! flag has one name, one meaning and one default everywhere:
 //!
-//! * [`SimulationFlags`]: [`Solve`] and [`Backend`] together;
+//! * [`SimulationFlags`]: [`Solve`], [`Backend`] and `--kernels` together;
 //! * [`Solve`]: how each step is solved, [`StepMethodFlags`] (the
 //!   iteration method, or the handout's code as written) and [`StepRules`]
 //!   (stopping rules, budget, start, pins, and `--accuracy`, which names a
@@ -15,6 +15,7 @@
 
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::Args;
+use masssprings::linalg::kernels::Kernels;
 use masssprings::linalg::sparse::{Method, Ordering, SupernodeMerging};
 use masssprings::linalg::threads;
 use masssprings::sim::control::{
@@ -32,6 +33,9 @@ pub struct SimulationFlags {
     pub solve: Solve,
     #[command(flatten)]
     pub backend: Backend,
+    /// The kernels of the solves, the factorization and the passes over the springs: native (the vector instructions this CPU has, AVX2 and FMA; default) or portable (the plain loops, which compute what the browser's WebAssembly page computes, to the bit; linalg/kernels.rs).
+    #[arg(long, value_name = "K", default_value = "native", value_parser = choice::<Kernels>(&Kernels::ALL.map(Kernels::name)))]
+    pub kernels: Kernels,
 }
 
 /// `--json`, the same in every command that reports numbers (whether the
@@ -48,6 +52,7 @@ impl SimulationFlags {
     pub fn apply(&self, options: &mut SimulationOptions) {
         self.solve.apply(options);
         self.backend.factor.apply(options);
+        options.kernels = self.kernels;
     }
 }
 

@@ -2,19 +2,20 @@
 //! scenes (JSON + OBJ, and PNG textures) into `DIR` (default `.`).
 //!
 //! Each file is written all or nothing: into a temporary file in `DIR`,
-//! renamed into place once complete (`masssprings::files::write_file`).
-//! One run at a time writes into `DIR` (its lock); a file already there
-//! with the very bytes `generate` would write is kept as it is, and one
-//! with other bytes (a scene edited since, or a file of the user's that
-//! shares the name) is refused, before anything is written, unless
-//! `--force` (`super::file_plan`).
+//! renamed into place once complete (`masssprings::files::outputs`, the
+//! rule every output keeps). One run at a time writes into `DIR` (its
+//! lock); a file already there with the very bytes `generate` would write
+//! is kept as it is, and one with other bytes (a scene edited since, or a
+//! file of the user's that shares the name) is refused, before anything is
+//! written, unless `--force` (`super::file_plan`). A file that appears at
+//! one of its names while it runs is kept, never replaced.
 
 use super::draw::encode::write_png;
 use super::error::AppError;
-use super::file_plan::{check_output_folder, occupied, refuse_foreign, unlink_link, writes_same};
+use super::file_plan::{check_output_folder, occupied, refuse_foreign, writes_same};
 use super::flags::whole;
 use super::limits::check_grid;
-use masssprings::files::{write_file, FolderLock};
+use masssprings::files::{shown, Expect, OutputFolder};
 use masssprings::mesh::procedural::{self, GeneratedScene};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
@@ -60,7 +61,7 @@ pub fn run(args: GenerateArgs) -> Result<(), AppError> {
     };
     let folder = args.out;
     check_output_folder(&folder, "generate writes scene files into a folder")?;
-    let _lock = FolderLock::acquire(&folder, "generate")?;
+    let out = OutputFolder::open(&folder, "generate")?;
     let files: Vec<SceneFile> = scenes
         .iter()
         .flat_map(|s| scene_files(s, &folder))
@@ -75,17 +76,22 @@ pub fn run(args: GenerateArgs) -> Result<(), AppError> {
         .filter(|(file, &same)| occupied(&file.path) && !same)
         .map(|(file, _)| file.path.clone())
         .collect();
-    let flag = format!("--out {}", folder.display());
+    let flag = format!("--out {}", shown(&folder));
     refuse_foreign(&flag, "generate", &foreign, args.force)?;
     let (mut written, mut kept) = (Vec::new(), Vec::new());
     for (file, same) in files.iter().zip(same) {
         if same {
-            kept.push(file.path.display().to_string());
-        } else {
-            unlink_link(&file.path)?; // forced: the link goes, not its target
-            write_file(&file.path, |out| file.write(out))?;
-            written.push(file.path.display().to_string());
+            kept.push(shown(&file.path));
+            continue;
         }
+        // forced over what was there; nothing replaced that was not
+        let expect = match foreign.contains(&file.path) {
+            true => Expect::Any,
+            false => Expect::Nothing,
+        };
+        let name = file.path.file_name().unwrap_or_default().to_string_lossy();
+        out.write(&name, expect, |w| file.write(w))?;
+        written.push(shown(&file.path));
     }
     if !written.is_empty() {
         println!("wrote {}", written.join(", "));

@@ -5,15 +5,18 @@
 //! not positive definite, say) names the scene file.
 
 use super::error::AppError;
+use masssprings::files::shown;
 use masssprings::memory::{self, bytes_for, thousands};
 use masssprings::mesh::Scene;
+use masssprings::sim::precomputation;
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::{Dense, LinearAlgebra, Simulation};
+use masssprings::sim::{Dense, LinearAlgebra, Simulation, SimulationError};
 use std::path::Path;
 
 /// Precomputes the simulation of `scene` (read from `scene_path`): refuses
 /// a dense system that would not fit in memory first, and names the scene
-/// file when the precomputation fails.
+/// file when the precomputation fails (a `Q` that would overflow `f64`
+/// is named as such, with its bound, by the library).
 ///
 /// # Errors
 /// The memory refusal, or the precomputation's error after the scene's path.
@@ -22,80 +25,39 @@ pub fn precompute<B: LinearAlgebra>(
     scene_path: &Path,
     options: SimulationOptions,
 ) -> Result<Simulation<B>, AppError> {
+    check_precomputation::<B>(scene, scene_path, options)?;
+    Simulation::<B>::from_scene(scene, options)
+        .map_err(|error| precomputation_failed(scene_path, &error))
+}
+
+/// What [`precompute`] checks before it starts: the dense path's memory,
+/// `Q`'s overflow.
+///
+/// # Errors
+/// The refusal.
+pub fn check_precomputation<B: LinearAlgebra>(
+    scene: &Scene,
+    scene_path: &Path,
+    options: SimulationOptions,
+) -> Result<(), AppError> {
     if B::NAME == Dense::NAME {
         check_dense(scene)?;
     }
-    check_q_overflow(scene, scene_path, options.delta_t)?;
-    Simulation::<B>::from_scene(scene, options).map_err(|error| {
-        AppError::Failed(format!(
-            "{}: the precomputation failed: {error}",
-            scene_path.display()
-        ))
+    // the library refuses it too; here before any allocation, with the path
+    precomputation::check_q_fits(&scene.springs, &scene.masses, scene.k, options.delta_t)
+        .map_err(|error| precomputation_failed(scene_path, &error))
+}
+
+/// The precomputation of the scene at `scene_path` failed with `error`: a
+/// `Q` that would overflow is named as the library names it (the quantity,
+/// its vertex, the largest value that fits), anything else as a failed
+/// precomputation.
+pub fn precomputation_failed(scene_path: &Path, error: &SimulationError) -> AppError {
+    let path = shown(scene_path);
+    AppError::Failed(match error {
+        SimulationError::QOverflow(why) => format!("{path}: {why}"),
+        error => format!("{path}: the precomputation failed: {error}"),
     })
-}
-
-/// Refuses a scene whose `Q = k AᵀA + M/Δt² + w CᵀC` would overflow `f64`
-/// on its diagonal (`k` times the springs at a vertex, plus `mᵢ/Δt²`, plus
-/// `w` per pin), naming the quantity and the largest value that works;
-/// otherwise the factorization would only say "not positive definite:
-/// pivot inf".
-///
-/// # Errors
-/// A failure naming the scene file, the quantity, its vertex and its bound.
-pub fn check_q_overflow(scene: &Scene, scene_path: &Path, delta_t: f64) -> Result<(), AppError> {
-    let n = scene.vertices.len();
-    let mut springs_at = vec![0u64; n];
-    for spring in &scene.springs {
-        for &vertex in spring {
-            if let Some(count) = springs_at.get_mut(vertex) {
-                *count += 1;
-            }
-        }
-    }
-    let failed = |text: String| {
-        Err(AppError::Failed(format!(
-            "{}: {text}",
-            scene_path.display()
-        )))
-    };
-    // Half of the largest f64 for each term, so that their sum is finite too.
-    let room = f64::MAX / 2.0;
-    if let Some((vertex, &count)) = springs_at.iter().enumerate().max_by_key(|(_, &c)| c) {
-        let count = count.max(1) as f64;
-        if scene.k * count > room {
-            return failed(format!(
-                "k = {:e} overflows Q: its diagonal holds k × {count} (the springs at vertex \
-                 {}), more than f64 holds (1.8e308); Q fits with k up to {} here",
-                scene.k,
-                vertex + 1,
-                rounded_down(room / count)
-            ));
-        }
-    }
-    let per_second_squared = 1.0 / (delta_t * delta_t);
-    if let Some(vertex) = scene
-        .masses
-        .iter()
-        .position(|&m| m * per_second_squared > room)
-    {
-        return failed(format!(
-            "the mass {:e} of vertex {} overflows Q: its diagonal holds m / Δt² = m × {}, more \
-             than f64 holds (1.8e308); Q fits with masses up to {}",
-            scene.masses[vertex],
-            vertex + 1,
-            per_second_squared,
-            rounded_down(room / per_second_squared)
-        ));
-    }
-    Ok(())
-}
-
-/// `x` (> 0) rounded down to two significant digits, as `2.9e307`: a bound
-/// that is within the limit as printed.
-fn rounded_down(x: f64) -> String {
-    let exponent = x.log10().floor();
-    let mantissa = (x / 10f64.powf(exponent) * 10.0).floor() / 10.0;
-    format!("{mantissa:.1}e{exponent}")
 }
 
 /// The bytes of the dense path: `A` (springs × n), `C` (pins × n) and five
@@ -116,19 +78,24 @@ pub fn dense_bytes(n: usize, springs: usize, pins: usize) -> u64 {
 /// A failure with the estimate, the limit and the advice to use the sparse
 /// path.
 pub fn check_dense(scene: &Scene) -> Result<(), AppError> {
-    let n = scene.vertices.len();
-    memory::check(
-        dense_bytes(n, scene.springs.len(), scene.pinned.len()),
-        || {
-            format!(
-                "the dense path for n = {} ({} springs; five n × n matrices of f64)",
-                thousands(n as u64),
-                thousands(scene.springs.len() as u64)
-            )
-        },
-        "use the sparse path (without --dense)",
-    )?;
+    let (bytes, what) = dense_need(scene);
+    memory::check(bytes, || what, "use the sparse path (without --dense)")?;
     Ok(())
+}
+
+/// What the dense path of `scene` takes: its bytes ([`dense_bytes`]) and
+/// what they are for, as [`check_dense`] says it.
+pub fn dense_need(scene: &Scene) -> (u64, String) {
+    let n = scene.vertices.len();
+    let what = format!(
+        "the dense path for n = {} ({} springs; five n × n matrices of f64)",
+        thousands(n as u64),
+        thousands(scene.springs.len() as u64)
+    );
+    (
+        dense_bytes(n, scene.springs.len(), scene.pinned.len()),
+        what,
+    )
 }
 
 /// Refuses to keep `frames` frames of `bytes_per_frame` each (positions or

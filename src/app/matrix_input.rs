@@ -5,8 +5,7 @@
 use super::error::AppError;
 use super::file_plan::plan_scene_inputs;
 use super::flags::OrderingFlag;
-use super::limits::check_q_overflow;
-use masssprings::files::FilePlan;
+use masssprings::files::{shown, FilePlan};
 use masssprings::linalg::sparse::{CscMatrix, Triangle};
 use masssprings::matrix_market;
 use masssprings::mesh::{load_scene, Scene};
@@ -58,7 +57,8 @@ pub fn load_lower(path: &Path, plan: &mut FilePlan) -> Result<CscMatrix, AppErro
 /// (both triangles), without factoring it; a `Q` that would overflow is
 /// refused first, naming the quantity.
 pub fn scene_q(scene: &Scene, scene_path: &Path) -> Result<CscMatrix, AppError> {
-    check_q_overflow(scene, scene_path, DELTA_T)?;
+    precomputation::check_q_fits(&scene.springs, &scene.masses, scene.k, DELTA_T)
+        .map_err(|why| AppError::Failed(format!("{}: {why}", shown(scene_path))))?;
     Ok(precomputation::scene_q(scene, DELTA_T))
 }
 

@@ -5,9 +5,11 @@
 //! already holds frames (`frame-*.obj`, from another run: mixing the two
 //! would be wrong without a warning) unless `--force` is given, whose new
 //! frames replace those once the run is complete (`super::resume::folder`).
-//! Each frame is written all or nothing, with the run's record on its
-//! second line (`super::resume::frames`); the temporaries of a run that was killed
-//! are removed by the next run into the same folder. No frame is written
+//! Each frame is written all or nothing, at a name that is free, with the
+//! run's record on its second line (`super::resume::frames`); the partial
+//! files of a run that was killed are removed by the next run into the
+//! same folder, and the frames a killed `--force` run staged are moved in
+//! by `--resume` (`super::resume::folder`). No frame is written
 //! before the precomputation succeeds. Memory does not grow with `--steps`: the
 //! median step time comes from a bounded sample. Nor does the scene stay in
 //! memory beside the simulation: its faces are dropped before the
@@ -17,18 +19,21 @@
 //!
 //! `--resume DIR` continues the run whose frames are in `DIR` from its last
 //! two (`super::resume`), numbering the new frames on.
+//!
+//! Every file goes through `masssprings::files::outputs`, the one rule of
+//! every output (docs/reliability.md).
 
 use super::draw::texture::{read_png_file, Texture};
 use super::error::AppError;
-use super::file_plan::{load_scene, unlink_link};
+use super::file_plan::load_scene;
 use super::flags::{whole, JsonFlag, SimulationFlags};
 use super::limits::precompute;
 use super::progress::{duration, Progress};
 use super::resume::folder::{not_a_folder, Extras, FrameFolder, Use};
-use super::resume::frames::{frame_name, header as frame_header, is_frame_name, RunRecord};
+use super::resume::frames::{header as frame_header, is_frame_name, RunRecord};
 use super::resume::{self, Resumed};
 use super::timing::BoundedSample;
-use masssprings::files::{same_file, write_file, FilePlan};
+use masssprings::files::{same_file, shown, FilePlan, Owner};
 use masssprings::mesh::Scene;
 use masssprings::sim::methods::Carried;
 use masssprings::sim::simulation::SimulationOptions;
@@ -71,6 +76,8 @@ struct Summary {
     /// The threads the steps ran on (1 on the textbook path, with --dense
     /// or the simplicial factorization).
     threads: usize,
+    /// The kernels that ran (`native` or `portable`: `--kernels`).
+    kernels: &'static str,
     /// The step the run continued from (`--resume`), if any.
     resumed_from: Option<usize>,
 }
@@ -145,34 +152,35 @@ pub fn run(args: SimulateArgs) -> Result<(), AppError> {
     };
     args.simulation.apply(&mut options);
     let dense = args.simulation.backend.dense;
-    let physics = (
-        scene.vertices.len(),
-        scene.k,
-        &scene.masses[..],
-        &scene.pinned[..],
-    );
-    let run = Run {
+    let mut run = Run {
         steps: args.steps,
         every: args.frames.every,
         out: args.resume.clone().or(args.frames.out),
         precision: args.frames.precision,
         force: args.frames.force,
         progress: !args.json.json,
-        record: RunRecord::new(physics, &options, dense),
+        record: RunRecord::new(&scene, &options, dense),
     };
     if let Some(folder) = args.resume.as_deref().filter(|folder| !folder.is_dir()) {
         return Err(not_a_folder(folder));
     }
     check_files(&scene_path, &scene, run.out.as_deref())?;
-    let (frames, resumed) = open_frames(&run, &scene, args.resume.as_deref())?;
-    let written = (frames.as_ref(), resumed);
+    let (mut frames, resumed) = open_frames(&run, &scene, args.resume.as_deref())?;
+    // the run the frames are of: a resumed run's, or this process's when
+    // they replace another run's (to be told apart from those)
+    let replaces = frames.as_ref().is_some_and(FrameFolder::replaces);
+    run.record.run = match &resumed {
+        Some(state) => state.run.clone(),
+        None => replaces.then(|| Owner::this_process().tag()),
+    };
+    let written = (frames.as_mut(), resumed);
     let summary = if dense {
         simulate::<Dense>(scene, &scene_path, options, &run, written)?
     } else {
         simulate::<Sparse>(scene, &scene_path, options, &run, written)?
     };
     if let Some(frames) = frames {
-        frames.commit()?;
+        frames.commit(run.record.run.as_deref().unwrap_or_default())?;
     }
     if args.json.json {
         println!(
@@ -198,6 +206,7 @@ fn open_frames(
     let frames = open_frame_folder(out, scene, run, resume.is_some())?;
     let resumed = match resume {
         Some(folder) => {
+            frames.resume_killed_run(&run.record)?;
             let state = resume::last_state(folder, scene, &run.record)?;
             resume::last_step(folder, state.step, run.steps)?;
             Some(state)
@@ -237,7 +246,7 @@ fn simulate<B: LinearAlgebra>(
     scene_path: &Path,
     options: SimulationOptions,
     run: &Run,
-    (frames, resumed): (Option<&FrameFolder>, Option<Resumed>),
+    (mut frames, resumed): (Option<&mut FrameFolder>, Option<Resumed>),
 ) -> Result<Summary, AppError> {
     let (n, springs) = (scene.vertices.len(), scene.springs.len());
     if run.out.is_none() {
@@ -257,7 +266,14 @@ fn simulate<B: LinearAlgebra>(
         simulation.carry(state.carried);
     }
     let resumed = resumed_from.is_some();
-    let material = start_frames(frames, run, &scene, texture, &simulation, resumed)?;
+    let material = start_frames(
+        frames.as_deref_mut(),
+        run,
+        &scene,
+        texture,
+        &simulation,
+        resumed,
+    )?;
     let first = resumed_from.unwrap_or(0);
     let written = (frames, material.as_deref());
     let tally = run_steps(&mut simulation, &scene, run, first, written)?;
@@ -275,7 +291,7 @@ fn simulate<B: LinearAlgebra>(
 /// frame 0; a resumed run's frames number on. Returns the material's name,
 /// if any.
 fn start_frames<B: LinearAlgebra>(
-    frames: Option<&FrameFolder>,
+    frames: Option<&mut FrameFolder>,
     run: &Run,
     scene: &Scene,
     texture: Option<(Vec<u8>, PathBuf)>,
@@ -285,10 +301,10 @@ fn start_frames<B: LinearAlgebra>(
     let Some(frames) = frames else {
         return Ok(None);
     };
-    let material = write_material(frames.folder(), scene, texture)?;
+    let material = write_material(frames, scene, texture)?;
     if !resumed {
         let frame = (0, simulation.positions(), simulation.carried());
-        write_frame(frames.frames(), frame, scene, run, material.as_deref())?;
+        write_frame(frames, frame, scene, run, material.as_deref())?;
     }
     Ok(material)
 }
@@ -310,7 +326,7 @@ fn run_steps<B: LinearAlgebra>(
     scene: &Scene,
     run: &Run,
     first: usize,
-    (frames, material): (Option<&FrameFolder>, Option<&str>),
+    (mut frames, material): (Option<&mut FrameFolder>, Option<&str>),
 ) -> Result<Tally, AppError> {
     let mut tally = Tally {
         step_times: BoundedSample::new(),
@@ -334,10 +350,10 @@ fn run_steps<B: LinearAlgebra>(
         if let Some(gradient) = report.relative_gradient {
             tally.gradients.push(gradient);
         }
-        if let Some(frames) = frames {
+        if let Some(frames) = frames.as_deref_mut() {
             if step.is_multiple_of(run.every) {
                 let frame = (step, simulation.positions(), simulation.carried());
-                write_frame(frames.frames(), frame, scene, run, material)?;
+                write_frame(frames, frame, scene, run, material)?;
             }
         }
         progress.step_done(done);
@@ -376,6 +392,7 @@ fn summarize(
         relative_gradient_median: Some(tally.gradients.median()).filter(|m| !m.is_nan()),
         path: if options.textbook { "textbook" } else { "fast" },
         threads,
+        kernels: options.kernels.name(),
         resumed_from: None,
     }
 }
@@ -449,16 +466,16 @@ fn read_texture(folder: &Path, scene: &Scene) -> Result<Option<(Vec<u8>, PathBuf
     };
     let bytes = read_png_file(texture).map_err(AppError::Failed)?;
     Texture::decode_png(io::Cursor::new(&bytes[..]), masssprings::memory::limit())
-        .map_err(|problem| AppError::Failed(format!("texture {}: {problem}", texture.display())))?;
+        .map_err(|problem| AppError::Failed(format!("texture {}: {problem}", shown(texture))))?;
     Ok(Some((bytes, copy)))
 }
 
 /// The material of the frames, when they have a `texture` ([`read_texture`]):
-/// writes `folder/NAME.mtl` (one material, `map_Kd` the texture) and the
-/// copy of the texture beside it (not copied when the texture is in the
-/// folder already), and returns the material's name.
+/// writes `NAME.mtl` (one material, `map_Kd` the texture) and the copy of
+/// the texture beside it in the frames' folder (not copied when the
+/// texture is in the folder already), and returns the material's name.
 fn write_material(
-    folder: &Path,
+    frames: &FrameFolder,
     scene: &Scene,
     texture: Option<(Vec<u8>, PathBuf)>,
 ) -> Result<Option<String>, AppError> {
@@ -470,14 +487,12 @@ fn write_material(
         .as_deref()
         .is_some_and(|t| same_file(t, &copy))
     {
-        unlink_link(&copy)?; // a link there is replaced, not written through
-        write_file(&copy, |out| out.write_all(&bytes))?;
+        frames.write_extra(&copy, |out| out.write_all(&bytes))?;
     }
     let texture_name = copy.file_name().unwrap_or_default().to_owned();
     let name = scene.name.clone();
-    let material = folder.join(format!("{name}.mtl"));
-    unlink_link(&material)?;
-    write_file(&material, |out| {
+    let material = frames.folder().join(format!("{name}.mtl"));
+    frames.write_extra(&material, |out| {
         writeln!(out, "{}", material_header(&name))?;
         writeln!(out, "newmtl {name}")?;
         writeln!(out, "Kd 1 1 1")?;
@@ -495,17 +510,16 @@ fn material_header(name: &str) -> String {
 /// what the methods `carried` after the step, the positions and the
 /// scene's faces, written all or nothing.
 fn write_frame(
-    folder: &Path,
+    frames: &mut FrameFolder,
     (step, positions, carried): (usize, &[[f64; 3]], Carried),
     scene: &Scene,
     run: &Run,
     material: Option<&str>,
 ) -> Result<(), AppError> {
-    let path = folder.join(frame_name(step));
     let header = frame_header(&scene.name, step, run.precision);
     let mut record = run.record.clone();
     record.carried = carried;
-    write_file(&path, |out| {
+    frames.write_frame(step, |out| {
         writeln!(out, "{header}")?;
         writeln!(out, "{}", record.line())?;
         write_obj(out, scene, positions, run.precision, material)
@@ -592,7 +606,7 @@ fn print_iterations(s: &Summary) {
 }
 
 fn print_summary(scene_path: &Path, s: &Summary) {
-    println!("scene            {}", scene_path.display());
+    println!("scene            {}", shown(scene_path));
     println!("vertices         {}", s.n);
     println!("springs          {}", s.springs);
     println!("backend          {}", s.backend);

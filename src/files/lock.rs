@@ -13,18 +13,20 @@
 //! folder locked. The lock file holds one line, the holder's record:
 //! `masssprings COMMAND masssprings-PID-START`. A run that ends removes the
 //! file; a killed one leaves it, and the next run that takes the lock
-//! finds there the owner of the temporaries the killed run left (its
+//! finds there the owner of the partial files the killed run left (its
 //! proof that they are the crate's, [`super::temporaries`]) and removes
-//! them before it writes anything.
+//! them before it writes anything. Staged files, whole results, are never
+//! removed here: the command decides what becomes of them.
 //!
-//! Taking the lock makes the folder when it does not exist; a run that
-//! made it and wrote nothing there removes it again when it releases the
-//! lock.
+//! Taking the lock makes the folder when it does not exist (through a
+//! link to a folder not made yet, at the link's end); a run that made it
+//! and wrote nothing there removes it again when it releases the lock:
+//! the one folder a command ever removes is the empty one it made.
 
-use super::temporaries::{remove_temporaries_of, Owner};
+use super::temporaries::{remove_partials_of, Owner};
 use super::FileError;
 use std::fs::{self, File, OpenOptions, TryLockError};
-use std::io::{self, Read, Seek, Write};
+use std::io::{Read, Seek, Write};
 use std::path::{Path, PathBuf};
 
 /// The name of the lock file in a locked folder.
@@ -45,32 +47,19 @@ pub struct FolderLock {
 
 impl FolderLock {
     /// Takes the lock of `folder` (made if missing) for `command` and
-    /// removes the temporaries of a killed run that held it last.
+    /// removes the partial files of a killed run that held it last.
     ///
     /// # Errors
     /// A [`FileError`] naming the folder: another run holds the lock (its
     /// command and process, when it has written them), or the folder or
     /// its lock file cannot be made.
     pub fn acquire(folder: &Path, command: &str) -> Result<FolderLock, FileError> {
-        Self::acquire_cleaning(folder, command, &[])
-    }
-
-    /// [`FolderLock::acquire`], removing the killed run's temporaries from
-    /// the folders `beside` too (where a command stages a result beside
-    /// its folder), before its record is replaced by this run's.
-    ///
-    /// # Errors
-    /// As [`FolderLock::acquire`].
-    pub fn acquire_cleaning(
-        folder: &Path,
-        command: &str,
-        beside: &[&Path],
-    ) -> Result<FolderLock, FileError> {
-        let failed = |error: io::Error| FileError::unwritable(folder, error);
-        // a link to a folder not made yet is followed, as for a file
-        let target = super::resolve(folder).unwrap_or_else(|_| folder.to_path_buf());
+        // a link to a folder not made yet is followed, as for a file; the
+        // path stays as given (relative when it was)
+        let target =
+            super::follow_links(folder).map_err(|e| FileError::os(folder, "follow the link", e))?;
         let made_folder = (!folder.exists()).then(|| target.clone());
-        fs::create_dir_all(&target).map_err(failed)?;
+        fs::create_dir_all(&target).map_err(|e| FileError::os(&target, "make the folder", e))?;
         let path = folder.join(LOCK_FILE);
         let mut file = lock_file_in(folder, &path).inspect_err(|_| {
             if let Some(made) = &made_folder {
@@ -81,15 +70,13 @@ impl FolderLock {
         let _ = file.read_to_string(&mut previous);
         let stale_owner = parse_record(&previous).filter(|owner| !owner.is_running());
         if let Some(owner) = stale_owner {
-            for place in std::iter::once(folder).chain(beside.iter().copied()) {
-                remove_temporaries_of(place, owner);
-            }
+            remove_partials_of(folder, owner);
         }
         let record = format!("masssprings {command} {}\n", Owner::this_process().tag());
         file.set_len(0)
             .and_then(|()| file.rewind())
             .and_then(|()| file.write_all(record.as_bytes()))
-            .map_err(|error| FileError::unwritable(&path, error))?;
+            .map_err(|error| FileError::os(&path, "write the lock's record", error))?;
         Ok(FolderLock {
             folder: folder.to_path_buf(),
             path,
@@ -100,8 +87,8 @@ impl FolderLock {
     }
 
     /// The owner of the last run that held this lock and was killed (its
-    /// temporaries in the folder are gone already; a command may have
-    /// others beside the folder).
+    /// partial files in the folder are gone already; its staged files are
+    /// the command's to take over).
     pub fn stale_owner(&self) -> Option<Owner> {
         self.stale_owner
     }
@@ -109,15 +96,6 @@ impl FolderLock {
     /// The locked folder.
     pub fn folder(&self) -> &Path {
         &self.folder
-    }
-
-    /// The locked folder has been renamed to `folder` (and its lock file
-    /// with it): the lock file is removed from there when the lock is
-    /// released.
-    pub fn moved_to(&mut self, folder: &Path) {
-        self.folder = folder.to_path_buf();
-        self.path = folder.join(LOCK_FILE);
-        self.made_folder = None;
     }
 }
 
@@ -145,7 +123,7 @@ fn lock_file_in(folder: &Path, path: &Path) -> Result<File, FileError> {
             .create(true)
             .truncate(false)
             .open(path)
-            .map_err(|error| FileError::unwritable(path, error))?;
+            .map_err(|error| FileError::os(path, "open the lock file", error))?;
         match file.try_lock() {
             Ok(()) if same_inode(&file, path) => return Ok(file),
             Ok(()) => continue, // the holder removed it while it ended
@@ -277,7 +255,7 @@ mod tests {
     }
 
     #[test]
-    fn a_killed_runs_temporaries_go_and_nothing_else() {
+    fn a_killed_runs_partial_files_go_and_nothing_else() {
         let folder = folder("stale");
         fs::create_dir_all(&folder).unwrap();
         let mut child = std::process::Command::new("true").spawn().unwrap();
@@ -289,37 +267,31 @@ mod tests {
             format!("masssprings simulate {dead}\n"),
         )
         .unwrap();
-        let theirs = format!(".frame-000001.obj.{dead}-0.tmp");
-        let staged = folder.join(format!(".frames.{dead}-1.tmp"));
-        fs::create_dir(&staged).unwrap();
-        fs::write(staged.join("frame-000000.obj"), "v 0 0 0").unwrap();
-        let users = [
+        let partial = format!(".frame-000001.obj.{dead}-0.tmp");
+        let kept = [
             ".notes.2024-06.tmp".to_string(),
             format!(".frame-000001.obj.{pid}-0.tmp"),
             format!(".x.masssprings-{pid}-6-0.tmp"),
+            // a whole frame it staged: a result, not rubbish
+            format!(".frame-000002.obj.{dead}-1.staged"),
         ];
-        for name in users.iter().chain([&theirs]) {
+        for name in kept.iter().chain([&partial]) {
             fs::write(folder.join(name), "text").unwrap();
         }
-        let beside = folder.join("beside");
-        fs::create_dir(&beside).unwrap();
-        let staged_beside = beside.join(format!(".out.{dead}-2.tmp"));
-        fs::create_dir(&staged_beside).unwrap();
-        let lock = FolderLock::acquire_cleaning(&folder, "simulate", &[&beside]).unwrap();
-        assert!(
-            !staged_beside.exists(),
-            "the killed run's staging beside the folder"
-        );
+        // a folder with a temporary's name is nothing this crate makes
+        let named_like_one = folder.join(format!(".frames.{dead}-2.tmp"));
+        fs::create_dir(&named_like_one).unwrap();
+        let lock = FolderLock::acquire(&folder, "simulate").unwrap();
         assert_eq!(
             lock.stale_owner(),
             Some(Owner { pid, start: 5 }),
             "the killed run's record"
         );
-        assert!(!folder.join(&theirs).exists() && !staged.exists());
-        for name in &users {
-            assert!(folder.join(name).exists(), "{name} is not the killed run's");
+        assert!(!folder.join(&partial).exists());
+        assert!(named_like_one.is_dir());
+        for name in &kept {
+            assert!(folder.join(name).exists(), "{name} is kept");
         }
-        fs::remove_dir(&beside).unwrap();
         drop(lock);
         fs::remove_dir_all(&folder).unwrap();
     }

@@ -26,6 +26,7 @@ const POLL: Duration = Duration::from_millis(5);
 
 /// `O_NONBLOCK` of this platform (the standard library does not export it);
 /// `None` where not known here, and a pipe is then opened the ordinary way.
+#[cfg(unix)]
 const O_NONBLOCK: Option<i32> = if cfg!(any(target_os = "linux", target_os = "android")) {
     if cfg!(any(
         target_arch = "mips",
@@ -49,6 +50,15 @@ const O_NONBLOCK: Option<i32> = if cfg!(any(target_os = "linux", target_os = "an
 } else {
     None
 };
+
+/// The regular file at `path`, opened for reading, or `None` when there is
+/// none (a FIFO, a device, a folder, nothing): opened without blocking, so
+/// a FIFO put where a file was expected is never waited for, and checked
+/// on the open file, so it cannot be swapped in between.
+pub fn open_regular(path: &Path) -> Option<File> {
+    let file = open_without_blocking(path, OpenOptions::new().read(true)).ok()?;
+    file.metadata().is_ok_and(|m| m.is_file()).then_some(file)
+}
 
 fn open_without_blocking(path: &Path, options: &mut OpenOptions) -> io::Result<File> {
     #[cfg(unix)]

@@ -1,21 +1,31 @@
-//! Temporaries: the files (and folders) a command fills before they take
-//! their place, named so that no file of a user is ever taken for one.
+//! Temporaries: the files a command fills before they take their place,
+//! named so that no file of a user is ever taken for one.
 //!
-//! A temporary is named `.NAME.masssprings-PID-START-N.tmp`: the name of
-//! what it becomes (cut to 64 bytes), then its *owner*, the process that
-//! made it (its process id `PID` and `START`, when that process started,
-//! in clock ticks after boot, from `/proc/PID/stat`: together they name
-//! one process, also after its id is reused), and a counter `N`. Nobody
-//! names a file like that by chance, and the owner is part of the name, so
-//! a temporary is removed later only by a run that can prove whose it is:
-//! the run that takes over the output folder's lock
-//! ([`FolderLock`](super::FolderLock)) finds the owner of the last run that
-//! held it in the lock file, a record only this crate writes, and removes
-//! that owner's temporaries and no other file, once that process no longer
-//! runs ([`remove_temporaries_of`]).
+//! A temporary is named `.NAME.masssprings-PID-START-N.KIND`: the name of
+//! the file it becomes (cut to 64 bytes), then its *owner*, the process
+//! that made it (its process id `PID` and `START`, when that process
+//! started, in clock ticks after boot, from `/proc/PID/stat`: together
+//! they name one process, also after its id is reused), a counter `N`, and
+//! what it holds:
 //!
-//! Where the processes cannot be looked up (no `/proc`), every owner counts
-//! as running and nothing is ever removed.
+//! * `.tmp`, **partial**: a file being written. Until it is renamed it is
+//!   never anything but what its owner was writing, so once the owner is
+//!   gone it is rubbish. It is removed only by a run that can prove whose
+//!   it is: the run that takes over the output folder's lock
+//!   ([`FolderLock`](super::FolderLock)) finds the owner of the last run
+//!   that held it in the lock file, a record only this crate writes, and
+//!   removes that owner's partial files and no other file, once that
+//!   process no longer runs ([`remove_partials_of`]).
+//! * `.staged`, **complete**: a whole file, flushed to disk, waiting to
+//!   take its place (or an old file set aside while it is replaced or
+//!   removed). A kill does not make it rubbish: nothing here removes one on
+//!   its name; the command that finds one left by a process that no longer
+//!   runs ([`staged_leftovers`]) reads it and moves it in, removes it as
+//!   its own old file, or puts it back where it was.
+//!
+//! Nobody names a file like that by chance. Where the processes cannot be
+//! looked up (no `/proc`), every owner counts as running and nothing is
+//! ever removed or taken over.
 
 use std::fs;
 use std::io;
@@ -27,7 +37,7 @@ use std::sync::OnceLock;
 const MARK: &str = "masssprings";
 
 /// A process that made temporaries: its id and when it started.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub struct Owner {
     /// The process id.
     pub pid: u32,
@@ -52,6 +62,11 @@ impl Owner {
     /// the lock's record.
     pub fn tag(&self) -> String {
         format!("{MARK}-{}-{}", self.pid, self.start)
+    }
+
+    /// The owner whose [`Owner::tag`] is `tag`.
+    pub fn from_tag(tag: &str) -> Option<Owner> {
+        Owner::parse(tag.strip_prefix(MARK)?.strip_prefix('-')?)
     }
 
     /// Parses [`Owner::tag`]'s `PID-START` (without the mark).
@@ -90,16 +105,35 @@ fn start_ticks(pid: u32) -> Option<u64> {
     after_name.split_whitespace().nth(19)?.parse().ok()
 }
 
+/// What a temporary holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// `.tmp`: a file being written (rubbish once its owner is gone).
+    Partial,
+    /// `.staged`: a whole file waiting to take its place, or an old one
+    /// set aside.
+    Staged,
+}
+
+impl Kind {
+    fn suffix(self) -> &'static str {
+        match self {
+            Kind::Partial => "tmp",
+            Kind::Staged => "staged",
+        }
+    }
+}
+
 /// The longest part of the destination's name kept in a temporary's name,
 /// so that the temporary's name stays within the 255 bytes a name may have.
 const NAME_BYTES: usize = 64;
 
-/// `.NAME.masssprings-PID-START-N.tmp` beside `path`: unique per process and
-/// per call, so concurrent writers never share a temporary.
+/// `.NAME.masssprings-PID-START-N.KIND` beside `path`: unique per process
+/// and per call, so concurrent writers never share a temporary.
 ///
 /// # Errors
 /// `path` does not end in a name.
-pub fn temporary_path(path: &Path) -> io::Result<PathBuf> {
+pub fn temporary_path(path: &Path, kind: Kind) -> io::Result<PathBuf> {
     static COUNTER: AtomicUsize = AtomicUsize::new(0);
     let name = path.file_name().ok_or_else(|| {
         io::Error::new(
@@ -114,25 +148,58 @@ pub fn temporary_path(path: &Path) -> io::Result<PathBuf> {
     }
     let unique = COUNTER.fetch_add(1, Ordering::Relaxed);
     let tag = Owner::this_process().tag();
-    Ok(path.with_file_name(format!(".{}.{tag}-{unique}.tmp", &name[..end])))
+    let suffix = kind.suffix();
+    Ok(path.with_file_name(format!(".{}.{tag}-{unique}.{suffix}", &name[..end])))
 }
 
-/// The owner of the temporary named `name`, if it is one
-/// (`.NAME.masssprings-PID-START-N.tmp`).
-pub fn temporary_owner(name: &str) -> Option<Owner> {
-    let stem = name.strip_prefix('.')?.strip_suffix(".tmp")?;
-    let (_, owned) = stem.rsplit_once(&format!(".{MARK}-"))?;
+/// A temporary read from its name.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Temporary {
+    /// The process that made it.
+    pub owner: Owner,
+    pub kind: Kind,
+    /// The name of the file it becomes (or was set aside from), when its
+    /// name holds the whole of it (names of 64 bytes or more are cut).
+    pub destination: Option<String>,
+}
+
+/// What the file named `name` is, if it is a temporary
+/// (`.NAME.masssprings-PID-START-N.tmp` or `.staged`).
+pub fn temporary(name: &str) -> Option<Temporary> {
+    let rest = name.strip_prefix('.')?;
+    let (stem, kind) = match (rest.strip_suffix(".tmp"), rest.strip_suffix(".staged")) {
+        (Some(stem), _) => (stem, Kind::Partial),
+        (None, Some(stem)) => (stem, Kind::Staged),
+        (None, None) => return None,
+    };
+    let (destination, owned) = stem.rsplit_once(&format!(".{MARK}-"))?;
     let (owner, counter) = owned.rsplit_once('-')?;
     digits(counter)?;
-    Owner::parse(owner)
+    Some(Temporary {
+        owner: Owner::parse(owner)?,
+        kind,
+        destination: (destination.len() < NAME_BYTES && !destination.is_empty())
+            .then(|| destination.to_string()),
+    })
 }
 
-/// Removes from `folder` the temporaries of `owner`, a process that no
-/// longer runs (nothing when it still does): files, and folders holding
-/// only files (a staged result), each named as [`temporary_path`] names
-/// them with that owner. Every other file is left alone. Returns how many
+/// The owner of the temporary named `name`, if it is one (either kind).
+pub fn temporary_owner(name: &str) -> Option<Owner> {
+    temporary(name).map(|t| t.owner)
+}
+
+/// Is `name` one the crate keeps for itself: the lock, or a temporary's?
+/// No output may have it.
+pub fn is_reserved(name: &str) -> bool {
+    name == super::LOCK_FILE || temporary(name).is_some()
+}
+
+/// Removes from `folder` the partial files (`.tmp`) of `owner`, a process
+/// that no longer runs (nothing when it still does), each named as
+/// [`temporary_path`] names them with that owner. Every other file —
+/// staged files, folders, anything else — is left alone. Returns how many
 /// were removed; one that cannot be removed is skipped.
-pub fn remove_temporaries_of(folder: &Path, owner: Owner) -> usize {
+pub fn remove_partials_of(folder: &Path, owner: Owner) -> usize {
     if owner.is_running() {
         return 0;
     }
@@ -142,97 +209,45 @@ pub fn remove_temporaries_of(folder: &Path, owner: Owner) -> usize {
     let mut removed = 0;
     for entry in entries.flatten() {
         let name = entry.file_name();
-        if name.to_str().and_then(temporary_owner) != Some(owner) {
-            continue;
+        let partial = name
+            .to_str()
+            .and_then(temporary)
+            .is_some_and(|t| t.owner == owner && t.kind == Kind::Partial);
+        let file = entry.file_type().is_ok_and(|kind| kind.is_file());
+        if partial && file && fs::remove_file(entry.path()).is_ok() {
+            removed += 1;
         }
-        let path = entry.path();
-        let gone = match entry.file_type() {
-            Ok(kind) if kind.is_dir() => remove_staged_folder(&path),
-            Ok(_) => fs::remove_file(&path).is_ok(),
-            Err(_) => false,
-        };
-        removed += usize::from(gone);
     }
     removed
 }
 
-/// Removes a staged folder: its files (never a folder inside it, which
-/// this crate does not make there), then the folder if that emptied it.
-fn remove_staged_folder(folder: &Path) -> bool {
-    if let Ok(entries) = fs::read_dir(folder) {
-        for entry in entries.flatten() {
-            if entry.file_type().is_ok_and(|kind| !kind.is_dir()) {
-                let _ = fs::remove_file(entry.path());
-            }
-        }
-    }
-    fs::remove_dir(folder).is_ok()
+/// A staged file left by a process that no longer runs.
+#[derive(Debug, Clone)]
+pub struct Leftover {
+    pub path: PathBuf,
+    pub temporary: Temporary,
 }
 
-/// Makes a new, empty temporary folder beside `path` (named as
-/// [`temporary_path`] names a file), where a result is staged before it
-/// takes `path`'s place.
-///
-/// # Errors
-/// The folder cannot be made (the folder above is not writable, say).
-pub fn temporary_folder(path: &Path) -> io::Result<PathBuf> {
-    let folder = temporary_path(path)?;
-    fs::create_dir(&folder)?;
-    Ok(folder)
-}
-
-/// Puts the folder `new` in the place of the folder `old`, and `old`'s
-/// content at `new`'s name (to be removed then): at once where the kernel
-/// can exchange two names (Linux's `renameat2` with `RENAME_EXCHANGE`),
-/// otherwise by three renames, between which `old` is missing for a moment.
-///
-/// # Errors
-/// A rename failed (the two are on different file systems, say); both are
-/// then as they were.
-pub fn exchange_folders(new: &Path, old: &Path) -> io::Result<()> {
-    if exchange(new, old).is_ok() {
-        return Ok(());
-    }
-    let aside = temporary_path(old)?;
-    fs::rename(old, &aside)?;
-    if let Err(error) = fs::rename(new, old) {
-        let _ = fs::rename(&aside, old);
-        return Err(error);
-    }
-    fs::rename(&aside, new)
-}
-
-#[cfg(target_os = "linux")]
-fn exchange(a: &Path, b: &Path) -> io::Result<()> {
-    use std::ffi::{c_char, c_int, c_uint, CString};
-    use std::os::unix::ffi::OsStrExt;
-    /// `AT_FDCWD` and `RENAME_EXCHANGE` of `<fcntl.h>` and `<stdio.h>`.
-    const AT_FDCWD: c_int = -100;
-    const RENAME_EXCHANGE: c_uint = 2;
-    extern "C" {
-        fn renameat2(
-            old_folder: c_int,
-            old: *const c_char,
-            new_folder: c_int,
-            new: *const c_char,
-            flags: c_uint,
-        ) -> c_int;
-    }
-    let c_path = |p: &Path| CString::new(p.as_os_str().as_bytes()).map_err(io::Error::other);
-    let (a, b) = (c_path(a)?, c_path(b)?);
-    // SAFETY: both are NUL-terminated strings that live across the call;
-    // renameat2 only reads them.
-    let result = unsafe { renameat2(AT_FDCWD, a.as_ptr(), AT_FDCWD, b.as_ptr(), RENAME_EXCHANGE) };
-    if result == 0 {
-        Ok(())
-    } else {
-        Err(io::Error::last_os_error())
-    }
-}
-
-#[cfg(not(target_os = "linux"))]
-fn exchange(_a: &Path, _b: &Path) -> io::Result<()> {
-    Err(io::Error::from(io::ErrorKind::Unsupported))
+/// The staged files (`.staged`, regular files) in `folder` whose owner no
+/// longer runs, sorted by name.
+pub fn staged_leftovers(folder: &Path) -> Vec<Leftover> {
+    let Ok(entries) = fs::read_dir(folder) else {
+        return Vec::new();
+    };
+    let mut leftovers: Vec<Leftover> = entries
+        .flatten()
+        .filter(|entry| entry.file_type().is_ok_and(|kind| kind.is_file()))
+        .filter_map(|entry| {
+            let temporary = temporary(entry.file_name().to_str()?)?;
+            let dead = temporary.kind == Kind::Staged && !temporary.owner.is_running();
+            dead.then(|| Leftover {
+                path: folder.join(entry.file_name()),
+                temporary,
+            })
+        })
+        .collect();
+    leftovers.sort_by(|a, b| a.path.cmp(&b.path));
+    leftovers
 }
 
 #[cfg(test)]
@@ -240,13 +255,17 @@ mod tests {
     use super::*;
 
     #[test]
-    fn temporaries_are_recognised_by_their_name_and_owner() {
+    fn temporaries_are_recognised_by_their_name_owner_and_kind() {
         let owner = Owner {
             pid: 4242,
             start: 77,
         };
         let name = ".frame-000001.obj.masssprings-4242-77-7.tmp";
         assert_eq!(temporary_owner(name), Some(owner));
+        assert_eq!(temporary(name).unwrap().kind, Kind::Partial);
+        let staged = temporary(".frame-000001.obj.masssprings-4242-77-8.staged").unwrap();
+        assert_eq!(staged.kind, Kind::Staged);
+        assert_eq!(staged.destination.as_deref(), Some("frame-000001.obj"));
         assert_eq!(
             temporary_owner(".a.b.masssprings-1-2-0.tmp"),
             Some(Owner { pid: 1, start: 2 })
@@ -260,21 +279,28 @@ mod tests {
             ".x.masssprings-a-2-3.tmp",
             "x.masssprings-1-2-3.tmp",
             ".x.masssprings-1-2-3.tmpx",
+            ".x.masssprings-1-2-3.stage",
         ] {
             assert_eq!(temporary_owner(other), None, "{other}");
         }
+        assert!(is_reserved(".masssprings-lock"));
+        assert!(is_reserved(".x.masssprings-1-2-3.staged"));
+        assert!(!is_reserved("masssprings-lock"));
     }
 
     #[test]
     fn a_temporary_names_its_destination_its_owner_and_stays_short() {
-        let path = temporary_path(Path::new("out/frame-000001.obj")).unwrap();
+        let path = temporary_path(Path::new("out/frame-000001.obj"), Kind::Staged).unwrap();
         let name = path.file_name().unwrap().to_str().unwrap();
         assert!(name.starts_with(".frame-000001.obj.masssprings-"), "{name}");
+        assert!(name.ends_with(".staged"), "{name}");
         assert_eq!(temporary_owner(name), Some(Owner::this_process()));
         assert_eq!(path.parent(), Some(Path::new("out")));
         let long = "é".repeat(120);
-        let path = temporary_path(Path::new(&long)).unwrap();
+        let path = temporary_path(Path::new(&long), Kind::Partial).unwrap();
         assert!(path.as_os_str().len() < 120, "{}", path.display());
+        let name = path.file_name().unwrap().to_str().unwrap();
+        assert_eq!(temporary(name).unwrap().destination, None, "cut: unknown");
     }
 
     #[test]
@@ -285,5 +311,6 @@ mod tests {
         child.wait().unwrap();
         let gone = Owner { pid, start: 1 };
         assert!(!gone.is_running());
+        assert_eq!(Owner::from_tag(&gone.tag()), Some(gone));
     }
 }

@@ -36,6 +36,9 @@ pub enum LinalgError {
     PatternMismatch,
     /// The matrix is too large for the 32-bit row indices of the factor.
     TooLarge { n: usize },
+    /// Someone asked the operation to stop ([`Cancel`](super::Cancel))
+    /// before it was done; nothing of its result is left.
+    Cancelled,
 }
 
 impl fmt::Display for LinalgError {
@@ -75,6 +78,7 @@ impl fmt::Display for LinalgError {
                 f,
                 "a {n}×{n} matrix is too large for 32-bit row indices in the factor"
             ),
+            LinalgError::Cancelled => write!(f, "cancelled before it was done"),
         }
     }
 }

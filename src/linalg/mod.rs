@@ -6,6 +6,9 @@
 //! * [`sparse`]: triplets → CSC, CSC operations, orderings (AMD), the sparse
 //!   Cholesky pipeline (analyse once, factor, solve).
 //! * [`huge_pages`]: asking Linux for 2 MB pages under large arrays.
+//! * [`kernels`]: the native kernels (AVX2, FMA) or the portable loops.
+//! * [`cancel`]: a flag that stops the long dense operations from another
+//!   thread.
 //! * [`threads`]: a pool of threads kept for a whole simulation, its
 //!   barrier, and arrays its threads share.
 //!
@@ -15,12 +18,15 @@
 //! a reader of files follows the crate's rules for files (size caps, errors
 //! naming file and line, the memory limit), which are not linear algebra.
 
+pub mod cancel;
 pub mod dense;
 pub mod error;
 pub mod huge_pages;
+pub mod kernels;
 pub mod sparse;
 pub mod threads;
 
+pub use cancel::Cancel;
 pub use error::LinalgError;
 
 /// The fixed, varied `n × 3` right-hand side every solve benchmark uses

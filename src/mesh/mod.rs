@@ -9,7 +9,8 @@
 //! {"obj": "flag.obj", "k": 1e5, "b": [1, 2, 3], "png": "flag.png"}
 //! ```
 //!
-//! [`load_scene`] reads both files and returns a [`Scene`]: the rest
+//! [`load_scene`] reads both files and returns a [`Scene`] ([`load_scene_from`]
+//! the same from files held in memory, a browser's): the rest
 //! positions `V`, the springs `E`, the masses `m`, the pinned vertices `b`
 //! and the stiffness `k`, in the assignment's own order, so a student can
 //! match every array with the handout. The steps, one file each:
@@ -31,6 +32,7 @@
 use std::path::{Path, PathBuf};
 
 pub use crate::files::FileError;
+use crate::files::{Disk, Source};
 
 pub mod bounding_box;
 pub mod fan;
@@ -42,6 +44,10 @@ pub mod voronoi_mass;
 
 use obj::ObjMesh;
 use scene_file::SceneFile;
+
+/// The eight bytes every PNG file starts with: a scene's texture is read
+/// as a PNG (`files::read_bytes_of_format`), for display only.
+pub const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
 
 /// Everything the simulation needs from a scene, 0-based.
 #[derive(Debug, Clone, PartialEq)]
@@ -93,10 +99,20 @@ pub struct Scene {
 /// springs (no area to take masses from); and, with Voronoi masses, a vertex
 /// whose mass is zero or not finite (for example a vertex in no face).
 pub fn load_scene(json_path: &Path) -> Result<Scene, SceneError> {
-    let settings = scene_file::read_scene_file(json_path)?;
+    load_scene_from(&Disk, json_path)
+}
+
+/// [`load_scene`] from `files`: the file system ([`Disk`]) or files held
+/// in memory ([`InMemory`](crate::files::InMemory)), with the same checks
+/// and messages.
+///
+/// # Errors
+/// As [`load_scene`].
+pub fn load_scene_from(files: &dyn Source, json_path: &Path) -> Result<Scene, SceneError> {
+    let settings = scene_file::read_scene_file(files, json_path)?;
     let folder = json_path.parent().unwrap_or(Path::new(""));
     let obj_path = folder.join(&settings.obj);
-    let mesh = obj::read_obj(&obj_path)?;
+    let mesh = obj::read_obj_from(files, &obj_path)?;
     springs::check_spring_memory(&mesh.faces).map_err(|e| e.in_file(&obj_path))?;
     let springs = springs::springs_from_faces(&mesh.faces).map_err(|e| e.in_file(&obj_path))?;
     let masses = masses(&settings, &mesh, json_path, &obj_path)?;

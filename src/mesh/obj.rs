@@ -39,7 +39,7 @@
 use std::path::Path;
 
 use super::SceneError;
-use crate::files::read_text;
+use crate::files::{Disk, Source};
 
 /// The content of an OBJ file, 0-based.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -70,7 +70,15 @@ impl ObjMesh {
 /// As [`parse_obj`], with the path in the message; an I/O error when the file
 /// cannot be read (or is not UTF-8).
 pub fn read_obj(path: &Path) -> Result<ObjMesh, SceneError> {
-    parse_obj(&read_text(path)?).map_err(|e| e.in_file(path))
+    read_obj_from(&Disk, path)
+}
+
+/// [`read_obj`] from `files` (the file system, or files held in memory).
+///
+/// # Errors
+/// As [`read_obj`].
+pub fn read_obj_from(files: &dyn Source, path: &Path) -> Result<ObjMesh, SceneError> {
+    parse_obj(&files.text(path)?).map_err(|e| e.in_file(path))
 }
 
 /// Parses the text of an OBJ file.

@@ -28,7 +28,7 @@ use serde::de::{self, Deserializer, MapAccess, Unexpected, Visitor};
 use serde::Deserialize;
 
 use super::SceneError;
-use crate::files::read_text;
+use crate::files::Source;
 
 /// The keys of a scene file, checked one by one as they are parsed.
 #[derive(Debug, Deserialize)]
@@ -53,14 +53,14 @@ pub(crate) struct SceneFile {
     _boundary_conditions: Option<()>,
 }
 
-/// Reads and checks the scene file at `path`.
+/// Reads and checks the scene file at `path` of `files`.
 ///
 /// # Errors
 /// A [`SceneError`] naming `path` (with serde_json's line) for a file that
 /// cannot be read, invalid JSON, a missing, repeated, mistyped or unknown
 /// key, `bc`, `k` or `m` not a finite number > 0, or a pin < 1.
-pub(crate) fn read_scene_file(path: &Path) -> Result<SceneFile, SceneError> {
-    let text = read_text(path)?;
+pub(crate) fn read_scene_file(files: &dyn Source, path: &Path) -> Result<SceneFile, SceneError> {
+    let text = files.text(path)?;
     serde_json::from_str(&text)
         .map(|SceneObject(scene)| scene)
         .map_err(|error| json_error(error).in_file(path))

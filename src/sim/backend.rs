@@ -22,7 +22,7 @@ use crate::linalg::dense::{DenseCholesky, DenseMatrix};
 use crate::linalg::sparse::{
     CscMatrix, Method, Ordering, SparseCholesky, SupernodeMerging, SymbolicCholesky, TripletMatrix,
 };
-use crate::linalg::LinalgError;
+use crate::linalg::{Cancel, LinalgError};
 
 /// How the sparse backend factors `Q`: the fill-reducing ordering, the
 /// numeric method, for the supernodal one which supernodes, and on how
@@ -77,6 +77,18 @@ pub trait LinearAlgebra {
     /// `AᵀA`.
     fn gram(a: &Self::Matrix) -> Self::Matrix;
 
+    /// [`LinearAlgebra::gram`], given up once `cancel` is set. The dense
+    /// product takes `n² m` multiply-adds (minutes on the skirt) and looks
+    /// at `cancel` between its rows; the sparse one takes moments and runs
+    /// to its end.
+    ///
+    /// # Errors
+    /// [`LinalgError::Cancelled`].
+    fn gram_cancellable(a: &Self::Matrix, cancel: Cancel<'_>) -> Result<Self::Matrix, LinalgError> {
+        let _ = cancel;
+        Ok(Self::gram(a))
+    }
+
     /// `α X + β Y` (same shapes).
     fn combine(alpha: f64, x: &Self::Matrix, beta: f64, y: &Self::Matrix) -> Self::Matrix;
 
@@ -98,6 +110,21 @@ pub trait LinearAlgebra {
         q: &Self::Matrix,
         how: SparseFactorization,
     ) -> Result<Self::Factorization, LinalgError>;
+
+    /// [`LinearAlgebra::factor`], given up once `cancel` is set: the dense
+    /// factorization (`n³/3`) looks at it between two rows; the sparse one
+    /// runs to its end.
+    ///
+    /// # Errors
+    /// As [`LinearAlgebra::factor`], and [`LinalgError::Cancelled`].
+    fn factor_cancellable(
+        q: &Self::Matrix,
+        how: SparseFactorization,
+        cancel: Cancel<'_>,
+    ) -> Result<Self::Factorization, LinalgError> {
+        let _ = cancel;
+        Self::factor(q, how)
+    }
 
     /// Factors `q` again, for new values with the same pattern.
     ///
@@ -175,7 +202,12 @@ impl LinearAlgebra for Dense {
     }
 
     fn gram(a: &DenseMatrix) -> DenseMatrix {
-        a.transpose().mul(a).expect(SHAPES_FIT)
+        a.transpose_mul_self(Cancel::NEVER)
+            .expect("nothing cancels it")
+    }
+
+    fn gram_cancellable(a: &DenseMatrix, cancel: Cancel<'_>) -> Result<DenseMatrix, LinalgError> {
+        a.transpose_mul_self(cancel)
     }
 
     fn combine(alpha: f64, x: &DenseMatrix, beta: f64, y: &DenseMatrix) -> DenseMatrix {
@@ -200,6 +232,14 @@ impl LinearAlgebra for Dense {
 
     fn factor(q: &DenseMatrix, _: SparseFactorization) -> Result<DenseCholesky, LinalgError> {
         DenseCholesky::factor(q)
+    }
+
+    fn factor_cancellable(
+        q: &DenseMatrix,
+        _: SparseFactorization,
+        cancel: Cancel<'_>,
+    ) -> Result<DenseCholesky, LinalgError> {
+        DenseCholesky::factor_cancellable(q, cancel)
     }
 
     fn refactor(factorization: &mut DenseCholesky, q: &DenseMatrix) -> Result<(), LinalgError> {

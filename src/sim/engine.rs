@@ -19,6 +19,7 @@ use super::precomputation::MassSpringSystem;
 use super::step::{solve_step, StepReport, StepState, StepWorkspace};
 use super::textbook::{self, Precomputation};
 use crate::linalg::sparse::Ordering;
+use crate::linalg::Cancel;
 use std::sync::atomic::{AtomicBool, Ordering as MemoryOrder};
 use std::sync::Arc;
 
@@ -37,6 +38,9 @@ pub struct Network<'a> {
     pub pinned: &'a [usize],
     /// Time step.
     pub delta_t: f64,
+    /// What stops its precomputation midway (the dense one takes minutes
+    /// on a large scene); [`Cancel::NEVER`] for none.
+    pub cancel: Cancel<'a>,
 }
 
 /// The fast path, or the handout's functions.
@@ -82,9 +86,10 @@ impl<B: LinearAlgebra> Engine<B> {
             masses,
             pinned,
             delta_t,
+            cancel,
         } = *network;
         let mut system = MassSpringSystem::<B>::with_factorization(
-            vertices, springs, k, masses, pinned, delta_t, how,
+            vertices, springs, k, masses, pinned, delta_t, how, cancel,
         )?;
         if pins == Pins::Exact {
             system.use_exact_pins(how)?;
@@ -249,14 +254,19 @@ impl Handout {
             masses,
             pinned,
             delta_t,
+            cancel,
         } = *network;
+        // The handout's fast_mass_springs_precomputation_dense and _sparse
+        // (with `ordering`), given up once `cancel` is set.
         Ok(if B::NAME == Dense::NAME {
-            Handout::Dense(textbook::fast_mass_springs_precomputation_dense(
-                vertices, springs, k, masses, pinned, delta_t,
+            let how = SparseFactorization::default(); // the dense factor has one way
+            Handout::Dense(textbook::precomputation::<Dense>(
+                vertices, springs, k, masses, pinned, delta_t, how, cancel,
             )?)
         } else {
-            Handout::Sparse(textbook::precomputation_ordered(
-                vertices, springs, k, masses, pinned, delta_t, ordering,
+            let how = textbook::factored_as_eigen(ordering);
+            Handout::Sparse(textbook::precomputation::<Sparse>(
+                vertices, springs, k, masses, pinned, delta_t, how, cancel,
             )?)
         })
     }

@@ -13,6 +13,10 @@ pub enum SimulationError {
     InvalidInput(String),
     /// The linear algebra failed, e.g. `Q` is not positive definite.
     Linalg(LinalgError),
+    /// `Q = k AᵀA + M/Δt² + w CᵀC` would overflow `f64` on its diagonal:
+    /// which quantity, at which vertex, and the largest value that fits
+    /// (`precomputation::check_q_fits`).
+    QOverflow(String),
     /// A step produced NaN or infinity, first at this vertex (0-based).
     NotFinite { vertex: usize },
     /// A step's energy or gradient overflowed (positions beyond what
@@ -20,7 +24,9 @@ pub enum SimulationError {
     EnergyNotFinite,
     /// The step was asked to stop between two iterations
     /// ([`Simulation::set_cancel`](super::Simulation::set_cancel)); the state
-    /// is left at the last completed step.
+    /// is left at the last completed step. Or the precomputation was asked
+    /// to stop ([`Simulation::from_scene_cancellable`](super::Simulation::from_scene_cancellable)):
+    /// there is no simulation.
     Cancelled,
 }
 
@@ -29,6 +35,7 @@ impl fmt::Display for SimulationError {
         match self {
             SimulationError::InvalidInput(why) => write!(f, "invalid input: {why}"),
             SimulationError::Linalg(error) => write!(f, "{error}"),
+            SimulationError::QOverflow(why) => f.write_str(why),
             SimulationError::NotFinite { vertex } => write!(
                 f,
                 "the step produced a non-finite position (vertex {}, 1-based); the simulation stopped",
@@ -40,7 +47,7 @@ impl fmt::Display for SimulationError {
             ),
             SimulationError::Cancelled => write!(
                 f,
-                "the step was cancelled before it was done; the simulation stays at its last completed step"
+                "cancelled before it was done; the simulation stays as it was"
             ),
         }
     }
@@ -49,7 +56,12 @@ impl fmt::Display for SimulationError {
 impl std::error::Error for SimulationError {}
 
 impl From<LinalgError> for SimulationError {
+    /// A cancelled operation is a cancelled simulation, whatever was
+    /// cancelled; every other error stays the linear algebra's.
     fn from(error: LinalgError) -> Self {
-        SimulationError::Linalg(error)
+        match error {
+            LinalgError::Cancelled => SimulationError::Cancelled,
+            error => SimulationError::Linalg(error),
+        }
     }
 }

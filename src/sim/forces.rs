@@ -12,7 +12,8 @@
 //! ```
 //!
 //! Unlike the assignment, whose `t` is wall-clock time, `t` here is the
-//! simulated time (steps × Δt), so that a run with wind repeats exactly.
+//! simulated time (the sum of the steps' Δt), so that a run with wind
+//! repeats exactly.
 //!
 //! Source: the assignment's `main.cpp`; the scene format in `data/README.md`.
 

@@ -43,6 +43,7 @@ use super::error::SimulationError;
 use super::exact_pins::{ExactPins, PinnedNetwork};
 use super::signed_incidence::signed_incidence_matrix;
 use crate::linalg::sparse::CscMatrix;
+use crate::linalg::{Cancel, LinalgError};
 use crate::mesh::Scene;
 
 /// The pinning penalty weight `w` (large: pins move by about `f/w`).
@@ -165,6 +166,7 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
                 self.n()
             )));
         }
+        check_q_fits(&self.springs, m, k, delta_t)?;
         let previous = (self.k, self.delta_t, self.m.clone());
         self.install_parameters(k, delta_t, m);
         if let Err(error) = self.assemble_and_refactor() {
@@ -206,7 +208,9 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
             self.k,
             self.delta_t,
             self.w,
+            Cancel::NEVER,
         )
+        .expect(NOTHING_CANCELS)
     }
 
     /// Is `Q` held? It is after the precomputation; a
@@ -326,7 +330,10 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
     ///
     /// # Errors
     /// [`SimulationError::InvalidInput`] for inconsistent sizes or indices;
-    /// [`SimulationError::Linalg`] when `Q` is not positive definite.
+    /// [`SimulationError::QOverflow`] when `k` or a mass is so large that
+    /// `Q` would overflow `f64` ([`check_q_fits`]: the vertex and the
+    /// largest value that fits); [`SimulationError::Linalg`] when `Q` is
+    /// not positive definite.
     pub fn new(
         v: &[[f64; 3]],
         springs: &[[usize; 2]],
@@ -336,14 +343,18 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
         delta_t: f64,
     ) -> Result<Self, SimulationError> {
         let how = SparseFactorization::default();
-        Self::with_factorization(v, springs, k, m, pinned, delta_t, how)
+        Self::with_factorization(v, springs, k, m, pinned, delta_t, how, Cancel::NEVER)
     }
 
     /// [`MassSpringSystem::new`], factoring `Q` the way `how` says
-    /// (the ordering and the numeric method of the sparse backend).
+    /// (the ordering and the numeric method of the sparse backend), and
+    /// given up once `cancel` is set (the dense backend looks at it while
+    /// it forms `AᵀA` and factors `Q`, which take minutes on a large
+    /// scene).
     ///
     /// # Errors
-    /// As [`MassSpringSystem::new`].
+    /// As [`MassSpringSystem::new`]; [`SimulationError::Cancelled`].
+    #[allow(clippy::too_many_arguments)] // the handout's six inputs, how Q is factored, what stops it
     pub fn with_factorization(
         v: &[[f64; 3]],
         springs: &[[usize; 2]],
@@ -352,14 +363,16 @@ impl<B: LinearAlgebra> MassSpringSystem<B> {
         pinned: &[usize],
         delta_t: f64,
         how: SparseFactorization,
+        cancel: Cancel<'_>,
     ) -> Result<Self, SimulationError> {
         let n = v.len();
         check_inputs(v, springs, m)?;
         check_pins(n, pinned, pinned.len())?;
+        check_q_fits(springs, m, k, delta_t)?;
         let r = rest_lengths(v, springs);
         let c = selection_matrix::<B>(n, pinned);
-        let q = network_q::<B>(springs, m, &c, k, delta_t, PIN_WEIGHT);
-        let prefactorization = B::factor(&q, how)?;
+        let q = network_q::<B>(springs, m, &c, k, delta_t, PIN_WEIGHT, cancel)?;
+        let prefactorization = B::factor_cancellable(&q, how, cancel)?;
         let mut pinned_rest = vec![[0.0; 3]; pinned.len()];
         B::mul_points(&c, v, &mut pinned_rest); // C V
         let pin_rhs = pin_right_hand_side::<B>(&c, n, &pinned_rest, PIN_WEIGHT);
@@ -423,16 +436,44 @@ pub fn assemble_q<B: LinearAlgebra>(
     w: f64,
     C: &B::Matrix,
 ) -> B::Matrix {
-    let AtA = B::gram(A);
+    assemble_q_cancellable::<B>(k, A, M, delta_t, w, C, Cancel::NEVER).expect(NOTHING_CANCELS)
+}
+
+/// [`assemble_q`], given up once `cancel` is set: the dense products
+/// `AᵀA` and `CᵀC` look at it between their rows.
+///
+/// # Errors
+/// [`LinalgError::Cancelled`] (what was assembled is dropped).
+#[allow(non_snake_case)] // the handout's A, M, C
+pub fn assemble_q_cancellable<B: LinearAlgebra>(
+    k: f64,
+    A: &B::Matrix,
+    M: &B::Matrix,
+    delta_t: f64,
+    w: f64,
+    C: &B::Matrix,
+    cancel: Cancel<'_>,
+) -> Result<B::Matrix, LinalgError> {
+    let AtA = B::gram_cancellable(A, cancel)?;
+    cancel.check()?; // each term below is a pass over n × n values
     let m_over_dt2 = B::divide(M, delta_t * delta_t);
+    cancel.check()?;
     let springs_and_mass = B::combine(k, &AtA, 1.0, &m_over_dt2);
     drop((AtA, m_over_dt2));
-    B::combine(1.0, &springs_and_mass, w, &B::gram(C))
+    let CtC = B::gram_cancellable(C, cancel)?;
+    cancel.check()?;
+    Ok(B::combine(1.0, &springs_and_mass, w, &CtC))
 }
+
+/// Why [`Cancel::NEVER`] unwraps.
+const NOTHING_CANCELS: &str = "nothing cancels it";
 
 /// [`assemble_q`] for the network `springs` with masses `m`: `A` and `M`
 /// are built for it and dropped once `Q` is made (the fast path keeps the
-/// spring list and the masses instead).
+/// spring list and the masses instead); given up once `cancel` is set.
+///
+/// # Errors
+/// [`LinalgError::Cancelled`].
 #[allow(non_snake_case)] // the handout's A and M
 pub fn network_q<B: LinearAlgebra>(
     springs: &[[usize; 2]],
@@ -441,10 +482,11 @@ pub fn network_q<B: LinearAlgebra>(
     k: f64,
     delta_t: f64,
     w: f64,
-) -> B::Matrix {
+    cancel: Cancel<'_>,
+) -> Result<B::Matrix, LinalgError> {
     let A = signed_incidence_matrix::<B>(m.len(), springs);
     let M = mass_matrix::<B>(m);
-    assemble_q::<B>(k, &A, &M, delta_t, w, c)
+    assemble_q_cancellable::<B>(k, &A, &M, delta_t, w, c, cancel)
 }
 
 /// [`network_q`] of a scene at the time step `delta_t`, pins weighted by
@@ -460,7 +502,9 @@ pub fn scene_q(scene: &Scene, delta_t: f64) -> CscMatrix {
         scene.k,
         delta_t,
         PIN_WEIGHT,
+        Cancel::NEVER,
     )
+    .expect(NOTHING_CANCELS)
 }
 
 /// `y = M x` for the diagonal mass matrix `M = diag(m)`: `yᵢ = mᵢ xᵢ`.
@@ -512,6 +556,65 @@ pub(crate) fn check_inputs(
         ));
     }
     Ok(())
+}
+
+/// Refuses a stiffness `k`, time step `delta_t` or masses `m` whose
+/// `Q = k AᵀA + M/Δt² + w CᵀC` would overflow `f64` on its diagonal
+/// (`k` times the springs at a vertex, plus `mᵢ/Δt²`, plus `w` per pin),
+/// naming the quantity, its vertex (1-based, as a file's line) and the
+/// largest value that works; otherwise the factorization would only say
+/// "not positive definite: pivot inf". Each term may take half of the
+/// largest `f64`, so that their sum is finite too.
+///
+/// # Errors
+/// [`SimulationError::QOverflow`] with that sentence.
+pub fn check_q_fits(
+    springs: &[[usize; 2]],
+    m: &[f64],
+    k: f64,
+    delta_t: f64,
+) -> Result<(), SimulationError> {
+    let mut springs_at = vec![0u64; m.len()];
+    for spring in springs {
+        for &vertex in spring {
+            if let Some(count) = springs_at.get_mut(vertex) {
+                *count += 1;
+            }
+        }
+    }
+    let room = f64::MAX / 2.0;
+    let refuse = |why: String| Err(SimulationError::QOverflow(why));
+    if let Some((vertex, &count)) = springs_at.iter().enumerate().max_by_key(|(_, &c)| c) {
+        let count = count.max(1) as f64;
+        if k * count > room {
+            return refuse(format!(
+                "k = {k:e} overflows Q: its diagonal holds k × {count} (the springs at vertex \
+                 {}), more than f64 holds (1.8e308); Q fits with k up to {} here",
+                vertex + 1,
+                rounded_down(room / count)
+            ));
+        }
+    }
+    let per_second_squared = 1.0 / (delta_t * delta_t);
+    if let Some(vertex) = m.iter().position(|&mi| mi * per_second_squared > room) {
+        return refuse(format!(
+            "the mass {:e} of vertex {} overflows Q: its diagonal holds m / Δt² = m × {}, more \
+             than f64 holds (1.8e308); Q fits with masses up to {}",
+            m[vertex],
+            vertex + 1,
+            crate::files::number(per_second_squared),
+            rounded_down(room / per_second_squared)
+        ));
+    }
+    Ok(())
+}
+
+/// `x` (> 0) rounded down to two significant digits, as `2.9e307`: a bound
+/// that is within the limit as printed.
+fn rounded_down(x: f64) -> String {
+    let exponent = x.log10().floor();
+    let mantissa = (x / 10f64.powf(exponent) * 10.0).floor() / 10.0;
+    format!("{mantissa:.1}e{exponent}")
 }
 
 /// Every pin is a vertex, and there is one target per pin.

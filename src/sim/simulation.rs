@@ -16,8 +16,10 @@ use super::methods::Carried;
 use super::monitor::Observer;
 use super::precomputation::{MassSpringSystem, DELTA_T};
 use super::step::{StepReport, StepState};
+use crate::linalg::kernels::{self, Kernels};
 use crate::linalg::sparse::{Method, Ordering, SupernodeMerging};
 use crate::linalg::threads;
+use crate::linalg::Cancel;
 use crate::mesh::Scene;
 use std::fmt;
 use std::str::FromStr;
@@ -56,6 +58,11 @@ pub struct SimulationOptions {
     /// on any number; `1` runs the single-threaded code. The textbook path
     /// and the dense backend run on one thread whatever this says.
     pub threads: usize,
+    /// The native kernels (AVX2, FMA where the CPU has them) or the
+    /// portable loops, which compute what a WebAssembly build computes, to
+    /// the bit ([`kernels`](crate::linalg::kernels)): the precomputation
+    /// and every step run with this choice.
+    pub kernels: Kernels,
 }
 
 impl SimulationOptions {
@@ -193,6 +200,7 @@ impl Default for SimulationOptions {
             supernodes: SupernodeMerging::default(),
             textbook: false,
             threads: threads::available(),
+            kernels: Kernels::Native,
         }
     }
 }
@@ -238,6 +246,10 @@ pub struct Simulation<B: LinearAlgebra> {
     /// Diagonal of the rest shape's bounding box (the wind's length scale).
     scale: f64,
     steps: usize,
+    /// The simulated time and the step count when `Δt` last changed (0
+    /// and 0 until it does): the time is that time plus `Δt` for each
+    /// step since.
+    clock: (f64, usize),
     /// The vertex being dragged, if any (an extra, last pin), and where.
     dragged: Option<(usize, [f64; 3])>,
     /// The scene's masses, before [`Simulation::set_parameters`] scales them.
@@ -264,6 +276,46 @@ impl<B: LinearAlgebra> Simulation<B> {
         pinned: &[usize],
         options: SimulationOptions,
     ) -> Result<Self, SimulationError> {
+        Self::build(vertices, springs, k, masses, pinned, options, None)
+    }
+
+    /// The simulation of a loaded scene, starting at rest, whose
+    /// precomputation stops once `cancel` is set, with
+    /// [`SimulationError::Cancelled`] and nothing kept: the dense backend
+    /// looks at the flag while it forms `AᵀA` and factors `Q`, minutes and
+    /// gigabytes on a large scene. Its steps look at the same flag
+    /// ([`Simulation::set_cancel`]), and so do the precomputations the
+    /// handout's functions make again when `k`, `Δt`, the masses or the
+    /// pins change.
+    ///
+    /// # Errors
+    /// As [`Simulation::new`]; [`SimulationError::Cancelled`].
+    pub fn from_scene_cancellable(
+        scene: &Scene,
+        options: SimulationOptions,
+        cancel: Arc<AtomicBool>,
+    ) -> Result<Self, SimulationError> {
+        Self::build(
+            &scene.vertices,
+            &scene.springs,
+            scene.k,
+            &scene.masses,
+            &scene.pinned,
+            options,
+            Some(cancel),
+        )
+    }
+
+    /// [`Simulation::new`], stopped by `cancel` if given.
+    fn build(
+        vertices: &[[f64; 3]],
+        springs: &[[usize; 2]],
+        k: f64,
+        masses: &[f64],
+        pinned: &[usize],
+        options: SimulationOptions,
+        cancel: Option<Arc<AtomicBool>>,
+    ) -> Result<Self, SimulationError> {
         let network = Network {
             vertices,
             springs,
@@ -271,8 +323,9 @@ impl<B: LinearAlgebra> Simulation<B> {
             masses,
             pinned,
             delta_t: options.delta_t,
+            cancel: Cancel::on(cancel.as_deref()),
         };
-        let engine = new_engine::<B>(&network, &options)?;
+        let engine = kernels::with(options.kernels, || new_engine::<B>(&network, &options))?;
         let n = vertices.len();
         Ok(Simulation {
             engine,
@@ -285,10 +338,11 @@ impl<B: LinearAlgebra> Simulation<B> {
             options,
             scale: bounding_box_diagonal(vertices),
             steps: 0,
+            clock: (0.0, 0),
             dragged: None,
             masses: masses.to_vec(),
             mass_scale: 1.0,
-            cancel: None,
+            cancel,
         })
     }
 
@@ -345,9 +399,10 @@ impl<B: LinearAlgebra> Simulation<B> {
             u_cur: &self.u_cur,
         };
         let cancel = self.cancel.as_ref();
-        let report = self
-            .engine
-            .step(control, state, &mut self.u_next, observer, cancel)?;
+        let report = kernels::with(self.options.kernels, || {
+            self.engine
+                .step(control, state, &mut self.u_next, observer, cancel)
+        })?;
         std::mem::swap(&mut self.u_prev, &mut self.u_cur); // U_prev ← U_cur
         std::mem::swap(&mut self.u_cur, &mut self.u_next); // U_cur ← U
         self.steps += 1;
@@ -379,9 +434,18 @@ impl<B: LinearAlgebra> Simulation<B> {
         self.steps
     }
 
-    /// Simulated time, `steps · Δt`.
+    /// Simulated time: the sum of every step's own `Δt` since the start
+    /// (`steps · Δt` while `Δt` has not changed).
     pub fn time(&self) -> f64 {
-        self.steps as f64 * self.options.delta_t
+        let (time, steps) = self.clock;
+        time + self.steps.saturating_sub(steps) as f64 * self.options.delta_t
+    }
+
+    /// Says that the current state is at simulated time `time` (a state
+    /// carried over from a simulation whose `Δt` changed on the way; see
+    /// [`Simulation::set_state`]).
+    pub fn set_time(&mut self, time: f64) {
+        self.clock = (time, self.steps);
     }
 
     /// The precomputed system of the fast path (matrices, factorization);
@@ -507,6 +571,9 @@ impl<B: LinearAlgebra> Simulation<B> {
     ) -> Result<(), SimulationError> {
         let masses: Vec<f64> = self.masses.iter().map(|&m| m * mass_scale).collect();
         self.remake(k, delta_t, &masses, None)?;
+        if delta_t != self.options.delta_t {
+            self.set_time(self.time()); // the steps so far took the old Δt
+        }
         self.options.delta_t = delta_t;
         self.mass_scale = mass_scale;
         Ok(())
@@ -578,11 +645,13 @@ impl<B: LinearAlgebra> Simulation<B> {
         self.u_prev.copy_from_slice(&self.rest);
         self.u_cur.copy_from_slice(&self.rest);
         self.steps = 0;
+        self.clock = (0.0, 0);
         Ok(())
     }
 
     /// Continues from a saved state: `U_prev`, `U_cur` and the number of
-    /// steps they are after the start (for the wind's clock).
+    /// steps they are after the start (for the wind's clock: the time is
+    /// `steps · Δt` until [`Simulation::set_time`] says otherwise).
     ///
     /// # Errors
     /// [`SimulationError::InvalidInput`] when a state does not have one
@@ -605,6 +674,7 @@ impl<B: LinearAlgebra> Simulation<B> {
         self.u_prev.copy_from_slice(u_prev);
         self.u_cur.copy_from_slice(u_cur);
         self.steps = steps;
+        self.clock = (0.0, 0);
         Ok(())
     }
 
@@ -656,7 +726,9 @@ impl<B: LinearAlgebra> Simulation<B> {
         if let Some((vertex, _)) = self.dragged {
             let mut targets = self.pin_rest_targets();
             targets.push(target);
-            self.engine.set_pin_targets(&targets)?;
+            kernels::with(self.options.kernels, || {
+                self.engine.set_pin_targets(&targets)
+            })?;
             self.dragged = Some((vertex, target));
         }
         Ok(())
@@ -714,8 +786,11 @@ impl<B: LinearAlgebra> Simulation<B> {
             masses,
             pinned: &pins,
             delta_t,
+            cancel: Cancel::on(self.cancel.as_deref()),
         };
-        self.engine.remake(&network, &targets)
+        kernels::with(self.options.kernels, || {
+            self.engine.remake(&network, &targets)
+        })
     }
 }
 

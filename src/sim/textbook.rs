@@ -48,7 +48,8 @@ use super::control::ITERATIONS;
 use super::error::SimulationError;
 use super::local_step::project_springs;
 use super::precomputation::{
-    assemble_q, check_inputs, check_pins, mass_matrix, rest_lengths, selection_matrix, PIN_WEIGHT,
+    assemble_q_cancellable, check_inputs, check_pins, check_q_fits, mass_matrix, rest_lengths,
+    selection_matrix, PIN_WEIGHT,
 };
 use super::signed_incidence::signed_incidence_matrix;
 use crate::linalg::dense::{back_substitution_dense, forward_substitution_dense};
@@ -56,6 +57,7 @@ use crate::linalg::sparse::triangular_solve::{
     back_substitution_sparse, forward_substitution_sparse,
 };
 use crate::linalg::sparse::{Method, Ordering};
+use crate::linalg::Cancel;
 use std::sync::atomic::{AtomicBool, Ordering as MemoryOrder};
 use std::sync::Arc;
 
@@ -127,15 +129,8 @@ pub fn precomputation_ordered(
     delta_t: f64,
     ordering: Ordering,
 ) -> Result<Precomputation<Sparse>, SimulationError> {
-    precomputation::<Sparse>(
-        V,
-        springs,
-        k,
-        m,
-        pinned,
-        delta_t,
-        factored_as_eigen(ordering),
-    )
+    let how = factored_as_eigen(ordering);
+    precomputation::<Sparse>(V, springs, k, m, pinned, delta_t, how, Cancel::NEVER)
 }
 
 /// How the handout factors `Q` (Eigen's `SimplicialLLT`): row by row
@@ -161,11 +156,18 @@ pub fn fast_mass_springs_precomputation_dense(
     delta_t: f64,
 ) -> Result<Precomputation<Dense>, SimulationError> {
     let how = SparseFactorization::default(); // the dense factor has one way
-    precomputation::<Dense>(V, springs, k, m, pinned, delta_t, how)
+    precomputation::<Dense>(V, springs, k, m, pinned, delta_t, how, Cancel::NEVER)
 }
 
-/// The precomputation on either kind of matrix, as the handout writes it.
-fn precomputation<B: LinearAlgebra>(
+/// The precomputation on either kind of matrix, as the handout writes it;
+/// not the handout's: given up once `cancel` is set (the viewer's stop
+/// button: the dense `AᵀA` and factorization take minutes on the skirt).
+///
+/// # Errors
+/// As [`fast_mass_springs_precomputation_sparse`];
+/// [`SimulationError::Cancelled`].
+#[allow(clippy::too_many_arguments)] // the handout's six inputs, how Q is factored, what stops it
+pub(crate) fn precomputation<B: LinearAlgebra>(
     V: &[[f64; 3]],
     springs: &[[usize; 2]],
     k: f64,
@@ -173,17 +175,19 @@ fn precomputation<B: LinearAlgebra>(
     pinned: &[usize],
     delta_t: f64,
     how: SparseFactorization,
+    cancel: Cancel<'_>,
 ) -> Result<Precomputation<B>, SimulationError> {
     let n = V.len();
     check_inputs(V, springs, m)?;
     check_pins(n, pinned, pinned.len())?;
+    check_q_fits(springs, m, k, delta_t)?; // k, m/Δt² each within f64
     let w = PIN_WEIGHT;
     let r = rest_lengths(V, springs); // rᵢⱼ = ‖Vᵢ − Vⱼ‖
     let M = mass_matrix::<B>(m); // M = diag(m)
     let A = signed_incidence_matrix::<B>(n, springs);
     let C = selection_matrix::<B>(n, pinned);
-    let Q = assemble_q::<B>(k, &A, &M, delta_t, w, &C); // k AᵀA + M/Δt² + w CᵀC
-    let prefactorization = B::factor(&Q, how)?; // L Lᵀ = P Q Pᵀ (dense: Q), once
+    let Q = assemble_q_cancellable::<B>(k, &A, &M, delta_t, w, &C, cancel)?; // k AᵀA + M/Δt² + w CᵀC
+    let prefactorization = B::factor_cancellable(&Q, how, cancel)?; // L Lᵀ = P Q Pᵀ (dense: Q), once
     Ok(Precomputation {
         V: V.to_vec(),
         springs: springs.to_vec(),

@@ -275,6 +275,32 @@ fn simulate_writes_frames_that_read_back_exactly() {
 }
 
 #[test]
+fn simulate_runs_the_portable_kernels_on_request_and_says_which_ran() {
+    let flag = data("flag.json");
+    let run = |kernels: &str| {
+        let args = [
+            "simulate",
+            &flag,
+            "--steps",
+            "2",
+            "--kernels",
+            kernels,
+            "--json",
+        ];
+        json(&masssprings(&args))
+    };
+    assert_eq!(run("portable")["kernels"], "portable");
+    assert_eq!(run("native")["kernels"], "native");
+    let refused = masssprings(&["simulate", &flag, "--kernels", "fast"]);
+    assert_eq!(refused.status.code(), Some(2));
+    let message = stderr(&refused);
+    assert!(
+        message.contains("native") && message.contains("portable"),
+        "{message}"
+    );
+}
+
+#[test]
 fn simulate_dense_and_sparse_both_run() {
     for backend in [&["--dense"][..], &[][..]] {
         let mut args = vec![

@@ -17,7 +17,7 @@
 use crate::cli;
 use crate::common::student;
 
-use cli::{masssprings, stderr, stdout, temp_folder};
+use cli::{compare_json, masssprings, stderr, stdout, temp_folder};
 use masssprings::mesh::load_scene;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -83,21 +83,6 @@ fn run_student(program: &Path, scene: &Path, env: &[(&str, &Path)], mistake: Opt
     );
 }
 
-/// `trace --compare --json ours theirs`: (exit code, the JSON).
-fn compare(ours: &Path, theirs: &Path) -> (Option<i32>, serde_json::Value) {
-    let args = [
-        "trace",
-        "--compare",
-        ours.to_str().unwrap(),
-        theirs.to_str().unwrap(),
-        "--json",
-    ];
-    let output = masssprings(&args);
-    let json = serde_json::from_str(&stdout(&output))
-        .unwrap_or_else(|e| panic!("{e}: {}", stderr(&output)));
-    (output.status.code(), json)
-}
-
 #[test]
 fn the_header_writes_what_compare_reads_from_the_starter_codes_functions() {
     let Some(eigen) = toolchain() else { return };
@@ -141,7 +126,7 @@ fn the_header_writes_what_compare_reads_from_the_starter_codes_functions() {
         ("MASSSPRINGS_TRACE_FRAMES", frames.as_path()),
     ];
     run_student(&program, &scene, &env, None);
-    let (code, report) = compare(&ours, &own);
+    let (code, report) = compare_json(&ours, &own);
     assert_eq!(
         (code, &report["agree"]),
         (Some(0), &serde_json::Value::Bool(true)),
@@ -170,9 +155,9 @@ fn the_header_writes_what_compare_reads_from_the_starter_codes_functions() {
         ];
         run_student(&program, &scene, &env, mistake);
     }
-    let (code, report) = compare(&ours, &from);
+    let (code, report) = compare_json(&ours, &from);
     assert_eq!(code, Some(0), "{report:#}");
-    let (code, report) = compare(&ours, &wrong);
+    let (code, report) = compare_json(&ours, &wrong);
     assert_eq!(code, Some(1));
     assert_eq!(report["first"], "y", "{report:#}");
     assert_eq!(report["diagnosis"]["mistake"], "gravity-sign", "{report:#}");

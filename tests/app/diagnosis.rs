@@ -19,7 +19,7 @@
 use crate::cli;
 use crate::common::student;
 
-use cli::{masssprings, stderr, stdout, temp_folder};
+use cli::{compare_json, masssprings, stderr, temp_folder};
 use masssprings::mesh::{load_scene, Scene};
 use masssprings::sim::mistakes::{Mistake, Part};
 use std::path::{Path, PathBuf};
@@ -36,21 +36,6 @@ fn trace(scene: &Path, folder: &Path) -> PathBuf {
     ]);
     assert!(output.status.success(), "{}", stderr(&output));
     ours
-}
-
-/// `trace --compare --json ours theirs`: (exit code, the JSON).
-fn compare(ours: &Path, theirs: &Path) -> (Option<i32>, serde_json::Value) {
-    let args = [
-        "trace",
-        "--compare",
-        ours.to_str().unwrap(),
-        theirs.to_str().unwrap(),
-        "--json",
-    ];
-    let output = masssprings(&args);
-    let json = serde_json::from_str(&stdout(&output))
-        .unwrap_or_else(|e| panic!("{e}: {}\n{}", stdout(&output), stderr(&output)));
-    (output.status.code(), json)
 }
 
 struct Setting {
@@ -83,7 +68,7 @@ fn a_correct_solution_agrees_with_no_diagnosis() {
     ] {
         let theirs = s.root.join(label);
         Student::new(&s.scene, None).write(start, 3, 2, &theirs);
-        let (code, json) = compare(&s.ours, &theirs);
+        let (code, json) = compare_json(&s.ours, &theirs);
         assert_eq!(code, Some(0), "{label}: {json:#}");
         assert_eq!(json["agree"], true, "{label}: {json:#}");
         assert!(
@@ -113,7 +98,7 @@ fn every_mistake_of_the_gallery_is_diagnosed_by_name_at_step_3() {
             _ => Start::Ours(&s.ours),
         };
         Student::new(&s.scene, Some(name)).write(start, 3, 2, &theirs);
-        let (code, json) = compare(&s.ours, &theirs);
+        let (code, json) = compare_json(&s.ours, &theirs);
         assert_eq!(code, Some(1), "{name}: {json:#}");
         assert_eq!(json["agree"], false);
         if json["diagnosis"]["mistake"] != name {
@@ -138,7 +123,7 @@ fn a_mistake_of_the_step_is_named_from_the_students_own_steps_too() {
     ] {
         let theirs = s.root.join(name);
         Student::new(&s.scene, Some(name)).write(Start::OwnRun, 3, 2, &theirs);
-        let (code, json) = compare(&s.ours, &theirs);
+        let (code, json) = compare_json(&s.ours, &theirs);
         assert_eq!(code, Some(1));
         let first = json["first"].as_str().unwrap();
         assert!(
@@ -163,7 +148,7 @@ fn r_from_deformed_is_named_whichever_r_the_student_wrote() {
         let mut student = Student::new(&s.scene, Some("r-from-deformed"));
         student.step_r_written = step_r_written;
         student.write(Start::Ours(&s.ours), 3, 2, &theirs);
-        let (_, json) = compare(&s.ours, &theirs);
+        let (_, json) = compare_json(&s.ours, &theirs);
         assert_eq!(json["first"], first, "{label}: {json:#}");
         assert_eq!(
             json["diagnosis"]["mistake"], "r-from-deformed",
@@ -204,7 +189,7 @@ fn a_matrix_written_transposed_is_said_to_be() {
     let theirs = s.root.join("theirs");
     Student::new(&s.scene, None).write(Start::Ours(&s.ours), 3, 2, &theirs);
     transpose_coordinate(&theirs.join("C.mtx"));
-    let (_, json) = compare(&s.ours, &theirs);
+    let (_, json) = compare_json(&s.ours, &theirs);
     assert_eq!(json["first"], "C");
     let text = json["diagnosis"]["text"].as_str().unwrap();
     assert!(
@@ -213,7 +198,7 @@ fn a_matrix_written_transposed_is_said_to_be() {
     );
     Student::new(&s.scene, None).write(Start::Ours(&s.ours), 3, 2, &theirs);
     transpose_coordinate(&theirs.join("L.mtx"));
-    let (_, json) = compare(&s.ours, &theirs);
+    let (_, json) = compare_json(&s.ours, &theirs);
     assert_eq!(json["first"], "L");
     let text = json["diagnosis"]["text"].as_str().unwrap();
     assert!(text.contains("your L is upper triangular"), "{text}");
@@ -226,7 +211,7 @@ fn a_quantity_no_mistake_makes_gets_a_hint_that_holds() {
     Student::new(&s.scene, None).write(Start::Ours(&s.ours), 3, 2, &theirs);
     // p_1 with x and z swapped: no mistake of the gallery, a swapped pair
     swap_columns(&theirs.join("p_1.mtx"), 0, 2);
-    let (_, json) = compare(&s.ours, &theirs);
+    let (_, json) = compare_json(&s.ours, &theirs);
     assert_eq!(json["first"], "p_1");
     assert!(json["diagnosis"]["mistake"].is_null(), "{json:#}");
     let text = json["diagnosis"]["text"].as_str().unwrap();
@@ -244,7 +229,7 @@ fn a_quantity_no_mistake_makes_gets_a_hint_that_holds() {
         })
         .collect();
     std::fs::write(theirs.join("y.mtx"), tripled.join("\n") + "\n").unwrap();
-    let (_, json) = compare(&s.ours, &theirs);
+    let (_, json) = compare_json(&s.ours, &theirs);
     let text = json["diagnosis"]["text"].as_str().unwrap();
     assert!(text.contains("times 3"), "{text}");
     // Q with its spring term doubled: the terms' coefficients
@@ -255,7 +240,7 @@ fn a_quantity_no_mistake_makes_gets_a_hint_that_holds() {
         2,
         &doubled,
     );
-    let (_, json) = compare(&s.ours, &doubled);
+    let (_, json) = compare_json(&s.ours, &doubled);
     assert_eq!(json["first"], "Q");
     let text = json["diagnosis"]["text"].as_str().unwrap();
     let expected = "yours is Q = 2 k AᵀA + M/Δt² + w CᵀC (from your own inputs): k AᵀA has the \

@@ -1,11 +1,13 @@
 //! Nothing of a user's destroyed by the folders the commands write
-//! (`docs/reliability.md`, "Output folders"): `trace -o`, `simulate --out`
-//! and `generate --out` replace only their own files (or refuse, naming the
-//! others, unless `--force`) and never an input; files named like
-//! temporaries are a user's unless a lock record proves otherwise; a re-run
-//! replaces the earlier result only once it is complete, so a run that
-//! fails or is killed leaves it whole. (One run at a time per folder:
-//! `tests/app/resume.rs`.)
+//! (`docs/reliability.md`, "Output folders" and "The one rule"): `trace
+//! -o`, `simulate --out` and `generate --out` replace only their own files
+//! (or refuse, naming the others, unless `--force`) and never an input;
+//! they write into the folder in place, file by file, and never touch
+//! another file there, whenever it appeared; files named like temporaries
+//! are a user's unless a lock record proves otherwise; a re-run replaces
+//! the earlier result only once it is complete, so a run that fails leaves
+//! it whole, and what a killed run staged is moved in or settled, never
+//! lost. (One run at a time per folder: `tests/app/resume.rs`.)
 use crate::cli;
 
 use cli::{
@@ -119,8 +121,7 @@ fn trace_refuses_a_folder_of_files_it_did_not_write_unless_forced() {
     assert_fails(
         &output,
         &[
-            "-o .: .notes.2024-06.tmp, README.md, net.json",
-            "not written by masssprings trace",
+            "-o .: README.md is not written by masssprings trace",
             "--force",
         ],
     );
@@ -197,12 +198,39 @@ fn failing_scene(folder: &Path) -> String {
     folder.join("huge.json").display().to_string()
 }
 
-/// Staging folders of `trace -o out` beside it: `.out.masssprings-…`.
-fn staged_beside(folder: &Path) -> Vec<String> {
+/// The temporaries (partial or staged) in `folder`.
+fn temporaries(folder: &Path) -> Vec<String> {
     names(folder)
         .into_iter()
-        .filter(|name| name.starts_with(".out.masssprings-"))
+        .filter(|name| name.contains(".masssprings-") && name != ".masssprings-lock")
         .collect()
+}
+
+/// Waits until `ready` holds, at most a minute.
+fn wait_for(what: &str, mut ready: impl FnMut() -> bool) {
+    let start = Instant::now();
+    while !ready() {
+        assert!(start.elapsed() < Duration::from_secs(60), "{what}");
+        std::thread::sleep(Duration::from_millis(2));
+    }
+}
+
+/// Starts the binary with `args`, its output discarded.
+fn start(args: &[&str]) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_masssprings"))
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+/// The device and inode of `path`: the same folder, not one put in its
+/// place.
+fn inode(path: &Path) -> (u64, u64) {
+    use std::os::unix::fs::MetadataExt;
+    let metadata = std::fs::metadata(path).unwrap();
+    (metadata.dev(), metadata.ino())
 }
 
 #[test]
@@ -224,8 +252,7 @@ fn a_second_trace_replaces_the_first_only_once_complete() {
     let failed = masssprings(&["trace", &huge, "-o", text(&out)]);
     assert_eq!(failed.status.code(), Some(1), "{}", stderr(&failed));
     assert_same(&snapshot(&out), &first, "the first trace is whole");
-    assert!(staged_beside(&folder).is_empty(), "{:?}", names(&folder));
-    // killed part-way, on a larger scene
+    // killed while it computes, on a larger scene
     succeeded(&masssprings(&[
         "generate",
         "grid",
@@ -234,19 +261,8 @@ fn a_second_trace_replaces_the_first_only_once_complete() {
         text(&folder),
     ]));
     let grid = folder.join("grid-150.json");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_masssprings"))
-        .args(["trace", text(&grid), "-o", text(&out), "--step", "40"])
-        .stdout(std::process::Stdio::null())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    while staged_beside(&folder).is_empty() {
-        assert!(
-            start.elapsed() < Duration::from_secs(60),
-            "no staging folder"
-        );
-        std::thread::sleep(Duration::from_millis(5));
-    }
+    let mut child = start(&["trace", text(&grid), "-o", text(&out), "--step", "40"]);
+    wait_for("no lock", || out.join(".masssprings-lock").exists());
     std::thread::sleep(Duration::from_millis(200));
     assert!(
         child.try_wait().unwrap().is_none(),
@@ -261,12 +277,16 @@ fn a_second_trace_replaces_the_first_only_once_complete() {
         "the killed run's record is left in its lock file"
     );
     assert_same(&after, &first, "the first trace is whole after a kill");
-    assert_eq!(
-        staged_beside(&folder).len(),
-        1,
-        "the killed run's staging folder"
-    );
-    // the next trace removes it (its owner is in out's lock) and replaces the first
+    // files a killed trace staged or set aside: its own are settled, a
+    // user's file it had set aside is put back
+    let dead = format!("masssprings-{}-1", dead_pid());
+    std::fs::copy(
+        out.join("A.mtx"),
+        out.join(format!(".A.mtx.{dead}-0.staged")),
+    )
+    .unwrap();
+    std::fs::write(out.join(format!(".notes.txt.{dead}-1.staged")), "mine").unwrap();
+    // the next trace replaces the first
     succeeded(&masssprings(&[
         "trace",
         &net,
@@ -275,11 +295,96 @@ fn a_second_trace_replaces_the_first_only_once_complete() {
         "--iterations",
         "1",
     ]));
-    assert!(staged_beside(&folder).is_empty(), "{:?}", names(&folder));
+    assert!(temporaries(&out).is_empty(), "{:?}", names(&out));
+    assert_eq!(
+        std::fs::read_to_string(out.join("notes.txt")).unwrap(),
+        "mine"
+    );
     assert!(out.join("p_1.mtx").exists() && !out.join("p_3.mtx").exists());
     assert!(!out.join(".masssprings-lock").exists());
     let compared = masssprings(&["trace", "--compare", text(&out), text(&out)]);
     succeeded(&compared);
+}
+
+#[test]
+fn trace_writes_in_place_and_leaves_every_other_file_alone() {
+    use std::os::unix::fs::PermissionsExt;
+    let folder = temp_folder("trace-in-place");
+    let out = folder.join("out");
+    let net = data("net.json");
+    succeeded(&masssprings(&["trace", &net, "-o", text(&out)]));
+    std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o700)).unwrap();
+    let folder_itself = inode(&out);
+    succeeded(&masssprings(&[
+        "generate",
+        "grid",
+        "150",
+        "--out",
+        text(&folder),
+    ]));
+    let grid = folder.join("grid-150.json");
+    let args = ["trace", text(&grid), "-o", text(&out), "--step", "40"];
+    // files that appear while it runs, one by a command that takes no lock
+    let child = start(&args);
+    wait_for("no lock", || out.join(".masssprings-lock").exists());
+    std::fs::write(out.join("notes.txt"), "my notes").unwrap();
+    succeeded(&masssprings(&[
+        "export-q",
+        &net,
+        "-o",
+        text(&out.join("q.mtx")),
+    ]));
+    let output = child.wait_with_output().unwrap();
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert_eq!(
+        std::fs::read_to_string(out.join("notes.txt")).unwrap(),
+        "my notes"
+    );
+    assert!(text_of(&out.join("q.mtx")).contains("%%MatrixMarket"));
+    let mode = std::fs::metadata(&out).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode, 0o700, "the folder's mode is kept");
+    assert_eq!(
+        inode(&out),
+        folder_itself,
+        "the same folder, never exchanged"
+    );
+    // one of its own files replaced meanwhile by another program: kept,
+    // and the trace moves nothing in
+    let before = snapshot(&out);
+    let child = start(&args);
+    wait_for("no lock", || out.join(".masssprings-lock").exists());
+    std::thread::sleep(Duration::from_millis(300)); // after it has looked
+    succeeded(&masssprings(&[
+        "export-q",
+        &net,
+        "-o",
+        text(&out.join("Q.mtx")),
+    ]));
+    let theirs = std::fs::read(out.join("Q.mtx")).unwrap();
+    let output = child.wait_with_output().unwrap();
+    assert_fails(
+        &output,
+        &[
+            "Q.mtx: this is not a file masssprings trace wrote",
+            "it is kept",
+            "the earlier trace",
+        ],
+    );
+    assert_eq!(std::fs::read(out.join("Q.mtx")).unwrap(), theirs);
+    let mut now = snapshot(&out);
+    let mut was = before;
+    now.remove(&out.join("Q.mtx"));
+    was.remove(&out.join("Q.mtx"));
+    assert_same(&now, &was, "every other file as it was");
+    let compared = masssprings(&["trace", "--compare", text(&out), text(&out)]);
+    assert_fails(
+        &compared,
+        &["Q.mtx: not of the trace", "run masssprings trace again"],
+    );
+}
+
+fn text_of(path: &Path) -> String {
+    std::fs::read_to_string(path).unwrap()
 }
 
 // ------------------------------------------------------- simulate --out --
@@ -368,6 +473,309 @@ fn the_frames_material_and_texture_copy_replace_only_their_own() {
         "--out",
         text(&out),
     ]));
+}
+
+/// The steps of the frames in `folder`, and of the staged frames.
+fn frames_and_staged(folder: &Path) -> (Vec<String>, Vec<String>) {
+    let all = names(folder);
+    let frames = all.iter().filter(|n| n.starts_with("frame-")).cloned();
+    let staged = all.iter().filter(|n| n.ends_with(".staged")).cloned();
+    (frames.collect(), staged.collect())
+}
+
+/// The run a frame's record names, if any.
+fn run_of(frame: &Path) -> Option<String> {
+    let text = text_of(frame);
+    let record = text.lines().nth(1)?.strip_prefix("# masssprings run ")?;
+    let json: serde_json::Value = serde_json::from_str(record).unwrap();
+    json.get("run")?.as_str().map(String::from)
+}
+
+#[test]
+fn a_forced_run_whose_frames_cannot_replace_the_old_ones_keeps_both() {
+    let folder = temp_folder("simulate-stuck");
+    let out = folder.join("out");
+    succeeded(&masssprings(&[
+        "generate",
+        "grid",
+        "40",
+        "--out",
+        text(&folder),
+    ]));
+    let grid = folder.join("grid-40.json");
+    let net = data("net.json");
+    succeeded(&masssprings(&[
+        "simulate",
+        &net,
+        "--steps",
+        "4",
+        "--out",
+        text(&out),
+    ]));
+    let first = snapshot(&out);
+    // an old frame replaced by another program while the forced run goes on
+    let args = [
+        "simulate",
+        &net,
+        "--steps",
+        "400",
+        "--out",
+        text(&out),
+        "--force",
+    ];
+    let child = start(&args);
+    wait_for("nothing staged", || !frames_and_staged(&out).1.is_empty());
+    std::fs::write(out.join("frame-000002.obj"), "my notes").unwrap();
+    let output = child.wait_with_output().unwrap();
+    assert_fails(
+        &output,
+        &[
+            "frame-000002.obj: this is not a file masssprings simulate wrote",
+            "it is kept",
+            "the run's 401 frames are staged in",
+            "simulate --resume",
+        ],
+    );
+    let (frames, staged) = frames_and_staged(&out);
+    assert_eq!(staged.len(), 401, "every new frame is kept, staged");
+    assert_eq!(frames.len(), 5);
+    assert_eq!(text_of(&out.join("frame-000002.obj")), "my notes");
+    for step in [0, 1, 3, 4] {
+        let frame = out.join(format!("frame-00000{step}.obj"));
+        assert_eq!(std::fs::read(&frame).unwrap(), first[&frame], "{step}");
+    }
+    // a new run is told about them; --resume moves them in once the way is clear
+    let refused = masssprings(&["simulate", &net, "--out", text(&out)]);
+    assert_fails(&refused, &["--resume"]);
+    std::fs::remove_file(out.join("frame-000002.obj")).unwrap();
+    let resumed = masssprings(&["simulate", &net, "--steps", "2", "--resume", text(&out)]);
+    succeeded(&resumed);
+    assert!(
+        stderr(&resumed).contains("moved in 401 frame(s)"),
+        "{}",
+        stderr(&resumed)
+    );
+    let (frames, staged) = frames_and_staged(&out);
+    assert!(staged.is_empty(), "{staged:?}");
+    assert_eq!(frames.len(), 403);
+    let run = run_of(&out.join("frame-000000.obj")).expect("a replacing run names itself");
+    assert_eq!(
+        run_of(&out.join("frame-000402.obj")),
+        Some(run),
+        "resumed: the same run"
+    );
+    // an old frame that cannot be replaced at all (immutable: root on a
+    // file system with attributes, such as ext4)
+    let immutable = Command::new("chattr")
+        .args(["+i", text(&out.join("frame-000001.obj"))])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if immutable {
+        let before = snapshot(&out);
+        let output = masssprings(&[
+            "simulate",
+            text(&grid),
+            "--steps",
+            "3",
+            "--out",
+            text(&out),
+            "--force",
+        ]);
+        let _ = Command::new("chattr")
+            .args(["-i", text(&out.join("frame-000001.obj"))])
+            .status();
+        assert_fails(
+            &output,
+            &["frame-000001.obj: cannot replace it by renaming", "staged"],
+        );
+        let mut now = snapshot(&out);
+        now.retain(|path, _| !path.to_string_lossy().ends_with(".staged"));
+        assert_same(&now, &before, "every old frame, whole");
+        assert_eq!(frames_and_staged(&out).1.len(), 4);
+    }
+}
+
+#[test]
+fn frames_a_killed_forced_run_staged_are_moved_in_by_resume() {
+    let folder = temp_folder("simulate-killed-force");
+    let out = folder.join("out");
+    succeeded(&masssprings(&[
+        "generate",
+        "grid",
+        "40",
+        "--out",
+        text(&folder),
+    ]));
+    let grid = folder.join("grid-40.json");
+    let grid = text(&grid);
+    succeeded(&masssprings(&[
+        "simulate",
+        grid,
+        "--steps",
+        "3",
+        "--out",
+        text(&out),
+    ]));
+    let first = snapshot(&out);
+    let mut child = start(&[
+        "simulate",
+        grid,
+        "--steps",
+        "100000",
+        "--out",
+        text(&out),
+        "--force",
+    ]);
+    wait_for("too few staged", || frames_and_staged(&out).1.len() >= 20);
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let mut now = snapshot(&out);
+    now.retain(|path, _| {
+        path.file_name()
+            .unwrap()
+            .to_str()
+            .unwrap()
+            .starts_with("frame-")
+    });
+    let mut was = first.clone();
+    was.retain(|path, _| {
+        path.file_name()
+            .unwrap()
+            .to_str()
+            .unwrap()
+            .starts_with("frame-")
+    });
+    assert_same(&now, &was, "the old frames, whole after the kill");
+    let staged = frames_and_staged(&out).1.len();
+    assert!(staged >= 20, "{staged}");
+    // a new run without --force is told; the resume moves them in
+    let refused = masssprings(&["simulate", grid, "--out", text(&out)]);
+    assert_fails(&refused, &["already holds 4 frame(s)"]);
+    let resumed = masssprings(&["simulate", grid, "--steps", "1", "--resume", text(&out)]);
+    succeeded(&resumed);
+    let (frames, staged_now) = frames_and_staged(&out);
+    assert!(staged_now.is_empty(), "{staged_now:?}");
+    assert!(
+        frames.len() >= staged,
+        "{} frames for {staged} staged",
+        frames.len()
+    );
+    let run = run_of(&out.join("frame-000000.obj"));
+    for frame in &frames {
+        assert_eq!(run_of(&out.join(frame)), run, "{frame}: one run");
+    }
+}
+
+#[test]
+fn a_move_in_stopped_half_way_is_completed_by_resume() {
+    let folder = temp_folder("simulate-half-moved");
+    let (x, out) = (folder.join("x"), folder.join("out"));
+    let net = data("net.json");
+    // X: a run that replaced another (its frames name their run), whose
+    // process has ended
+    succeeded(&masssprings(&[
+        "simulate",
+        &net,
+        "--steps",
+        "1",
+        "--out",
+        text(&x),
+    ]));
+    succeeded(&masssprings(&[
+        "simulate",
+        &net,
+        "--steps",
+        "6",
+        "--out",
+        text(&x),
+        "--force",
+    ]));
+    let run = run_of(&x.join("frame-000000.obj")).unwrap();
+    // the folder as a kill during X's move-in into `out` left it: an older
+    // run's frames 0 to 9, X's frames 0 to 3 moved in, 4 to 6 still staged,
+    // and an old frame exchanged out and not yet removed
+    succeeded(&masssprings(&[
+        "simulate",
+        &net,
+        "--steps",
+        "9",
+        "--out",
+        text(&out),
+    ]));
+    let old_frame_2 = std::fs::read(out.join("frame-000002.obj")).unwrap();
+    for step in 0..=6 {
+        let name = format!("frame-00000{step}.obj");
+        let to = match step {
+            0..=3 => name.clone(),
+            _ => format!(".{name}.{run}-{step}.staged"),
+        };
+        std::fs::copy(x.join(&name), out.join(to)).unwrap();
+    }
+    std::fs::write(
+        out.join(format!(".frame-000002.obj.{run}-20.staged")),
+        old_frame_2,
+    )
+    .unwrap();
+    let resumed = masssprings(&["simulate", &net, "--steps", "2", "--resume", text(&out)]);
+    succeeded(&resumed);
+    assert!(
+        stderr(&resumed).contains("moved in 3 frame(s)"),
+        "{}",
+        stderr(&resumed)
+    );
+    let (frames, staged) = frames_and_staged(&out);
+    assert!(staged.is_empty(), "{staged:?}");
+    assert_eq!(frames.len(), 9, "X's 0 to 6, and 7, 8 resumed: {frames:?}");
+    // the same as X run on for two steps
+    succeeded(&masssprings(&[
+        "simulate",
+        &net,
+        "--steps",
+        "2",
+        "--resume",
+        text(&x),
+    ]));
+    for frame in &frames {
+        assert_eq!(
+            text_of(&out.join(frame)),
+            text_of(&x.join(frame)),
+            "{frame}"
+        );
+    }
+}
+
+#[test]
+fn a_file_that_appears_where_a_frame_goes_is_kept() {
+    let folder = temp_folder("simulate-appeared");
+    let out = folder.join("out");
+    succeeded(&masssprings(&[
+        "generate",
+        "grid",
+        "40",
+        "--out",
+        text(&folder),
+    ]));
+    let grid = folder.join("grid-40.json");
+    let child = start(&[
+        "simulate",
+        text(&grid),
+        "--steps",
+        "400",
+        "--out",
+        text(&out),
+    ]);
+    wait_for("no frame", || out.join("frame-000001.obj").exists());
+    std::fs::write(out.join("frame-000300.obj"), "mine").unwrap();
+    let output = child.wait_with_output().unwrap();
+    assert_fails(
+        &output,
+        &[
+            "frame-000300.obj: a file appeared here while masssprings simulate ran",
+            "it is kept",
+        ],
+    );
+    assert_eq!(text_of(&out.join("frame-000300.obj")), "mine");
+    assert!(temporaries(&out).is_empty(), "{:?}", temporaries(&out));
 }
 
 // ------------------------------------------------------- generate --out --

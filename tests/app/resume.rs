@@ -417,3 +417,96 @@ fn a_record_that_no_run_wrote_and_a_file_for_a_folder_are_refused() {
     let error = resume_error(&net, &folder.join("frame-000000.obj"), &[], 1);
     assert!(error.contains("this is not a folder"), "{error}");
 }
+
+/// The bundled `net` scene copied into `folder` with its OBJ's vertices
+/// changed by `edit` (each `v` line's three numbers) and its JSON by
+/// `json` (the same name, so that only the record tells them apart).
+fn net_variant(
+    folder: &Path,
+    edit: impl Fn([f64; 3]) -> [f64; 3],
+    json: impl Fn(String) -> String,
+) -> String {
+    std::fs::create_dir_all(folder).unwrap();
+    let obj = std::fs::read_to_string(data("net.obj")).unwrap();
+    let moved: Vec<String> = obj
+        .lines()
+        .map(|line| match line.strip_prefix("v ") {
+            Some(numbers) => {
+                let p: Vec<f64> = numbers
+                    .split_whitespace()
+                    .map(|x| x.parse().unwrap())
+                    .collect();
+                let [x, y, z] = edit([p[0], p[1], p[2]]);
+                format!("v {x} {y} {z}")
+            }
+            None => line.to_string(),
+        })
+        .collect();
+    std::fs::write(folder.join("net.obj"), moved.join("\n") + "\n").unwrap();
+    let scene = std::fs::read_to_string(data("net.json")).unwrap();
+    std::fs::write(folder.join("net.json"), json(scene)).unwrap();
+    folder.join("net.json").display().to_string()
+}
+
+#[test]
+fn a_moved_or_stiffer_scene_is_another_run() {
+    let net = data("net.json");
+    let folder = temp_folder("resume-moved");
+    let frames = folder.join("frames");
+    simulate(&[&net, "--steps", "2", "--out", frames.to_str().unwrap()]);
+    let before = names(&frames);
+    // the same scene moved 5 m: its pins would jump back in one step
+    let moved = net_variant(
+        &folder.join("moved"),
+        |[x, y, z]| [x + 5.0, y, z],
+        |json| json,
+    );
+    let error = resume_error(&moved, &frames, &[], 1);
+    assert!(
+        error.contains("the rest positions (the scene moved or reshaped)"),
+        "{error}"
+    );
+    assert!(!error.contains("the masses"), "only what differs: {error}");
+    // k written short, not in 301 digits
+    let stiff = net_variant(
+        &folder.join("stiff"),
+        |p| p,
+        |json| {
+            let value: serde_json::Value = serde_json::from_str(&json).unwrap();
+            let mut value = value;
+            value["k"] = serde_json::json!(1e300);
+            value.to_string()
+        },
+    );
+    let error = resume_error(&stiff, &frames, &[], 1);
+    assert!(error.contains("now: 1e300)"), "{error}");
+    assert!(error.len() < 400, "{error}");
+    assert_eq!(names(&frames), before, "nothing written");
+}
+
+#[test]
+fn frames_of_two_runs_are_not_continued() {
+    let net = data("net.json");
+    let folder = temp_folder("resume-two-runs");
+    let (a, b) = (folder.join("a"), folder.join("b"));
+    simulate(&[&net, "--steps", "4", "--out", a.to_str().unwrap()]);
+    // b: a run that replaced another, so its frames name their run
+    simulate(&[&net, "--steps", "1", "--out", b.to_str().unwrap()]);
+    simulate(&[
+        &net,
+        "--steps",
+        "2",
+        "--out",
+        b.to_str().unwrap(),
+        "--force",
+    ]);
+    for step in [3, 4] {
+        let name = format!("frame-00000{step}.obj");
+        std::fs::copy(a.join(&name), b.join(&name)).unwrap();
+    }
+    let error = resume_error(&net, &b, &[], 1);
+    assert!(
+        error.contains("the frames of 2 runs") && error.contains("(steps 0 to 2)"),
+        "{error}"
+    );
+}

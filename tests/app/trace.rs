@@ -745,6 +745,14 @@ fn bad_input_is_refused_with_a_clear_error() {
     write_sparse(&edited.join("Q.mtx"), &CscMatrix::identity(2));
     let (success, _, error) = compare(&edited, &theirs);
     assert!(!success);
+    assert!(error.contains("Q.mtx: not of the trace"), "{error}");
+    // (without the trace's fingerprint in its manifest, the files are read)
+    let manifest = std::fs::read_to_string(edited.join("trace.json")).unwrap();
+    let mut manifest: serde_json::Value = serde_json::from_str(&manifest).unwrap();
+    manifest.as_object_mut().unwrap().remove("trace");
+    std::fs::write(edited.join("trace.json"), manifest.to_string()).unwrap();
+    let (success, _, error) = compare(&edited, &theirs);
+    assert!(!success);
     assert!(error.contains("do not fit one another"), "{error}");
     // nothing to compare is an error too
     let empty = ours.parent().unwrap().join("empty");

@@ -4,7 +4,8 @@
 //
 // Environment: MASSSPRINGS_BIN (the binary), CHROMIUM (the browser).
 import assert from 'node:assert/strict';
-import { spawn } from 'node:child_process';
+import { execFileSync, spawn } from 'node:child_process';
+import http from 'node:http';
 import { createInterface } from 'node:readline';
 import fs from 'node:fs';
 import os from 'node:os';
@@ -26,6 +27,12 @@ export const CHROMIUM_FLAGS = [
 
 /** Chromium without WebGL: the page falls back to the server's images. */
 export const NO_WEBGL_FLAGS = ['--disable-webgl', '--disable-3d-apis'];
+
+/** Runs `masssprings simulate SCENE --steps N --out FOLDER` (the frames
+ *  a program writes, for --frames). */
+export function writeFrames(scene, steps, folder) {
+  execFileSync(binary, ['simulate', scene, '--steps', String(steps), '--out', folder, '--force'], { stdio: 'ignore' });
+}
 
 /** Starts `masssprings view SCENE --port 0 FLAGS…` and reads the URL it
  *  prints. */
@@ -59,26 +66,35 @@ export class Session {
     this.foreignRequests = [];
   }
 
-  /** Starts the viewer of `scene` and opens it at `viewport`. */
-  async open(scene, { flags = [], viewport = { width: 1400, height: 900 }, chromiumFlags = [] } = {}) {
-    fs.mkdirSync(outputFolder, { recursive: true });
+  /** Starts the viewer of `scene` and opens it at `viewport`
+   *  (`touch`: as a phone's browser, with a touch screen). */
+  async open(scene, { flags = [], viewport = { width: 1400, height: 900 }, chromiumFlags = [], touch = false } = {}) {
     ({ child: this.viewer, url: this.url } = await startViewer(scene, flags));
+    await this.launch({ viewport, chromiumFlags, touch });
+    await this.page.goto(this.url);
+    return this;
+  }
+
+  /** Launches Chromium with a page at `viewport`, collecting the page's
+   *  errors and any request that does not go to `this.url`. */
+  async launch({ viewport, chromiumFlags, touch }) {
+    fs.mkdirSync(outputFolder, { recursive: true });
     this.userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'masssprings-chromium-'));
     this.browser = await chromium.launchPersistentContext(this.userDataDir, {
       executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
       headless: true,
       args: [...CHROMIUM_FLAGS, ...chromiumFlags],
       viewport,
+      ...(touch ? { hasTouch: true, isMobile: true } : {}),
     });
     this.page = this.browser.pages()[0] ?? await this.browser.newPage();
     this.page.on('pageerror', (error) => this.pageErrors.push(String(error)));
     this.page.on('console', (message) => { if (message.type() === 'error') this.pageErrors.push(message.text()); });
     this.page.on('request', (request) => {
       const address = request.url();
-      if (!address.startsWith(this.url) && !address.startsWith('data:')) this.foreignRequests.push(address);
+      const local = address.startsWith(this.url) || address.startsWith('data:') || address.startsWith('blob:');
+      if (!local) this.foreignRequests.push(address);
     });
-    await this.page.goto(this.url);
-    return this;
   }
 
   async close() {
@@ -90,6 +106,12 @@ export class Session {
   async status() {
     const response = await fetch(`${this.url}api/status`);
     return response.json();
+  }
+
+  /** The viewer process's resident memory, in MB (Linux). */
+  residentMegabytes() {
+    const status = fs.readFileSync(`/proc/${this.viewer.pid}/status`, 'utf8');
+    return Number(status.match(/VmRSS:\s+(\d+) kB/)[1]) / 1024;
   }
 
   /** Polls `condition(status)` until it holds (or fails after `ms`). */
@@ -162,4 +184,65 @@ function canvasContentInPage() {
     }
   }
   return { foreground: foreground / (width * height), fingerprint };
+}
+
+/** The types a static host gives the page's files. */
+const STATIC_TYPES = {
+  '.html': 'text/html; charset=utf-8', '.js': 'text/javascript', '.mjs': 'text/javascript',
+  '.css': 'text/css', '.wasm': 'application/wasm', '.json': 'application/json', '.png': 'image/png',
+  '.obj': 'text/plain',
+};
+
+/** Serves `folder` as any static host does (GET of its files, 404 for
+ *  anything else), recording every path asked for. */
+export async function serveFolder(folder) {
+  const requests = [];
+  const server = http.createServer((request, response) => {
+    requests.push(request.url);
+    let wanted = decodeURIComponent(new URL(request.url, 'http://host').pathname);
+    if (wanted.endsWith('/')) wanted += 'index.html';
+    const file = path.join(folder, wanted);
+    if (request.method !== 'GET' || !file.startsWith(folder) || !fs.existsSync(file) || !fs.statSync(file).isFile()) {
+      response.writeHead(404);
+      response.end();
+      return;
+    }
+    response.writeHead(200, { 'Content-Type': STATIC_TYPES[path.extname(file)] ?? 'application/octet-stream' });
+    fs.createReadStream(file).pipe(response);
+  });
+  await new Promise((resolve) => server.listen(0, '127.0.0.1', resolve));
+  return { server, requests, url: `http://127.0.0.1:${server.address().port}/` };
+}
+
+/** The static build's folder (src/web/build.sh). */
+export const staticFolder = process.env.MASSSPRINGS_WEB ?? path.join(root, 'target/web');
+
+/** The page of the static build (the simulation in the page, no server
+ *  but a static one) in Chromium: the same questions as a Session, asked
+ *  of the page's own backend. */
+export class StaticSession extends Session {
+  /** Serves the static build and opens it at `viewport`. */
+  async open({ viewport = { width: 1400, height: 900 }, chromiumFlags = [] } = {}) {
+    ({ server: this.server, requests: this.requests, url: this.url } = await serveFolder(staticFolder));
+    await this.launch({ viewport, chromiumFlags, touch: false });
+    await this.page.goto(this.url);
+    return this;
+  }
+
+  async close() {
+    await this.browser?.close();
+    if (this.userDataDir) fs.rmSync(this.userDataDir, { recursive: true, force: true });
+    await new Promise((resolve) => this.server?.close(resolve));
+  }
+
+  /** The status the page's backend gives it. */
+  status() {
+    return this.page.evaluate(() => backend.status());
+  }
+
+  /** Sends a command through the page's backend, as the page does. */
+  async command(body) {
+    const { status, answer } = await this.page.evaluate((command) => backend.command(command), body);
+    return { status, body: answer };
+  }
 }

@@ -111,7 +111,7 @@ test('compare with: a second simulation beside the first, both in the plot, drag
   const [first, second] = [await session.projectedBox(0), await session.projectedBox(1)];
   assert.ok(second.left > first.left + 0.5 * (first.right - first.left), JSON.stringify({ first, second }));
   await page.screenshot({ path: path.join(outputFolder, 'compare-fast.png') });
-  await page.waitForFunction(() => /compared with \(right\): assignment accuracy, fast/
+  await page.waitForFunction(() => /compared with \(right\): fast: every step as low in energy as the assignment's/
     .test(document.getElementById('stats').textContent));
   const beside = await session.canvasContent();
   await pick(page, 'layout', 'overlay');
@@ -260,13 +260,22 @@ test('a long step is answered at once, can be stopped from the page, and stays a
       .test(document.getElementById('stats').textContent), null, { timeout: 30000 })
       .catch(async (error) => { throw new Error(`${error}: ${await page.textContent('#stats')}`); });
     assert.equal(await page.isEnabled('#stop'), true);
+    // the step's own answer first (202 too), so that it cannot come after
+    // the wind's and take its place as the last command answered
+    await page.waitForFunction(() => window.viewer.lastCommand && window.viewer.lastCommand.command === 'step');
     await page.click('#wind');
-    await page.waitForFunction(() => window.viewer.lastCommand && window.viewer.lastCommand.command === 'toggle_wind');
+    await page.waitForFunction(() => window.viewer.lastCommand && window.viewer.lastCommand.command === 'toggle_wind')
+      .catch(async (error) => {
+        throw new Error(`${error}: ${JSON.stringify(await page.evaluate(() => window.viewer.lastCommand))}`);
+      });
     const answer = await page.evaluate(() => window.viewer.lastCommand);
     assert.equal(answer.status, 202, JSON.stringify(answer));
-    assert.ok(answer.ms < 500, `answered after ${answer.ms} ms`);
+    // Answered, not held until the step ends (tests/app/viewer.rs times the
+    // answer itself; here the page's own work is in the time too).
+    assert.ok(answer.ms < 2000, `answered after ${answer.ms} ms`);
     await page.waitForFunction(() => /toggle_wind: waits for the step in progress/
-      .test(document.getElementById('stats').textContent));
+      .test(document.getElementById('stats').textContent))
+      .catch(async (error) => { throw new Error(`${error}: ${await page.textContent('#stats')}`); });
     const started = Date.now();
     await page.keyboard.press('Escape'); // or ■ stop
     const s = await long.waitForStatus((x) => x.busy === null, 'the cancelled step', 5000);
@@ -274,7 +283,8 @@ test('a long step is answered at once, can be stopped from the page, and stays a
     assert.equal(s.steps, 0, 'the simulation stays at its last completed step');
     assert.equal(s.wind, true, 'the wind waited for the step and then blew');
     await page.waitForFunction(() => /step 1 cancelled after [0-9.]+ s: the simulation stays at step 0/
-      .test(document.getElementById('stats').textContent));
+      .test(document.getElementById('stats').textContent))
+      .catch(async (error) => { throw new Error(`${error}: ${await page.textContent('#stats')}`); });
     assert.equal(await page.isEnabled('#stop'), false);
     assert.deepEqual(long.pageErrors, []);
   } finally {

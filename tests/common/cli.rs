@@ -146,3 +146,18 @@ pub fn blow_up_scene(folder: &Path) -> PathBuf {
     .unwrap();
     folder.join("s.json")
 }
+
+/// `trace --compare --json ours theirs`: (exit code, the JSON it prints).
+pub fn compare_json(ours: &Path, theirs: &Path) -> (Option<i32>, serde_json::Value) {
+    let args = [
+        "trace",
+        "--compare",
+        ours.to_str().unwrap(),
+        theirs.to_str().unwrap(),
+        "--json",
+    ];
+    let output = masssprings(&args);
+    let json = serde_json::from_str(&stdout(&output))
+        .unwrap_or_else(|e| panic!("{e}: {}\n{}", stdout(&output), stderr(&output)));
+    (output.status.code(), json)
+}

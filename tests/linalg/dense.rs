@@ -6,7 +6,7 @@ use common::*;
 use masssprings::linalg::dense::{
     back_substitution_dense, forward_substitution_dense, DenseCholesky, DenseMatrix,
 };
-use masssprings::linalg::LinalgError;
+use masssprings::linalg::{Cancel, LinalgError};
 use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
 
@@ -165,6 +165,14 @@ proptest! {
     fn product_matches_nalgebra((p, q) in product_pair(12)) {
         let product = dense_from_nalgebra(&p).mul(&dense_from_nalgebra(&q)).unwrap();
         assert_near(&dense_to_nalgebra(&product), &(&p * &q), 1e-13);
+    }
+
+    #[test]
+    fn gram_matches_nalgebra_and_the_product_with_the_transpose_to_the_bit(m in matrix(12)) {
+        let a = dense_from_nalgebra(&m);
+        let gram = a.transpose_mul_self(Cancel::NEVER).unwrap();
+        assert_near(&dense_to_nalgebra(&gram), &(m.transpose() * &m), 1e-13);
+        prop_assert_eq!(gram, a.transpose().mul(&a).unwrap());
     }
 
     #[test]
@@ -402,6 +410,22 @@ fn substitutions_compose_to_the_assignment_pseudo_code() {
     chol.solve_in_place(&mut direct).unwrap();
     assert_eq!(p, direct);
     assert_eq!(p, [1.0, 1.0]);
+}
+
+#[test]
+fn a_set_flag_stops_the_gram_product_and_the_factorization() {
+    use std::sync::atomic::AtomicBool;
+    let a = DenseMatrix::from_rows(&[[4.0, 2.0], [2.0, 10.0]]).unwrap();
+    let set = AtomicBool::new(true);
+    let cancel = Cancel::on(Some(&set));
+    assert_eq!(a.transpose_mul_self(cancel), Err(LinalgError::Cancelled));
+    assert_eq!(
+        DenseCholesky::factor_cancellable(&a, cancel),
+        Err(LinalgError::Cancelled)
+    );
+    let clear = AtomicBool::new(false);
+    let running = DenseCholesky::factor_cancellable(&a, Cancel::on(Some(&clear))).unwrap();
+    assert_eq!(running, DenseCholesky::factor(&a).unwrap());
 }
 
 #[test]

@@ -16,6 +16,8 @@
 //!   `measure_portable`): `d` the local step's bits, `Aᵀd` the scatter's
 //!   bits, the energy sum and the
 //!   spring forces against their definitions;
+//! * with the portable kernels chosen (`linalg::kernels`), the
+//!   dispatchers against the portable versions: the same bits;
 //! * `back_substitution_sparse` (one sum, the textbook loop) against
 //!   `back_substitution_sparse_two_sums` (two partial sums), and both
 //!   sparse substitutions against the dense ones.
@@ -312,6 +314,34 @@ proptest! {
         }
         // the energy alone: the same sum
         prop_assert_eq!(pass.measure(&p, Outputs::default()), sum_fast);
+    }
+
+    /// With the portable kernels chosen (`linalg::kernels`: what a
+    /// WebAssembly build runs, `--kernels portable`), every dispatcher runs
+    /// its plain loop, on any CPU: the bits of the portable versions, where
+    /// the native ones round differently (fused multiply-adds, four lanes).
+    #[test]
+    fn the_portable_choice_gives_the_bits_of_the_plain_loops(
+        case in gram_block_case(),
+        p in prop::collection::vec(prop::array::uniform3(-10.0f64..10.0), 8..30),
+    ) {
+        use masssprings::linalg::kernels::{self, Kernels};
+        use masssprings::sim::simd::energy::{vertex_sums, Vertices};
+        let portable = case.run(gram_block_portable);
+        let chosen = kernels::with(Kernels::Portable, || case.run(gram_block));
+        let bits = |values: &[f64]| values.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        prop_assert_eq!(bits(&chosen), bits(&portable));
+        let n = p.len();
+        let springs: Vec<[usize; 2]> = (0..n).map(|i| [i, (i * 7 + 3) % n]).collect();
+        let (r, start) = (vec![0.5; n], vec![1.0; n]);
+        let pass = Springs { springs: &springs, r: &r, start_lengths: &start, k: 100.0 };
+        let plain = pass.measure_portable(&p, Outputs::default(), 0);
+        let chosen = kernels::with(Kernels::Portable, || pass.measure(&p, Outputs::default()));
+        prop_assert_eq!(chosen.to_bits(), plain.to_bits());
+        let m = vec![1.0; n];
+        let vertices = Vertices { start: &p, inertial_target: &p, f_ext: &p, m: &m };
+        let sums = kernels::with(Kernels::Portable, || vertex_sums(&vertices, &p));
+        prop_assert_eq!(sums, ([0.0; 2], 0), "the caller sums every vertex one at a time");
     }
 
     #[test]

@@ -4,12 +4,13 @@
 
 use crate::common;
 
+use masssprings::files::InMemory;
 use masssprings::mesh::fan::fan_triangles;
 use masssprings::mesh::procedural::text::format_17_significant;
 use masssprings::mesh::procedural::{self, GeneratedScene};
 use masssprings::mesh::springs::springs_from_faces;
 use masssprings::mesh::voronoi_mass::{triangle_mass_shares, voronoi_masses};
-use masssprings::mesh::{load_scene, Scene, SceneError};
+use masssprings::mesh::{load_scene, load_scene_from, Scene, SceneError};
 use proptest::prelude::*;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -45,11 +46,24 @@ impl Drop for TempDir {
     }
 }
 
-/// Writes `scene.json` and `mesh.obj` and loads the scene.
+/// Writes `scene.json` and `mesh.obj` and loads the scene; the same two
+/// files held in memory (as a browser's page is given them) must give the
+/// same scene or the same message, so every test here checks both readers.
 fn load(json: &str, obj: &str) -> Result<Scene, SceneError> {
     let dir = TempDir::new();
-    dir.write("mesh.obj", obj);
-    load_scene(&dir.write("scene.json", json))
+    let obj_path = dir.write("mesh.obj", obj);
+    let json_path = dir.write("scene.json", json);
+    let from_disk = load_scene(&json_path);
+    let mut files = InMemory::new();
+    files.insert(&json_path, json.as_bytes()).unwrap();
+    files.insert(&obj_path, obj.as_bytes()).unwrap();
+    let from_memory = load_scene_from(&files, &json_path);
+    match (&from_disk, &from_memory) {
+        (Ok(disk), Ok(memory)) => assert_eq!(disk, memory, "the scene read from memory"),
+        (Err(disk), Err(memory)) => assert_eq!(disk.to_string(), memory.to_string()),
+        _ => panic!("from disk: {from_disk:?}; from memory: {from_memory:?}"),
+    }
+    from_disk
 }
 
 fn load_ok(json: &str, obj: &str) -> Scene {
@@ -329,6 +343,42 @@ fn missing_obj_file_is_named() {
     assert_problem(&error, "nowhere.obj", None, "cannot read the file");
     assert!(error.io_error().is_some());
     assert_eq!(error.path(), Some(dir.0.join("nowhere.obj").as_path()));
+}
+
+#[test]
+fn a_file_not_given_to_the_page_is_named_as_a_missing_one() {
+    let mut files = InMemory::new();
+    files
+        .insert(Path::new("scene.json"), PIN_FIRST.as_bytes())
+        .unwrap();
+    let error = load_scene_from(&files, Path::new("scene.json")).unwrap_err();
+    assert_problem(&error, "mesh.obj", None, "cannot read the file");
+    assert!(error.io_error().is_some());
+}
+
+#[test]
+fn the_bundled_scenes_read_from_memory_are_the_scenes_read_from_disk() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
+    for name in [
+        "flag",
+        "skirt",
+        "net",
+        "horizontal-chain",
+        "single-spring-horizontal",
+    ] {
+        let json = data.join(format!("{name}.json"));
+        let from_disk = load_scene(&json).unwrap();
+        let mut files = InMemory::new();
+        for path in [
+            Some(&json),
+            from_disk.obj.as_ref(),
+            from_disk.texture.as_ref(),
+        ] {
+            let path = path.unwrap_or(&json);
+            files.insert(path, &fs::read(path).unwrap()).unwrap();
+        }
+        assert_eq!(load_scene_from(&files, &json).unwrap(), from_disk, "{name}");
+    }
 }
 
 #[test]

@@ -702,3 +702,68 @@ fn the_mechanical_energy_is_kinetic_plus_spring_plus_gravity_and_zero_at_rest() 
         "{energy} {expected}"
     );
 }
+
+#[test]
+fn a_set_flag_stops_the_precomputation_on_both_backends_and_paths_and_their_steps() {
+    use masssprings::mesh::procedural;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    let scene = procedural::grid(6).to_scene().unwrap();
+    let textbook = SimulationOptions {
+        textbook: true,
+        ..SimulationOptions::default()
+    };
+    for options in [SimulationOptions::default(), textbook] {
+        let set = Arc::new(AtomicBool::new(true));
+        let dense = Simulation::<Dense>::from_scene_cancellable(&scene, options, Arc::clone(&set));
+        assert_eq!(dense.err(), Some(SimulationError::Cancelled), "{options:?}");
+        let sparse =
+            Simulation::<Sparse>::from_scene_cancellable(&scene, options, Arc::clone(&set));
+        assert_eq!(
+            sparse.err(),
+            Some(SimulationError::Cancelled),
+            "{options:?}"
+        );
+        set.store(false, Ordering::Relaxed);
+        let made = |cancel| Simulation::<Sparse>::from_scene_cancellable(&scene, options, cancel);
+        let mut sparse = made(Arc::clone(&set)).unwrap();
+        let mut dense =
+            Simulation::<Dense>::from_scene_cancellable(&scene, options, Arc::clone(&set)).unwrap();
+        // Their steps look at the same flag.
+        set.store(true, Ordering::Relaxed);
+        assert_eq!(sparse.step().err(), Some(SimulationError::Cancelled));
+        assert_eq!(dense.step().err(), Some(SimulationError::Cancelled));
+        set.store(false, Ordering::Relaxed);
+        dense.step().unwrap();
+        sparse.step().unwrap();
+        let apart = dense
+            .positions()
+            .iter()
+            .zip(sparse.positions())
+            .flat_map(|(a, b)| (0..3).map(move |c| (a[c] - b[c]).abs()))
+            .fold(0.0, f64::max);
+        assert!(apart < 1e-9, "{options:?}: {apart}");
+    }
+}
+
+#[test]
+fn the_simulated_time_adds_each_steps_own_time_step() {
+    let mut sim = hanging_cloth::<Sparse>(SimulationOptions::default());
+    for _ in 0..3 {
+        sim.step().unwrap();
+    }
+    assert_eq!(sim.time(), 3.0 * DELTA_T);
+    sim.set_parameters(sim.k(), 0.01, 1.0).unwrap();
+    sim.step().unwrap();
+    sim.step().unwrap();
+    assert!(
+        (sim.time() - (3.0 * DELTA_T + 0.02)).abs() < 1e-15,
+        "{}",
+        sim.time()
+    );
+    sim.set_time(5.0);
+    sim.step().unwrap();
+    assert!((sim.time() - 5.01).abs() < 1e-12, "{}", sim.time());
+    sim.reset().unwrap();
+    assert_eq!(sim.time(), 0.0);
+}

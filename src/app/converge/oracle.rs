@@ -29,8 +29,9 @@ use super::steps::timed_step;
 use super::steps_plot::{StepPlot, StepSeries};
 use crate::app::draw::plot::Scale;
 use crate::app::error::AppError;
+use crate::app::file_plan::{occupied, starts_with_line};
 use crate::app::limits::precompute;
-use masssprings::files::write_file;
+use masssprings::files::{shown, write_file};
 use masssprings::mesh::Scene;
 use masssprings::sim::{Simulation, Sparse, Start, StepControl, StepMethod};
 use std::io::Write;
@@ -89,8 +90,36 @@ pub fn run(request: &Request, scene: &Scene, steps: usize, path: &Path) -> Resul
         request.canonical.step,
     )?);
     print_summary(&rows);
-    write_file(&path.with_extension("csv"), |out| write_csv(out, &rows))?;
-    draw(path, &scene.name, &rows)
+    let table = path.with_extension("csv");
+    write_file(&table, |out| write_csv(out, &rows))?;
+    draw(path, &scene.name, &rows)?;
+    println!("wrote {} and its rows, {}", shown(path), shown(&table));
+    Ok(())
+}
+
+/// The first line of the rows' table.
+const TABLE_HEADER: &str = "trajectory,step,plain_50_energy,plain_50_ms,rule_iterations,\
+                            rule_ms,rule_energy,floor_1_below,floor_3_below,lbfgs_iterations,\
+                            lbfgs_ms,inertial_plain_iterations,inertial_plain_ms,\
+                            inertial_lbfgs_iterations,inertial_lbfgs_ms";
+
+/// Refuses, before any work, a plot `path` whose rows' table (`path` with
+/// `.csv`, a name the user did not type) would replace a file that is not
+/// such a table: a user's `res.csv` beside `--oracle res.png`.
+///
+/// # Errors
+/// A failure naming the file and the way out.
+pub fn check_table(path: &Path) -> Result<(), AppError> {
+    let table = path.with_extension("csv");
+    if !occupied(&table) || starts_with_line(&table, TABLE_HEADER) {
+        return Ok(());
+    }
+    Err(AppError::Failed(format!(
+        "--oracle {}: its rows go to {}, which holds something else (not a table converge \
+         --oracle wrote) and would be replaced; move it away, or give --oracle another name",
+        shown(path),
+        shown(&table)
+    )))
 }
 
 /// The rows of the steps 1…`steps` along the run advanced by `driver`.
@@ -194,15 +223,7 @@ fn print_summary(rows: &[OracleRow]) {
 }
 
 fn write_csv(out: &mut dyn Write, rows: &[OracleRow]) -> std::io::Result<()> {
-    write!(
-        out,
-        "trajectory,step,plain_50_energy,plain_50_ms,rule_iterations,rule_ms,rule_energy,\
-         floor_1_below,floor_3_below"
-    )?;
-    for name in ["lbfgs", "inertial_plain", "inertial_lbfgs"] {
-        write!(out, ",{name}_iterations,{name}_ms")?;
-    }
-    writeln!(out)?;
+    writeln!(out, "{TABLE_HEADER}")?;
     for r in rows {
         write!(
             out,

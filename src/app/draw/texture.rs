@@ -28,8 +28,7 @@ use masssprings::memory;
 use std::io::{BufRead, Cursor, Seek};
 use std::path::Path;
 
-/// The eight bytes every PNG file starts with.
-pub const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
+pub use masssprings::mesh::PNG_SIGNATURE;
 
 /// The bytes of the PNG file at `path`, read as every input is
 /// (`masssprings::files`: at most the input limit, a pipe waited for a few

@@ -23,9 +23,11 @@
 //! its parts or to an error saying what is wrong on which line, for any
 //! text at all (`fuzz/fuzz_targets/frame.rs`).
 
-use masssprings::files::FileError;
+use masssprings::files::{fingerprint, number, FileError};
+use masssprings::linalg::kernels::Kernels;
 use masssprings::linalg::sparse::SupernodeMerging;
 use masssprings::mesh::obj::parse_obj;
+use masssprings::mesh::Scene;
 use masssprings::sim::methods::chebyshev::{ESTIMATION_ITERATIONS, RHO_CAP};
 use masssprings::sim::methods::newton::LARGEST_DAMPING;
 use masssprings::sim::methods::Carried;
@@ -52,6 +54,17 @@ pub fn frame_step(name: &str) -> Option<usize> {
     digits.parse().ok()
 }
 
+/// The name and number of a numbered OBJ file, `frame-000012.obj` (a
+/// frame of `simulate`) or any `NAME12.obj`: the part before the trailing
+/// digits, and their value (`("frame-", 12)`, `("cloth_", 12)`); `None`
+/// for another file.
+pub fn numbered_obj(name: &str) -> Option<(&str, usize)> {
+    let stem = name.strip_suffix(".obj")?;
+    let digits = stem.bytes().rev().take_while(u8::is_ascii_digit).count();
+    let (prefix, number) = stem.split_at(stem.len() - digits);
+    Some((prefix, number.parse().ok()?))
+}
+
 /// The words between the scene's name and the step on a frame's first line.
 const FRAME_MARK: &str = " — masssprings frame, step ";
 /// The start of a frame's second line.
@@ -74,11 +87,24 @@ pub fn header(scene: &str, step: usize, precision: Option<usize>) -> String {
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RunRecord {
+    /// The run the frame is of, when it replaced another run's frames:
+    /// `masssprings-PID-START` of the process that started it (a resumed
+    /// run keeps it), so that the frames of the two runs are told apart in
+    /// one folder.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub run: Option<String>,
     pub vertices: usize,
     pub k: f64,
     pub delta_t: f64,
-    /// A fingerprint of the masses' bits: `fnv1a64:` (16 hex digits) `of`
-    /// how many.
+    /// A fingerprint of the rest positions' bits
+    /// (`masssprings::files::fingerprint`): the same scene moved, or
+    /// reshaped, is another run.
+    #[serde(default)]
+    pub rest: Option<String>,
+    /// A fingerprint of the springs (the pairs of vertices they join).
+    #[serde(default)]
+    pub springs: Option<String>,
+    /// A fingerprint of the masses' bits.
     pub masses: String,
     /// A fingerprint of the pinned vertices, the same way.
     pub pins: String,
@@ -89,21 +115,20 @@ pub struct RunRecord {
 }
 
 impl RunRecord {
-    /// The record of a run of a scene (`vertices`, `k`, `masses`, `pinned`)
-    /// with `options` (`dense`: on the dense backend), before any step.
-    pub fn new(
-        scene: (usize, f64, &[f64], &[usize]),
-        options: &SimulationOptions,
-        dense: bool,
-    ) -> RunRecord {
-        let (vertices, k, masses, pinned) = scene;
-        let mass_bits = masses.iter().map(|m| m.to_bits());
+    /// The record of a run of `scene` with `options` (`dense`: on the
+    /// dense backend), before any step, not yet of a run.
+    pub fn new(scene: &Scene, options: &SimulationOptions, dense: bool) -> RunRecord {
+        let rest = scene.vertices.iter().flat_map(|v| v.map(f64::to_bits));
+        let springs = scene.springs.iter().flat_map(|s| s.map(|i| i as u64));
         RunRecord {
-            vertices,
-            k,
+            run: None,
+            vertices: scene.vertices.len(),
+            k: scene.k,
             delta_t: options.delta_t,
-            masses: fingerprint(mass_bits),
-            pins: fingerprint(pinned.iter().map(|&p| p as u64)),
+            rest: Some(fingerprint(rest)),
+            springs: Some(fingerprint(springs)),
+            masses: fingerprint(scene.masses.iter().map(|m| m.to_bits())),
+            pins: fingerprint(scene.pinned.iter().map(|&p| p as u64)),
             options: option_values(options, dense),
             carried: Carried::default(),
         }
@@ -116,8 +141,8 @@ impl RunRecord {
     }
 
     /// What differs between the run that wrote this record and `other`
-    /// (what carries over from step to step aside), one phrase each:
-    /// empty when `other` continues the same run.
+    /// (which run it is, and what carries over from step to step, aside),
+    /// one phrase each: empty when `other` continues the same run.
     pub fn differences(&self, other: &RunRecord) -> Vec<String> {
         let mut differ = Vec::new();
         let mut compare = |what: &str, ours: String, theirs: String| {
@@ -125,13 +150,25 @@ impl RunRecord {
                 differ.push(format!("{what} (the frames': {ours}; now: {theirs})"));
             }
         };
+        let recorded =
+            |fingerprint: &Option<String>| fingerprint.clone().unwrap_or("not recorded".into());
         compare(
             "vertices",
             self.vertices.to_string(),
             other.vertices.to_string(),
         );
-        compare("k", self.k.to_string(), other.k.to_string());
-        compare("Δt", self.delta_t.to_string(), other.delta_t.to_string());
+        compare("k", number(self.k), number(other.k));
+        compare("Δt", number(self.delta_t), number(other.delta_t));
+        compare(
+            "the rest positions (the scene moved or reshaped)",
+            recorded(&self.rest),
+            recorded(&other.rest),
+        );
+        compare(
+            "the springs",
+            recorded(&self.springs),
+            recorded(&other.springs),
+        );
         compare("the masses", self.masses.clone(), other.masses.clone());
         compare("the pins", self.pins.clone(), other.pins.clone());
         let flags = self.options.keys().chain(other.options.keys());
@@ -156,7 +193,10 @@ impl RunRecord {
 pub fn check_carried(carried: &Carried) -> Result<(), String> {
     let chebyshev = &carried.chebyshev;
     if let Some(rho) = chebyshev.rho.filter(|&rho| !(0.0..=RHO_CAP).contains(&rho)) {
-        return Err(format!("Chebyshev's ρ = {rho} is outside [0, {RHO_CAP}]"));
+        return Err(format!(
+            "Chebyshev's ρ = {} is outside [0, {RHO_CAP}]",
+            number(rho)
+        ));
     }
     if chebyshev.recorded > ESTIMATION_ITERATIONS {
         return Err(format!(
@@ -168,39 +208,26 @@ pub fn check_carried(carried: &Carried) -> Result<(), String> {
     let ratio = chebyshev.largest_ratio;
     if !(ratio.is_finite() && ratio >= 0.0) {
         return Err(format!(
-            "the largest ratio {ratio} is not a finite number ≥ 0"
+            "the largest ratio {} is not a finite number ≥ 0",
+            number(ratio)
         ));
     }
     let damping = carried.newton_damping;
     let most = 10.0 * LARGEST_DAMPING;
     if !(damping.is_finite() && (0.0..=most).contains(&damping)) {
         return Err(format!(
-            "Newton's damping {damping} is outside [0, {most:e}]"
+            "Newton's damping {} is outside [0, {most:e}]",
+            number(damping)
         ));
     }
     Ok(())
-}
-
-/// 64-bit FNV-1a of `words` (each as 8 little-endian bytes), and their
-/// count: `fnv1a64:…` (a fingerprint, to tell two lists apart).
-fn fingerprint(words: impl Iterator<Item = u64>) -> String {
-    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
-    let mut count = 0u64;
-    for word in words {
-        for byte in word.to_le_bytes() {
-            hash ^= u64::from(byte);
-            hash = hash.wrapping_mul(0x0100_0000_01b3);
-        }
-        count += 1;
-    }
-    format!("fnv1a64:{hash:016x} of {count}")
 }
 
 /// The flags that decide a step of `options`, each with its value (those
 /// of another method or backend left out).
 fn option_values(options: &SimulationOptions, dense: bool) -> BTreeMap<String, String> {
     let step = &options.step;
-    let shown = |value: Option<f64>| value.map_or("none".to_string(), |v| v.to_string());
+    let shown = |value: Option<f64>| value.map_or("none".to_string(), number);
     let accuracy = Accuracy::of(step).map_or("none", Accuracy::name);
     let mut values = vec![
         ("--method", step.method.name().to_string()),
@@ -234,6 +261,10 @@ fn option_values(options: &SimulationOptions, dense: bool) -> BTreeMap<String, S
         values.push(("--ordering", options.ordering.name().to_string()));
         values.push(("--factorization", options.factorization.name().to_string()));
         values.push(("--supernodes", supernodes.to_string()));
+    }
+    if options.kernels != Kernels::Native {
+        // recorded only when given, so that earlier runs' records still match
+        values.push(("--kernels", options.kernels.name().to_string()));
     }
     values
         .into_iter()
@@ -286,6 +317,27 @@ pub fn parse_frame(text: &str) -> Result<Frame, FileError> {
     })
 }
 
+/// The first two lines of a frame: what tells one written by `simulate`
+/// (and which run it is of) without reading its positions.
+#[derive(Debug)]
+pub struct Head {
+    pub step: usize,
+    /// Its run record, when its second line is one that reads.
+    pub record: Option<RunRecord>,
+}
+
+/// The [`Head`] of a frame whose text starts with `start`, if its first
+/// line is a frame's.
+pub fn parse_head(start: &str) -> Option<Head> {
+    let mut lines = start.lines();
+    let (_, step, _) = parse_header(lines.next()?)?;
+    let record = lines
+        .next()
+        .and_then(|line| line.strip_prefix(RECORD_MARK))
+        .and_then(|json| serde_json::from_str(json).ok());
+    Some(Head { step, record })
+}
+
 /// The scene, step and precision of a frame's first line.
 fn parse_header(line: &str) -> Option<(String, usize, Option<usize>)> {
     let (scene, rest) = line.strip_prefix("# ")?.rsplit_once(FRAME_MARK)?;
@@ -315,10 +367,28 @@ fn shorten(line: &str) -> String {
 mod tests {
     use super::*;
 
+    /// Two vertices, one spring: `k`, the masses and the pins as given.
+    fn scene(k: f64, masses: &[f64], pinned: &[usize]) -> Scene {
+        Scene {
+            name: "two".into(),
+            vertices: vec![[0.0; 3], [1.0, 0.0, 0.0]],
+            faces: Vec::new(),
+            texture_coords: Vec::new(),
+            face_texture_coords: Vec::new(),
+            springs: vec![[0, 1]],
+            masses: masses.to_vec(),
+            pinned: pinned.to_vec(),
+            k,
+            texture: None,
+            obj: None,
+        }
+    }
+
     #[test]
     fn a_frame_reads_back_its_header_record_and_positions() {
         let options = SimulationOptions::default();
-        let mut record = RunRecord::new((2, 500.0, &[1.0, 0.5], &[0]), &options, false);
+        let mut record = RunRecord::new(&scene(500.0, &[1.0, 0.5], &[0]), &options, false);
+        record.run = Some("masssprings-1-2".into());
         record.carried.chebyshev.rho = Some(0.995);
         let text = format!(
             "{}\n{}\nv 0.1 0.2 0.3\nv 1 2 3\n",
@@ -363,15 +433,29 @@ mod tests {
     #[test]
     fn records_name_what_differs() {
         let options = SimulationOptions::default();
-        let ours = RunRecord::new((2, 500.0, &[1.0, 0.5], &[0]), &options, false);
+        let ours = RunRecord::new(&scene(500.0, &[1.0, 0.5], &[0]), &options, false);
         assert!(ours.differences(&ours).is_empty());
         let mut chebyshev = options;
         chebyshev.step.method = StepMethod::Chebyshev;
-        let theirs = RunRecord::new((2, 600.0, &[1.0, 0.25], &[1]), &chebyshev, false);
+        let theirs = RunRecord::new(&scene(1e308, &[1.0, 0.25], &[1]), &chebyshev, false);
         let differ = ours.differences(&theirs).join("; ");
-        for what in ["k (the frames': 500; now: 600)", "the masses", "the pins"] {
+        for what in ["k (the frames': 500; now: 1e308)", "the masses", "the pins"] {
             assert!(differ.contains(what), "{differ}");
         }
+        let mut moved = scene(500.0, &[1.0, 0.5], &[0]);
+        moved.vertices[1][1] += 5.0;
+        let rest = ours.differences(&RunRecord::new(&moved, &options, false));
+        assert_eq!(rest.len(), 1, "{rest:?}");
+        assert!(
+            rest[0].starts_with("the rest positions (the scene moved"),
+            "{rest:?}"
+        );
+        let mut other_run = ours.clone();
+        other_run.run = Some("masssprings-3-4".into());
+        assert!(
+            ours.differences(&other_run).is_empty(),
+            "which run is not a setting"
+        );
         assert!(differ.contains("--method (the frames': plain; now: chebyshev)"));
         assert!(differ.contains("--rho (the frames': not used; now: none)"));
     }
@@ -399,6 +483,10 @@ mod tests {
             assert_eq!(error.line(), Some(line), "{text:?}: {error}");
         }
         assert_eq!(frame_step("frame-000012.obj"), Some(12));
+        assert_eq!(numbered_obj("frame-000012.obj"), Some(("frame-", 12)));
+        assert_eq!(numbered_obj("7.obj"), Some(("", 7)));
+        assert_eq!(numbered_obj("cloth.obj"), None);
+        assert_eq!(numbered_obj("cloth12.png"), None);
         assert_eq!(frame_step("frame-12.obj"), None);
         assert_eq!(frame_step("frame-99999999999999999999999.obj"), None);
     }

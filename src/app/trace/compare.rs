@@ -43,9 +43,11 @@ pub use factor::inverse;
 use super::manifest::{read_manifest, Manifest, MANIFEST};
 use super::quantities::{quantities, Axis, Check, Quantity};
 use crate::app::error::AppError;
+use crate::app::file_plan::start_holds;
 use entries::{
     conform, dense_difference, sparse_difference, to_dense, to_sparse, Largest, RowKind,
 };
+use masssprings::files::{escaped, shown};
 use masssprings::linalg::dense::DenseMatrix;
 use masssprings::linalg::sparse::CscMatrix;
 use masssprings::matrix_market::{read, MatrixMarket};
@@ -60,16 +62,17 @@ use std::path::Path;
 pub fn run(ours: &Path, theirs: &Path, json: bool) -> Result<(), AppError> {
     let manifest = read_manifest(ours)?;
     check_manifest(&manifest, ours)?;
+    check_one_trace(&manifest, ours)?;
     if !theirs.is_dir() {
         return Err(AppError::Failed(format!(
             "{}: not a folder; --compare DIR OTHER compares two folders of files",
-            theirs.display()
+            shown(theirs)
         )));
     }
     let all = quantities(manifest.iterations);
     let [a, q, p, c] = ["A.mtx", "Q.mtx", "P.mtx", "C.mtx"].map(|name| read_ours(ours, name));
     let mut context = Context::new(manifest.k, [&a?, &q?, &p?, &c?])
-        .map_err(|e| AppError::Failed(format!("{}: {e}", ours.display())))?;
+        .map_err(|e| AppError::Failed(format!("{}: {e}", shown(ours))))?;
     let mut findings = Vec::with_capacity(all.len());
     for quantity in &all {
         let outcome = compare_one(quantity, ours, theirs, &mut context)?;
@@ -92,13 +95,15 @@ pub fn run(ours: &Path, theirs: &Path, json: bool) -> Result<(), AppError> {
     };
     let report = Report {
         heading: format!(
-            "comparing {} with {} ({}, step {}, {} iteration(s), {} ordering)",
-            theirs.display(),
-            ours.display(),
-            manifest.scene,
+            "comparing {} with {} ({}, step {}, {} iteration(s), {} ordering){}{}",
+            shown(theirs),
+            shown(ours),
+            escaped(&manifest.scene),
             manifest.step,
             manifest.iterations,
-            manifest.ordering,
+            escaped(&manifest.ordering),
+            mistake_in(theirs, theirs_manifest(theirs).as_ref(), ""),
+            mistake_in(ours, Some(&manifest), ", not the correct quantities"),
         ),
         diagnosis: diagnosis::diagnose(&inputs, &verdicts),
         findings,
@@ -122,10 +127,52 @@ fn check_manifest(manifest: &Manifest, ours: &Path) -> Result<(), AppError> {
     Err(AppError::Failed(format!(
         "{}: iterations {} and step {}: trace writes 1 to {ITERATIONS} iterations of a step from 1 \
          (run masssprings trace again to write it)",
-        ours.join(MANIFEST).display(),
+        shown(&ours.join(MANIFEST)),
         manifest.iterations,
         manifest.step
     )))
+}
+
+/// Refuses our folder when one of its files is not of the trace its
+/// manifest describes (each carries the trace's fingerprint): a trace
+/// stopped while its files were moved in leaves such a mixture.
+fn check_one_trace(manifest: &Manifest, ours: &Path) -> Result<(), AppError> {
+    let Some(id) = &manifest.trace else {
+        return Ok(());
+    };
+    for name in &manifest.files {
+        let path = ours.join(name);
+        if path.exists() && !start_holds(&path, id, 1024) {
+            return Err(AppError::Failed(format!(
+                "{}: not of the trace {} describes (it does not carry the trace's fingerprint \
+                 {id}): a trace was stopped while its files were moved in, or the file came \
+                 from another; run masssprings trace again",
+                shown(&path),
+                shown(&ours.join(MANIFEST))
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The manifest in the student's folder, when there is one that reads (a
+/// folder `trace --mistake` wrote).
+fn theirs_manifest(theirs: &Path) -> Option<Manifest> {
+    let regular = std::fs::symlink_metadata(theirs.join(MANIFEST)).is_ok_and(|m| m.is_file());
+    regular.then(|| read_manifest(theirs).ok()).flatten()
+}
+
+/// "; FOLDER holds a trace with the mistake NAME …" when the `manifest`
+/// of `folder` records one, followed by `remark`; nothing otherwise.
+fn mistake_in(folder: &Path, manifest: Option<&Manifest>, remark: &str) -> String {
+    match manifest.and_then(|m| m.mistake.as_deref()) {
+        Some(name) => format!(
+            "; {} holds a trace with the mistake {} (written by trace --mistake){remark}",
+            shown(folder),
+            escaped(name)
+        ),
+        None => String::new(),
+    }
 }
 
 /// One quantity: ours against the student's, when given. A file that
@@ -139,8 +186,10 @@ fn compare_one(
 ) -> Result<Outcome, AppError> {
     let file = quantity.file_name();
     let path = theirs.join(&file);
-    if !path.exists() {
-        return Ok(Outcome::NotGiven);
+    match std::fs::symlink_metadata(&path) {
+        Err(_) => return Ok(Outcome::NotGiven),
+        Ok(_) if !path.exists() => return Ok(Outcome::Differs(None, broken_link(&path))),
+        Ok(_) => {}
     }
     let their = match read(&path) {
         Ok(their) => their,
@@ -160,13 +209,33 @@ fn compare_one(
             );
             let y = read_ours(ours, "y.mtx")?;
             let terms = sum::term_sizes(&b, &d, &y, context)
-                .map_err(|e| AppError::Failed(format!("{}: {e}", ours.display())))?;
+                .map_err(|e| AppError::Failed(format!("{}: {e}", shown(ours))))?;
             entries(quantity, &b, their, tolerance, Some(&terms), context)
         }
         Check::Ordering => ordering(their, context),
         Check::Factor { tolerance } => factor(their, context, tolerance),
     };
-    Ok(outcome.unwrap_or_else(|reason| Outcome::Differs(None, format!("{file}: {reason}"))))
+    let named = |reason| Outcome::Differs(None, format!("{}: {reason}", shown(&path)));
+    Ok(outcome.unwrap_or_else(named))
+}
+
+/// Why the link at `path` gives no file: it loops, or points to nothing.
+fn broken_link(path: &Path) -> String {
+    match std::fs::read_link(path) {
+        Ok(target) if std::fs::metadata(path).is_err_and(|e| e.raw_os_error() == Some(40)) => {
+            format!(
+                "{}: a link that loops (to {}, and round again)",
+                shown(path),
+                shown(&target)
+            )
+        }
+        Ok(target) => format!(
+            "{}: a link to {}, which does not exist",
+            shown(path),
+            shown(&target)
+        ),
+        Err(error) => format!("{}: {error}", shown(path)),
+    }
 }
 
 /// Our file `name` in `ours`, which `trace` wrote.
@@ -355,6 +424,14 @@ fn factor(their: MatrixMarket, context: &Context, tolerance: f64) -> Result<Outc
             "not lower triangular: entry ({}, {}) = {v}",
             i + 1,
             j + 1
+        ));
+    }
+    if let Some((j, v)) = factor::first_pivot_not_positive(&l) {
+        return Err(format!(
+            "not a Cholesky factor: its diagonal must be positive, and pivot {} (entry ({0}, {0})) \
+             is {}",
+            j + 1,
+            masssprings::files::number(v)
         ));
     }
     let mut first = None;

@@ -1,42 +1,38 @@
 //! The folder `trace -o DIR` writes, and how a new trace takes the place of
-//! an earlier one.
+//! an earlier one, file by file (`masssprings::files::outputs`: the rule
+//! every output keeps).
 //!
 //! * **Inputs are never written**: the scene's JSON, its OBJ and its
 //!   texture are inputs of the run's file plan, and every file `trace`
 //!   writes is an output, so a `DIR/A.mtx` that is a link to the OBJ, or
 //!   an OBJ named `README.md` in `-o .`, is refused before any work.
-//! * **Only its own files are replaced**: `DIR` must be missing, empty, or
-//!   hold only what an earlier trace wrote there — `trace.json` (a manifest
-//!   that reads), the files it lists (each Matrix Market file saying it was
-//!   written by `masssprings trace`) and the `README.md` it wrote. Anything
-//!   else (a user's `README.md`, notes, the scene itself, a link) is named
-//!   and refused, unless `--force`.
-//! * **A new trace replaces an old one once it is complete**: it is
-//!   written into a folder beside `DIR` (`.DIR.masssprings-PID-START-N.tmp`)
-//!   and then exchanged with `DIR` in one step (Linux's `renameat2`; three
-//!   renames elsewhere), and the old trace is removed after. A run that
-//!   fails, or is killed, leaves the old trace whole; a killed run's
-//!   staging folder is removed by the next trace into `DIR`, which finds
-//!   its owner in `DIR`'s lock.
-//! * **In place** (no swap) when `--force` writes among files that are not
-//!   `trace`'s, when `DIR` is the current folder (whose place a shell holds)
-//!   or a mount point (which cannot be renamed), or when the folder above
-//!   `DIR` cannot be written: the old manifest is
-//!   removed first, so a run that fails there leaves a folder `--compare`
-//!   refuses, never a manifest over a mixture.
+//! * **Only its own names, only its own files**: `trace` writes the
+//!   quantities' files, `README.md` and `trace.json`, and nothing else in
+//!   `DIR` is read, moved or removed. At those names, a file an earlier
+//!   trace wrote (a quantity saying `written by masssprings trace` in its
+//!   first lines, the README it writes, a manifest that reads) is
+//!   replaced; anything else (a user's `README.md`, a link, a student's
+//!   `d_9.mtx`) is named and refused, unless `--force`.
+//! * **A mistake is never written over a correct trace** (nor over another
+//!   mistake's) without `--force`: `trace.json` says which a trace is.
+//! * **A new trace replaces an old one once it is complete**: every file
+//!   is staged beside its place, then all are moved in (the manifest
+//!   last), and only then are the earlier trace's files that the new one
+//!   does not have removed. A run that fails leaves the earlier trace as
+//!   it was; a run killed while its files are moved in leaves a folder
+//!   whose files do not all carry the manifest's `trace` fingerprint, which
+//!   `--compare` refuses, naming the file; the next trace into `DIR`
+//!   settles what a killed run staged.
 
-use super::manifest::{is_trace_file, read_manifest, MANIFEST};
+use super::manifest::{read_manifest, MANIFEST};
 use super::quantities::quantities;
 use crate::app::error::AppError;
-use crate::app::file_plan::{
-    begins_with, plan_scene_inputs, refuse_foreign, start_holds, unlink_link,
-};
-use masssprings::files::{
-    exchange_folders, resolve, same_file, temporary_folder, temporary_owner, FilePlan, FolderLock,
-    LOCK_FILE,
-};
+use crate::app::file_plan::{begins_with, plan_scene_inputs, refuse_foreign, start_holds};
+use masssprings::files::{shown, Expect, FilePlan, OutputFolder};
 use masssprings::mesh::Scene;
+use masssprings::sim::mistakes::Mistake;
 use masssprings::sim::ITERATIONS;
+use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
 
@@ -46,139 +42,176 @@ pub const WRITTEN_BY: &str = "written by masssprings trace";
 /// The first line of the README `trace` writes.
 pub const README_START: &str = "# Every quantity of the handout: ";
 
+/// What one of trace's names held when the run started.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Found {
+    /// A file an earlier trace wrote.
+    Own,
+    /// Something else, to be replaced because of `--force`.
+    Other,
+}
+
 /// Where a trace is written, held for the run.
 pub struct TraceFolder {
-    /// `DIR` with its links followed.
-    out: PathBuf,
-    _lock: FolderLock,
-    /// The folder beside `DIR` that takes its place at the end; `None`:
-    /// written in place.
-    staging: Option<PathBuf>,
-    /// The files of the earlier trace (in place: removed when not written
-    /// again).
-    earlier: Vec<String>,
+    out: OutputFolder,
+    /// What trace's names held when the run started (a name not here held
+    /// nothing).
+    found: BTreeMap<String, Found>,
+    /// The files staged so far, in order, and their names.
+    staged: Vec<(PathBuf, String)>,
 }
 
 impl TraceFolder {
     /// Checks and locks `out` for a trace of `scene` (read from
-    /// `scene_path`); `force` lets it write among files that are not
-    /// `trace`'s.
+    /// `scene_path`), with `mistake` if one is made on purpose; `force`
+    /// lets it replace files that are not `trace`'s, and a trace of
+    /// another kind.
     ///
     /// # Errors
-    /// `out` is a file; a file `trace` writes is an input; another run
-    /// holds `out`; files `trace` did not write are there (without
-    /// `force`).
+    /// `out` is `-` or a file; a file `trace` writes is an input; another
+    /// run holds `out`; files `trace` did not write are at its names, or
+    /// the trace there is of another kind (without `force`).
     pub fn open(
         out: &Path,
         scene_path: &Path,
         scene: &Scene,
-        force: bool,
+        (force, mistake): (bool, Option<Mistake>),
     ) -> Result<TraceFolder, AppError> {
+        if out == Path::new("-") {
+            return Err(AppError::Usage(
+                "-o -: trace writes a folder of files, not one stream; name a folder".into(),
+            ));
+        }
         if fs::metadata(out).is_ok_and(|m| !m.is_dir()) {
             return Err(AppError::Failed(format!(
                 "-o {}: this is a file; trace writes a folder of files (give a new or empty \
                  folder)",
-                out.display()
+                shown(out)
             )));
         }
         plan(out, scene_path, scene)?;
-        let failed = |e: std::io::Error| AppError::Failed(format!("-o {}: {e}", out.display()));
-        let resolved = resolve(out).map_err(failed)?;
-        // a killed trace's staging folder is beside `out`
-        let beside: Vec<&Path> = resolved.parent().into_iter().collect();
-        let lock = FolderLock::acquire_cleaning(out, "trace", &beside)?;
-        let (earlier, foreign) = survey(out);
-        refuse_foreign(&format!("-o {}", out.display()), "trace", &foreign, force)?;
-        let in_place =
-            !foreign.is_empty() || same_file(out, Path::new(".")) || is_mount_point(&resolved);
-        let staging = if in_place {
-            None
-        } else {
-            temporary_folder(&resolved).ok()
-        };
+        let folder = OutputFolder::open(out, "trace")?;
+        let found = survey(&folder);
+        let foreign: Vec<PathBuf> = found
+            .iter()
+            .filter(|(_, &found)| found == Found::Other)
+            .map(|(name, _)| folder.path(name))
+            .collect();
+        refuse_foreign(&format!("-o {}", shown(out)), "trace", &foreign, force)?;
+        if found.get(MANIFEST) == Some(&Found::Own) && !force {
+            refuse_other_kind(out, mistake)?;
+        }
         Ok(TraceFolder {
-            out: resolved,
-            _lock: lock,
-            staging,
-            earlier,
+            out: folder,
+            found,
+            staged: Vec::new(),
         })
     }
 
-    /// The folder to write the files into now.
-    pub fn target(&self) -> &Path {
-        self.staging.as_deref().unwrap_or(&self.out)
-    }
-
-    /// Before the files are written: in place, the earlier manifest goes
-    /// first, so that no manifest stands over a mixture of two traces.
+    /// Stages the file `name`: written whole beside its place, moved in by
+    /// [`TraceFolder::commit`].
     ///
     /// # Errors
-    /// The manifest cannot be removed.
-    pub fn begin(&self) -> Result<(), AppError> {
-        if self.staging.is_some() {
-            return Ok(());
-        }
-        if self.earlier.iter().any(|name| name == MANIFEST) {
-            let manifest = self.out.join(MANIFEST);
-            fs::remove_file(&manifest)
-                .map_err(|e| AppError::Failed(format!("{}: {e}", manifest.display())))?;
-        }
-        for name in trace_names() {
-            unlink_link(&self.out.join(name))?; // forced: the link goes, not its target
-        }
+    /// Writing failed.
+    pub fn write(
+        &mut self,
+        name: &str,
+        write: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<()>,
+    ) -> Result<(), AppError> {
+        let staged = self.out.stage(name, write)?;
+        self.staged.push((staged, name.to_string()));
         Ok(())
     }
 
-    /// The new trace (of the files `written`) is complete: it takes the
-    /// earlier trace's place (staged: by exchanging the two folders; in
-    /// place: the earlier files not written again are removed).
+    /// The new trace is complete: its files take their places in the order
+    /// they were written (the manifest last); then the earlier trace's
+    /// files it does not have are removed, and what a killed trace staged
+    /// is settled.
     ///
     /// # Errors
-    /// The exchange failed (the earlier trace is then as it was, and the
-    /// new one is removed).
-    pub fn commit(mut self, written: &[String]) -> Result<(), AppError> {
-        let Some(staging) = self.staging.take() else {
-            for name in self.earlier.iter().filter(|name| !written.contains(name)) {
-                let _ = fs::remove_file(self.out.join(name));
+    /// A file could not be moved in (the folder is then as it was) or an
+    /// old one could not be removed; the message names it.
+    pub fn commit(mut self) -> Result<(), AppError> {
+        let staged = std::mem::take(&mut self.staged);
+        let files: Vec<(PathBuf, &str, Expect)> = staged
+            .iter()
+            .map(|(path, name)| (path.clone(), name.as_str(), self.expect(name)))
+            .collect();
+        let held = match self.out.place_all(&files) {
+            Ok(held) => held,
+            Err(error) => {
+                for (path, _) in &staged {
+                    self.out.discard_staged(path);
+                }
+                return Err(AppError::Failed(format!(
+                    "{error}; the earlier trace in {} is as it was",
+                    shown(self.out.folder())
+                )));
             }
-            return Ok(());
         };
-        let failed = |e: std::io::Error| {
-            let _ = fs::remove_dir_all(&staging);
-            AppError::Failed(format!("-o {}: {e}", self.out.display()))
-        };
-        // the new folder's own lock, held from before the exchange to the end
-        let mut new_lock = FolderLock::acquire(&staging, "trace")?;
-        exchange_folders(&staging, &self.out).map_err(failed)?;
-        new_lock.moved_to(&self.out);
-        let _ = fs::remove_dir_all(&staging); // the earlier trace, now at the staging name
+        let written: Vec<&str> = staged.iter().map(|(_, name)| name.as_str()).collect();
+        let earlier = self
+            .found
+            .iter()
+            .filter(|(name, &found)| found == Found::Own && !written.contains(&name.as_str()));
+        for (name, _) in earlier {
+            self.out.remove_own(name, own_check(name))?;
+        }
+        self.out.discard(held)?;
+        for leftover in self.out.leftovers() {
+            if let Some(kept) = self.out.settle(&leftover, &is_any_trace_file) {
+                eprintln!(
+                    "kept {}: a file a killed run had set aside, not written by masssprings trace",
+                    shown(&kept)
+                );
+            }
+        }
         Ok(())
+    }
+
+    /// What `name` may hold when the new file is moved there.
+    fn expect(&self, name: &str) -> Expect<'static> {
+        match self.found.get(name) {
+            None => Expect::Nothing,
+            Some(Found::Own) => Expect::Own(own_check(name)),
+            Some(Found::Other) => Expect::Any,
+        }
     }
 }
 
 impl Drop for TraceFolder {
     fn drop(&mut self) {
-        if let Some(staging) = self.staging.take() {
-            let _ = fs::remove_dir_all(staging); // a failed run: the earlier trace stays
+        // not committed: the run failed, and the earlier trace stays
+        for (path, _) in &self.staged {
+            self.out.discard_staged(path);
         }
     }
 }
 
-/// Is `folder` the root of a file system of its own (a mount point), which
-/// cannot be renamed nor exchanged with a folder beside it?
-#[cfg(unix)]
-fn is_mount_point(folder: &Path) -> bool {
-    use std::os::unix::fs::MetadataExt;
-    let parent = folder.parent().unwrap_or(folder);
-    match (fs::metadata(folder), fs::metadata(parent)) {
-        (Ok(a), Ok(b)) => a.dev() != b.dev() || a.ino() == b.ino(),
-        _ => false,
+/// Refuses a trace of one kind over a trace of another: a mistake over a
+/// correct trace or over another mistake's.
+fn refuse_other_kind(out: &Path, mistake: Option<Mistake>) -> Result<(), AppError> {
+    let Some(mistake) = mistake else {
+        return Ok(()); // a correct trace may replace any trace
+    };
+    let earlier = read_manifest(out)?;
+    if earlier.mistake.as_deref() == Some(mistake.name()) {
+        return Ok(());
     }
-}
-
-#[cfg(not(unix))]
-fn is_mount_point(_folder: &Path) -> bool {
-    false
+    let holds = match &earlier.mistake {
+        None => "a correct trace (no mistake)".to_string(),
+        Some(other) => format!(
+            "a trace with the mistake {}",
+            masssprings::files::escaped(other)
+        ),
+    };
+    Err(AppError::Failed(format!(
+        "-o {}: the folder holds {holds} of {}; --mistake {} would replace it with a trace with \
+         that mistake. Give --force to replace it, or choose another folder",
+        shown(out),
+        masssprings::files::escaped(&earlier.scene),
+        mistake.name()
+    )))
 }
 
 /// Refuses a trace whose files would be one of the scene's (through a
@@ -202,38 +235,51 @@ fn trace_names() -> Vec<String> {
         .collect()
 }
 
-/// The names of the earlier trace in `out`, and the files there that are
-/// not `trace`'s (the lock and temporaries aside).
-fn survey(out: &Path) -> (Vec<String>, Vec<PathBuf>) {
-    // only a regular file is read (a FIFO would be waited for)
-    let manifest_file = fs::symlink_metadata(out.join(MANIFEST)).is_ok_and(|m| m.is_file());
-    let manifest = manifest_file.then(|| read_manifest(out).ok()).flatten();
-    let listed = |name: &str| {
-        manifest
-            .as_ref()
-            .is_some_and(|m| m.files.iter().any(|f| f == name) && is_trace_file(name))
-    };
-    let (mut earlier, mut foreign) = (Vec::new(), Vec::new());
-    let Ok(entries) = fs::read_dir(out) else {
-        return (earlier, foreign);
-    };
-    for entry in entries.flatten() {
-        let name = entry.file_name().to_string_lossy().into_owned();
-        let path = entry.path();
-        let regular = entry.file_type().is_ok_and(|kind| kind.is_file());
-        let ours = match name.as_str() {
-            LOCK_FILE => continue,
-            _ if temporary_owner(&name).is_some() => continue,
-            MANIFEST => manifest.is_some() && regular,
-            "README.md" => manifest.is_some() && regular && begins_with(&path, README_START),
-            _ => listed(&name) && regular && start_holds(&path, WRITTEN_BY, 1024),
-        };
-        if ours {
-            earlier.push(name);
-        } else {
-            foreign.push(path);
+/// What each of trace's names in `out` holds now: nothing (left out), a
+/// file an earlier trace wrote, or something else.
+fn survey(out: &OutputFolder) -> BTreeMap<String, Found> {
+    let mut found = BTreeMap::new();
+    for name in trace_names() {
+        let path = out.path(&name);
+        if fs::symlink_metadata(&path).is_err() {
+            continue;
         }
+        let own = fs::symlink_metadata(&path).is_ok_and(|m| m.is_file()) && own_check(&name)(&path);
+        found.insert(name, if own { Found::Own } else { Found::Other });
     }
-    foreign.sort();
-    (earlier, foreign)
+    found
+}
+
+/// How to tell trace's own file named `name`.
+fn own_check(name: &str) -> &'static dyn Fn(&Path) -> bool {
+    match name {
+        MANIFEST => &is_manifest,
+        "README.md" => &is_readme,
+        _ => &is_quantity,
+    }
+}
+
+/// A manifest that reads (only a regular file is read: a FIFO would be
+/// waited for).
+fn is_manifest(path: &Path) -> bool {
+    let regular = fs::symlink_metadata(path).is_ok_and(|m| m.is_file());
+    let text = || masssprings::files::read_text(path).ok();
+    regular
+        && text()
+            .is_some_and(|text| serde_json::from_str::<super::manifest::Manifest>(&text).is_ok())
+}
+
+/// The README trace writes.
+fn is_readme(path: &Path) -> bool {
+    begins_with(path, README_START)
+}
+
+/// A quantity trace wrote: its mark in the first lines.
+fn is_quantity(path: &Path) -> bool {
+    start_holds(path, WRITTEN_BY, 1024)
+}
+
+/// Any of trace's own files: what a killed trace staged or set aside.
+fn is_any_trace_file(path: &Path) -> bool {
+    is_quantity(path) || is_readme(path) || is_manifest(path)
 }

@@ -2,9 +2,8 @@
 //! written last (a folder with a manifest holds a complete trace) and read
 //! first by `--compare` and by a re-run that replaces the folder.
 
-use super::quantities;
 use crate::app::error::AppError;
-use masssprings::sim::ITERATIONS;
+use masssprings::files::shown;
 use std::path::Path;
 
 /// What `trace.json` records about a trace, for `--compare`.
@@ -23,17 +22,15 @@ pub struct Manifest {
     /// The mistake made on purpose (`--mistake`), if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mistake: Option<String>,
+    /// The trace's fingerprint (of the values and of the fields above),
+    /// which each of its files carries in its first lines: a file without
+    /// it is of another trace.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub trace: Option<String>,
 }
 
 /// The file `--compare` reads first.
 pub(super) const MANIFEST: &str = "trace.json";
-
-/// A name `trace` writes: `A.mtx`, `d_12.mtx` (never a path).
-pub(super) fn is_trace_file(name: &str) -> bool {
-    quantities::quantities(ITERATIONS)
-        .iter()
-        .any(|q| q.file_name() == name)
-}
 
 /// The manifest of the trace in `folder`.
 pub fn read_manifest(folder: &Path) -> Result<Manifest, AppError> {
@@ -41,9 +38,9 @@ pub fn read_manifest(folder: &Path) -> Result<Manifest, AppError> {
     let text = masssprings::files::read_text(&path).map_err(|e| {
         AppError::Failed(format!(
             "{e} ({} is not a folder written by masssprings trace)",
-            folder.display()
+            shown(folder)
         ))
     })?;
     serde_json::from_str(&text)
-        .map_err(|e| AppError::Failed(format!("{}:{}: {e}", path.display(), e.line())))
+        .map_err(|e| AppError::Failed(format!("{}:{}: {e}", shown(&path), e.line())))
 }

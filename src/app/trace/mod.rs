@@ -35,7 +35,7 @@ use super::flags::{choice, whole, JsonFlag, OrderingFlag};
 use compute::{labelled, trace, TraceOptions, Value};
 use folder::TraceFolder;
 use manifest::{Manifest, MANIFEST};
-use masssprings::files::write_file;
+use masssprings::files::{fingerprint, shown};
 use masssprings::matrix_market::{write_array, write_coordinate, Symmetry};
 use masssprings::mesh::Scene;
 use masssprings::sim::mistakes::Mistake;
@@ -125,7 +125,8 @@ pub fn run(args: TraceArgs) -> Result<(), AppError> {
         mistake: args.mistake,
     };
     let scene = load_scene(&scene_path)?;
-    let folder = TraceFolder::open(&out, &scene_path, &scene, args.force)?;
+    let how = (args.force, options.mistake);
+    let mut folder = TraceFolder::open(&out, &scene_path, &scene, how)?;
     let start = std::time::Instant::now();
     let values = match options.mistake {
         Some(mistake) => mistaken::trace(&scene, options, mistake)?,
@@ -133,16 +134,13 @@ pub fn run(args: TraceArgs) -> Result<(), AppError> {
     };
     let values = labelled(values, options.iterations);
     let manifest = manifest(&scene_path, &scene, options, &values);
-    folder.begin()?;
-    write_all(folder.target(), &scene_path, &values, &manifest)?;
-    let mut written = manifest.files.clone();
-    written.extend(["README.md".to_string(), MANIFEST.to_string()]);
-    folder.commit(&written)?;
+    write_all(&mut folder, &scene_path, &values, &manifest)?;
+    folder.commit()?;
     println!(
         "{}: {} files of {}{} (n = {}, m = {}), step {}, {} iteration(s), {} ordering, in {:.2} s",
-        out.display(),
+        shown(&out),
         values.len(),
-        scene_path.display(),
+        shown(&scene_path),
         options
             .mistake
             .map_or(String::new(), |m| format!(" with the mistake {m}")),
@@ -162,7 +160,7 @@ fn manifest(
     options: TraceOptions,
     values: &[(Quantity, Value)],
 ) -> Manifest {
-    Manifest {
+    let mut manifest = Manifest {
         scene: scene_path.display().to_string(),
         step: options.step,
         iterations: options.iterations,
@@ -173,37 +171,67 @@ fn manifest(
         k: scene.k,
         files: values.iter().map(|(q, _)| q.file_name()).collect(),
         mistake: options.mistake.map(|m| m.name().to_string()),
+        trace: None,
+    };
+    manifest.trace = Some(trace_fingerprint(&manifest, values));
+    manifest
+}
+
+/// The fingerprint of a trace: of its manifest's fields and of every
+/// value's shape and entries (so two traces of the same scene, step,
+/// iterations and ordering have the same one, and a mixture of two such
+/// loses nothing).
+fn trace_fingerprint(manifest: &Manifest, values: &[(Quantity, Value)]) -> String {
+    let fields = serde_json::to_string(manifest).expect("plain values serialise");
+    let mut words: Vec<u64> = fields.bytes().map(u64::from).collect();
+    for (_, value) in values {
+        match value {
+            Value::Sparse(matrix) => {
+                words.extend([matrix.nrows(), matrix.ncols()].map(|n| n as u64));
+                words.extend(matrix.col_ptr().iter().map(|&p| p as u64));
+                for j in 0..matrix.ncols() {
+                    let (rows, entries) = matrix.column(j);
+                    words.extend(rows.iter().map(|&i| i as u64));
+                    words.extend(entries.iter().map(|x| x.to_bits()));
+                }
+            }
+            Value::Dense(matrix) => {
+                words.extend([matrix.nrows(), matrix.ncols()].map(|n| n as u64));
+                words.extend(matrix.as_slice().iter().map(|x| x.to_bits()));
+            }
+        }
     }
+    fingerprint(words)
 }
 
 /// Every quantity's file, then the README and the manifest (last: a
-/// folder with a manifest holds a complete trace).
+/// folder with a manifest holds a complete trace), each staged in
+/// `folder` until [`TraceFolder::commit`].
 fn write_all(
-    out: &Path,
+    folder: &mut TraceFolder,
     scene_path: &Path,
     values: &[(Quantity, Value)],
     manifest: &Manifest,
 ) -> Result<(), AppError> {
+    let id = manifest.trace.as_deref().unwrap_or_default();
     for (quantity, value) in values {
         let comment = format!(
-            "{}: {} ({}) of {}, step {}\n{}; see README.md",
+            "{}: {} ({}) of {}, step {}\n{}, trace {id}; see README.md",
             quantity.name(),
             quantity.spec.equation,
             quantity.spec.shape,
-            scene_path.display(),
+            shown(scene_path),
             manifest.step,
             folder::WRITTEN_BY,
         );
-        write_file(&out.join(quantity.file_name()), |file| match value {
+        folder.write(&quantity.file_name(), |file| match value {
             Value::Sparse(matrix) => write_coordinate(file, matrix, Symmetry::General, &comment),
             Value::Dense(matrix) => write_array(file, matrix, &comment),
         })?;
     }
     let text = readme::readme(manifest, values);
-    write_file(&out.join("README.md"), |file| {
-        file.write_all(text.as_bytes())
-    })?;
+    folder.write("README.md", |file| file.write_all(text.as_bytes()))?;
     let json = serde_json::to_string_pretty(manifest).expect("plain values serialise");
-    write_file(&out.join(MANIFEST), |file| writeln!(file, "{json}"))?;
+    folder.write(MANIFEST, |file| writeln!(file, "{json}"))?;
     Ok(())
 }

@@ -29,8 +29,12 @@ pub enum Command {
     ToggleAnimation {},
     /// L: show or hide the springs and point masses.
     ToggleSprings {},
-    /// R: back to the rest shape, time 0.
+    /// R: back to the state at load, paused: the rest shape, time 0, and
+    /// the command line's settings (the scene's k, Δt and masses, wind,
+    /// the first simulation's budget and rules as its solver has them).
     Reset {},
+    /// Shift-R: back to the rest shape, time 0, every setting kept.
+    Restart {},
     /// W: wind on or off.
     ToggleWind {},
     /// Start dragging `vertex` (0-based) toward `target`.
@@ -103,6 +107,7 @@ impl Command {
             Command::ToggleAnimation {} => "toggle_animation",
             Command::ToggleSprings {} => "toggle_springs",
             Command::Reset {} => "reset",
+            Command::Restart {} => "restart",
             Command::ToggleWind {} => "toggle_wind",
             Command::DragStart { .. } => "drag_start",
             Command::DragTo { .. } => "drag_to",
@@ -143,7 +148,7 @@ pub struct Status {
     pub springs: usize,
     /// Steps since the start or the last reset.
     pub steps: usize,
-    /// Simulated time, `steps · Δt`, in seconds.
+    /// Simulated time, in seconds: the sum of every step's own Δt.
     pub time: f64,
     pub animating: bool,
     pub wind: bool,
@@ -206,6 +211,12 @@ pub struct Status {
     /// How long the last rebuild and refactorization of `Q` took
     /// (milliseconds), after a parameter change or a drag; `None` before any.
     pub refactor_ms: Option<f64>,
+    /// What the dense path would take for the scene shown (the memory
+    /// rule's estimate, in words), and whether the rule allows it.
+    pub dense_memory: String,
+    pub dense_fits: bool,
+    /// The frames given with `--frames`, when there are any.
+    pub frames: Option<FramesGiven>,
     /// The scenes the page can switch to (names), and the one shown.
     pub scenes: Vec<String>,
     pub scene_index: usize,
@@ -229,8 +240,21 @@ pub struct Compared {
     pub iterations: usize,
     /// Its mechanical energy now.
     pub energy: f64,
+    /// Has it run out of frames (a recording, `--frames`)?
+    pub ended: bool,
     /// Its last steps, oldest first.
     pub history: VecDeque<StepRecord>,
+}
+
+/// The frames of `--frames`.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct FramesGiven {
+    /// The folder, as given.
+    pub folder: String,
+    /// Steps they hold (frames after the first, at rest).
+    pub steps: usize,
+    /// The scene they are of (the first of [`Status::scenes`]).
+    pub scene: String,
 }
 
 /// What one step did, for the convergence plot.
@@ -249,10 +273,17 @@ pub struct StepRecord {
     /// Did the step stop on the tolerance (rather than on its iteration
     /// budget or a stalled line search)?
     pub converged: bool,
+    /// Why it stopped: `iterations` (its budget), `tolerance`,
+    /// `energy-tolerance`, `at-least-plain`, `stalled` (`Stop::name`).
+    pub stop: &'static str,
     /// The mechanical energy after the step.
     pub energy: f64,
     /// How long the step took, milliseconds.
     pub ms: f64,
+    /// In a comparison's history: the largest distance between a vertex
+    /// of the two after the step (`null` elsewhere, and once a recording
+    /// has run out of frames).
+    pub distance: Option<f64>,
 }
 
 /// The latest positions, encoded once per step for every client:

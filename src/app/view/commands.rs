@@ -4,15 +4,16 @@
 //! first's.
 
 use super::api::Command;
-use super::simulation_thread::{
-    scene_name, Reply, SceneAssets, Shared, Shown, SimulationThread, MAX_ITERATIONS,
-};
-use super::solver::{self, Backend, Run};
+use super::recording::{Recording, RECORDING};
+use super::rules::{check_parameters, method_step, DragReach};
+use super::simulation_thread::{scene_name, Reply, SceneAssets, Shared, Shown, SimulationThread};
+use super::solver::{self, Backend, NotBuilt, Run};
 use crate::app::error::AppError;
-use masssprings::mesh::bounding_box::BoundingBox;
+use crate::app::limits::dense_need;
+use masssprings::memory::gigabytes;
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
-use masssprings::sim::{Solver, Start, StepControl, StepMethod};
+use masssprings::sim::{Solver, StepControl};
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
 use std::time::Instant;
@@ -34,6 +35,7 @@ impl SimulationThread {
                 Ok(())
             }
             Command::Reset {} => self.reset(),
+            Command::Restart {} => self.restart(),
             Command::ToggleWind {} => {
                 let wind = !self.main.run.options().wind;
                 self.all_mut().for_each(|shown| shown.run.set_wind(wind));
@@ -81,7 +83,8 @@ impl SimulationThread {
         }
     }
 
-    fn reset(&mut self) -> Reply {
+    /// Back to rest at time 0, every setting kept, running or not.
+    fn restart(&mut self) -> Reply {
         for shown in self.all_mut() {
             shown.run.reset()?;
         }
@@ -90,6 +93,30 @@ impl SimulationThread {
         self.publish_frame();
         self.clear_history();
         Ok(())
+    }
+
+    /// Back to the state at load, paused: rest, time 0, and the command
+    /// line's settings again (the scene's k, its Δt and masses, the wind,
+    /// and the first simulation's budget and rules as its solver has
+    /// them). What is shown and by which solvers stays.
+    fn reset(&mut self) -> Reply {
+        self.set_animating(false);
+        let (k, delta_t, wind) = (self.scene.k, self.initial.delta_t, self.initial.wind);
+        let changed =
+            |run: &dyn Run| (run.k(), run.options().delta_t, run.mass_scale()) != (k, delta_t, 1.0);
+        if self.all_mut().any(|shown| changed(shown.run.as_ref())) {
+            self.timed_refactor(|run| match changed(run) {
+                true => run.set_parameters(k, delta_t, 1.0),
+                false => Ok(()),
+            })?;
+        }
+        self.all_mut().for_each(|shown| shown.run.set_wind(wind));
+        let step = match self.main.run.solver_name() {
+            Some(name) => solver::options_named(self.initial, name)?.step,
+            None => self.initial.step,
+        };
+        self.main.run.set_step(step)?;
+        self.restart()
     }
 
     /// Another method, tolerances (the relative gradient's and the
@@ -103,22 +130,14 @@ impl SimulationThread {
         at_least_plain: Option<f64>,
         start: Option<&str>,
     ) -> Reply {
-        let method: StepMethod = method.parse()?;
         let current = self.main.run.options().step;
-        let start: Start = match start {
-            Some(name) => name.parse()?,
-            None => current.start,
-        };
-        let step = StepControl {
+        let step = method_step(
+            current,
             method,
-            tolerance,
-            energy_tolerance,
+            [tolerance, energy_tolerance],
             at_least_plain,
             start,
-            plain_first: current.plain_first && method == current.method,
-            ..current
-        };
-        step.check_rules()?;
+        )?;
         self.main
             .run
             .set_step(step)
@@ -136,7 +155,7 @@ impl SimulationThread {
         let backend = self.backend(backend)?;
         name.parse::<Solver>()?;
         let options = solver::options_named(*self.main.run.options(), name)?;
-        let run = self.built_from(&self.main, name, backend, options)?;
+        let run = self.built_from_main(name, backend, options)?;
         self.main = Shown::new(run, backend);
         self.refactor = None; // a new precomputation, not a refactorization
         self.publish_frame();
@@ -144,39 +163,95 @@ impl SimulationThread {
     }
 
     /// Starts comparing with a second simulation solved by `with` on
-    /// `backend`, from where the first is, or stops (`None`).
-    fn compare(&mut self, with: Option<&str>, backend: Option<&str>) -> Reply {
+    /// `backend`, from where the first is, or with the frames of
+    /// `--frames` ([`RECORDING`], both from rest), or stops (`None`).
+    pub(super) fn compare(&mut self, with: Option<&str>, backend: Option<&str>) -> Reply {
         let Some(name) = with else {
             self.second = None;
             self.reshape_frame();
             return Ok(());
         };
-        let backend = self.backend(backend)?;
-        let options = solver::options_named(*self.main.run.options(), name)?;
-        let run = self.built_from(&self.main, name, backend, options)?;
-        self.second = Some(Shown::new(run, backend));
+        let second = match name {
+            RECORDING => self.recording()?,
+            _ => {
+                let backend = self.backend(backend)?;
+                let options = solver::options_named(*self.main.run.options(), name)?;
+                Shown::new(self.built_from_main(name, backend, options)?, backend)
+            }
+        };
+        self.second = Some(second);
         self.reshape_frame();
-        let mut status = Shared::lock(&self.shared.status);
-        status.compare = None; // a fresh history
+        Shared::lock(&self.shared.status).compare = None; // a fresh history
+        if name == RECORDING {
+            self.restart()?; // the frames start at rest: both go from there
+        }
         Ok(())
     }
 
+    /// The frames of `--frames` played back beside the first simulation.
+    fn recording(&mut self) -> Result<Shown, String> {
+        let Some(frames) = self.frames.clone() else {
+            return Err("no frames to compare with: start the viewer with --frames DIR".into());
+        };
+        if self.scene_index != 0 {
+            let scene = scene_name(&self.scenes[0]);
+            return Err(format!("the frames are of {scene}: switch to it first"));
+        }
+        let options = *self.main.run.options();
+        let what = "precomputing the frames' scene, to measure their energy".to_string();
+        let mirror = self.precomputing(what, |thread| {
+            let path = &thread.scenes[0];
+            solver::build(
+                &thread.scene,
+                path,
+                Backend::Sparse,
+                options,
+                &thread.shared.cancel,
+            )
+        })?;
+        let recording = Recording::new(frames, mirror);
+        Ok(Shown::new(Box::new(recording), Backend::Sparse))
+    }
+
     /// A simulation of the scene solved by `options` on `backend` (named
-    /// `name` while it is precomputed), going on from where `from` is.
-    fn built_from(
-        &self,
-        from: &Shown,
+    /// `name` while it is precomputed), going on from where the first is.
+    fn built_from_main(
+        &mut self,
         name: &str,
         backend: Backend,
         options: SimulationOptions,
     ) -> Result<Box<dyn Run>, String> {
-        let path = &self.scenes[self.scene_index];
-        self.busy(format!("precomputing for {name} ({})", backend.name()));
-        let built = solver::build(&self.scene, path, backend, options, &self.shared.cancel);
-        self.done();
-        let mut run = built?;
-        solver::carry_over(from.run.as_ref(), run.as_mut())?;
+        let what = precomputing_for(name, backend, &self.scene);
+        let mut run = self.precomputing(what, |thread| {
+            let path = &thread.scenes[thread.scene_index];
+            solver::build(&thread.scene, path, backend, options, &thread.shared.cancel)
+        })?;
+        solver::carry_over(self.main.run.as_ref(), run.as_mut())?;
         Ok(run)
+    }
+
+    /// Runs `build`, a precomputation, showing `what` as the work in
+    /// progress; a cancelled one changes nothing but the note, which says
+    /// so, and pauses.
+    fn precomputing<T>(
+        &mut self,
+        what: String,
+        build: impl FnOnce(&Self) -> Result<T, NotBuilt>,
+    ) -> Result<T, String> {
+        self.busy(what.clone(), None);
+        let started = Instant::now();
+        let built = build(self);
+        self.done();
+        built.map_err(|not_built| match not_built {
+            NotBuilt::Refused(why) => why,
+            NotBuilt::Cancelled => {
+                let seconds = started.elapsed().as_secs_f64();
+                let note = format!("{what}: cancelled after {seconds:.1} s; nothing changed");
+                self.set_animating(false);
+                self.note = Some(note.clone());
+                note
+            }
+        })
     }
 
     /// The frame, sized for the simulations shown, with their positions.
@@ -187,12 +262,16 @@ impl SimulationThread {
     }
 
     /// `change` applied to every simulation (rebuilding and refactoring
-    /// `Q`), timed for the overlay.
+    /// `Q`; the handout's dense code precomputes again, which the stop
+    /// button stops), timed for the overlay.
     fn timed_refactor(&mut self, change: impl Fn(&mut dyn Run) -> Result<(), String>) -> Reply {
+        self.busy("rebuilding and refactoring Q".into(), None);
         let started = Instant::now();
-        for shown in self.all_mut() {
-            change(shown.run.as_mut())?;
-        }
+        let changed = self
+            .all_mut()
+            .try_for_each(|shown| change(shown.run.as_mut()));
+        self.done();
+        changed?;
         self.refactor = Some(started.elapsed());
         Ok(())
     }
@@ -239,15 +318,7 @@ impl SimulationThread {
 
     /// A drag target must be finite and near the scene.
     fn check_target(&self, target: [f64; 3]) -> Reply {
-        let distance = (0..3)
-            .map(|axis| (target[axis] - self.center[axis]).powi(2))
-            .sum::<f64>()
-            .sqrt();
-        if distance.is_finite() && distance <= self.reach {
-            Ok(())
-        } else {
-            Err("the drag target is too far from the scene".into())
-        }
+        self.drag_reach.check(target)
     }
 
     /// Switches to scene `index`: loads it, precomputes every simulation
@@ -263,10 +334,8 @@ impl SimulationThread {
         let scene = crate::app::file_plan::load_scene(&path).map_err(|e| match e {
             AppError::Usage(why) | AppError::Failed(why) => why,
         })?;
-        self.busy(format!("precomputing {}", scene_name(&path)));
-        let built = self.build_all(&scene, &path);
-        self.done();
-        let (main, second) = built?;
+        let what = format!("precomputing {}", scene_name(&path));
+        let (main, second) = self.precomputing(what, |thread| thread.build_all(&scene, &path))?;
         self.main = main;
         self.second = second;
         self.scene_index = index;
@@ -274,13 +343,14 @@ impl SimulationThread {
         Ok(())
     }
 
-    /// Every simulation shown, made again for `scene`, at rest.
+    /// Every simulation shown, made again for `scene`, at rest (the frames
+    /// of `--frames`, of another scene, are not shown with it).
     fn build_all(
         &self,
         scene: &Scene,
         path: &std::path::Path,
-    ) -> Result<(Shown, Option<Shown>), String> {
-        let build = |shown: &Shown| -> Result<Shown, String> {
+    ) -> Result<(Shown, Option<Shown>), NotBuilt> {
+        let build = |shown: &Shown| -> Result<Shown, NotBuilt> {
             let current = shown.run.options();
             let options = SimulationOptions {
                 // the user's choices carry over; Chebyshev's ρ is the old scene's
@@ -293,16 +363,16 @@ impl SimulationThread {
             let run = solver::build(scene, path, shown.backend, options, &self.shared.cancel)?;
             Ok(Shown::new(run, shown.backend))
         };
-        let second = self.second.as_ref().map(build).transpose()?;
+        let simulated = self.second.as_ref();
+        let simulated = simulated.filter(|second| second.run.solver_name() != Some(RECORDING));
+        let second = simulated.map(build).transpose()?;
         Ok((build(&self.main)?, second))
     }
 
     /// Shows `scene`, just loaded: its assets, bounds, frame and status.
     fn show_scene(&mut self, scene: Scene) {
         self.refactor = None; // a new precomputation, not a refactorization
-        let bounds = BoundingBox::of(&scene.vertices);
-        self.center = bounds.centre();
-        self.reach = 10.0 * bounds.diagonal().max(1.0);
+        self.drag_reach = DragReach::of(&scene.vertices);
         self.show_springs = scene.faces.first().is_none_or(|face| face.len() < 3);
         self.error = None;
         self.set_animating(false);
@@ -310,6 +380,7 @@ impl SimulationThread {
         self.scene = Arc::new(scene);
         self.reshape_frame();
         self.clear_history();
+        self.publish_dense_need();
         let mut status = Shared::lock(&self.shared.status);
         status.scene.clone_from(&self.scene.name);
         status.n = self.scene.vertices.len();
@@ -318,24 +389,16 @@ impl SimulationThread {
     }
 }
 
-/// Refuses parameters out of the sliders' ranges, saying which.
-fn check_parameters([k, delta_t, mass_scale]: [f64; 3], iterations: usize) -> Reply {
-    let in_range = |x: f64, low: f64, high: f64| x.is_finite() && (low..=high).contains(&x);
-    if !in_range(k, 1e-6, 1e12) {
-        return Err(format!("k = {k}: expected a stiffness from 1e-6 to 1e12"));
+/// What the status says while the simulation solved by `name` on
+/// `backend` is precomputed for `scene`: on the dense path, the memory it
+/// takes, as the memory rule counts it (`limits::dense_need`).
+fn precomputing_for(name: &str, backend: Backend, scene: &Scene) -> String {
+    let what = format!("precomputing for {name} ({})", backend.name());
+    match backend {
+        Backend::Sparse => what,
+        Backend::Dense => {
+            let (bytes, need) = dense_need(scene);
+            format!("{what}: {need}, {}", gigabytes(bytes))
+        }
     }
-    if !in_range(delta_t, 1e-4, 1.0) {
-        return Err(format!("Δt = {delta_t}: expected from 0.0001 to 1 s"));
-    }
-    if !in_range(mass_scale, 1e-3, 1e3) {
-        return Err(format!(
-            "mass scale {mass_scale}: expected from 0.001 to 1000"
-        ));
-    }
-    if !(1..=MAX_ITERATIONS).contains(&iterations) {
-        return Err(format!(
-            "{iterations} iterations: expected from 1 to {MAX_ITERATIONS}"
-        ));
-    }
-    Ok(())
 }

@@ -10,6 +10,7 @@
 //! here (the springs are drawn as lines).
 
 use super::super::draw::look::mass_radius;
+use super::facing::{beside_offset, facing_azimuth};
 use masssprings::mesh::bounding_box::BoundingBox;
 use masssprings::mesh::fan::fan_corners;
 use masssprings::mesh::Scene;
@@ -40,6 +41,12 @@ pub struct DisplayMesh {
     /// initial target and distance).
     pub center: [f64; 3],
     pub diagonal: f64,
+    /// The camera's first azimuth (radians, from `+z` toward `+x`): facing
+    /// the cloth as it will hang ([`facing_azimuth`]).
+    pub azimuth: f64,
+    /// Where a compared simulation is drawn beside the first: its offset
+    /// ([`beside_offset`]), to the right for that camera.
+    pub beside: [f64; 3],
     /// The point masses' radius in world units (key L), from the mesh
     /// spacing as `render` draws them; 0 for a scene of a few springs,
     /// whose masses keep a fixed size on screen.
@@ -83,6 +90,7 @@ pub fn display_mesh(scene: &Scene, textured: bool, backend: &'static str) -> Dis
     }
     let bounds = BoundingBox::of(&scene.vertices);
     let (center, diagonal) = (bounds.centre(), bounds.diagonal());
+    let azimuth = facing_azimuth(scene);
     DisplayMesh {
         name: scene.name.clone(),
         backend,
@@ -95,6 +103,8 @@ pub fn display_mesh(scene: &Scene, textured: bool, backend: &'static str) -> Dis
         texture: textured.then_some(TEXTURE_PATH),
         center,
         diagonal,
+        azimuth,
+        beside: beside_offset(scene, azimuth),
         mass_radius: if scene.faces.first().is_some_and(|f| f.len() >= 3) {
             mass_radius(&scene.vertices, &scene.springs)
         } else {

@@ -12,7 +12,7 @@
 //! | `fov` | the vertical field of view, radians |
 //! | `sx`, `sy` | the lens shift, a fraction of the half width and height (−1 to 1) |
 //! | `springs` | `1`: draw the springs and point masses (key L) |
-//! | `ox` | when comparing, how far along x the second simulation is drawn beside the first (`0`: over it) |
+//! | `ox`, `oz` | when comparing, how far along x and z the second simulation is drawn beside the first (`0`: over it) |
 //!
 //! A missing or malformed parameter is a `400` naming it. Drawing the flag
 //! at 800 × 450 takes a few tens of milliseconds; the page asks for the
@@ -24,6 +24,7 @@ use crate::app::draw::camera::{Camera, Orbit};
 use crate::app::draw::encode::write_png;
 use crate::app::draw::frame::FrameRenderer;
 use crate::app::draw::look::SUPERSAMPLING;
+use masssprings::files::{escaped, number};
 use masssprings::mesh::Scene;
 
 /// The largest width or height asked for.
@@ -41,7 +42,8 @@ struct View {
     height: usize,
     orbit: Orbit,
     springs: bool,
-    offset: f64,
+    /// Where the second simulation is drawn, from the first: along x, z.
+    offset: [f64; 2],
 }
 
 /// The PNG of the latest frame seen as `query` says, a `400` naming what
@@ -69,7 +71,8 @@ pub fn respond(shared: &Shared, query: Option<&str>) -> Response {
     let scene: &Scene = match second {
         Some(second) if second.len() == positions.len() => {
             doubled = side_by_side(&scene);
-            let shift = |p: [f64; 3]| [p[0] + view.offset, p[1], p[2]];
+            let [x, z] = view.offset;
+            let shift = |p: [f64; 3]| [p[0] + x, p[1], p[2] + z];
             positions.extend(second.into_iter().map(shift));
             &doubled
         }
@@ -105,26 +108,40 @@ fn side_by_side(scene: &Scene) -> Scene {
     both
 }
 
+/// The number the parameter `name` has in `query`, `None` when it is
+/// not there; refused when it is not a finite number or given twice.
+fn parameter(query: &str, name: &str) -> Result<Option<f64>, String> {
+    let mut given = query
+        .split('&')
+        .filter_map(|pair| pair.strip_prefix(name)?.strip_prefix('='));
+    let Some(text) = given.next() else {
+        return Ok(None);
+    };
+    if given.next().is_some() {
+        return Err(format!(
+            "the parameter {name} is given more than once; give it once"
+        ));
+    }
+    let x = text.parse::<f64>().ok().filter(|x| x.is_finite());
+    x.map(Some)
+        .ok_or_else(|| format!("{name}={}: expected a finite number", escaped(text)))
+}
+
 /// The view `query` asks for.
 fn parse(query: &str) -> Result<View, String> {
-    let value = |name: &str| -> Result<f64, String> {
-        let text = query
-            .split('&')
-            .find_map(|pair| pair.strip_prefix(name)?.strip_prefix('='))
-            .ok_or_else(|| format!("the image needs the parameter {name}"))?;
-        text.parse::<f64>()
-            .ok()
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| format!("{name}={text}: expected a finite number"))
+    let value = |name: &str| {
+        parameter(query, name)?.ok_or_else(|| format!("the image needs the parameter {name}"))
     };
     let within = |name: &str, low: f64, high: f64| -> Result<f64, String> {
         let x = value(name)?;
         if (low..=high).contains(&x) {
-            Ok(x)
-        } else {
-            Err(format!("{name}={x}: expected from {low} to {high}"))
+            return Ok(x);
         }
+        let [x, low, high] = [x, low, high].map(number);
+        Err(format!("{name}={x}: expected from {low} to {high}"))
     };
+    // a parameter the page may leave out: 0 then
+    let optional = |name: &str| parameter(query, name).map(|x| x.unwrap_or(0.0));
     let side = |name: &str| within(name, 16.0, MAX_SIDE).map(|x| x.round() as usize);
     let (width, height) = (side("w")?, side("h")?);
     if width * height > MAX_PIXELS {
@@ -145,7 +162,7 @@ fn parse(query: &str) -> Result<View, String> {
         height,
         orbit,
         springs: within("springs", 0.0, 1.0)? > 0.5,
-        offset: value("ox").unwrap_or(0.0),
+        offset: [optional("ox")?, optional("oz")?],
     })
 }
 
@@ -162,7 +179,7 @@ mod tests {
         assert_eq!((view.width, view.height, view.springs), (320, 200, false));
         assert_eq!(view.orbit.target, [0.0, 1.0, 0.0]);
         assert_eq!(view.orbit.shift, [0.1, 0.0]);
-        assert_eq!(view.offset, 0.0);
+        assert_eq!(view.offset, [0.0, 0.0]);
         let missing = parse("w=320").unwrap_err();
         assert!(missing.contains("h"), "{missing}");
         let huge = parse(&QUERY.replace("w=320", "w=99999")).unwrap_err();
@@ -170,5 +187,18 @@ mod tests {
         let many = parse(&QUERY.replace("w=320&h=200", "w=2000&h=2000")).unwrap_err();
         assert!(many.contains("at most 2000000"), "{many}");
         assert!(parse(&QUERY.replace("d=4", "d=nan")).is_err());
+    }
+
+    #[test]
+    fn a_repeated_parameter_is_refused_and_numbers_are_short() {
+        let twice = parse(&format!("{QUERY}&w=16")).unwrap_err();
+        assert_eq!(
+            twice,
+            "the parameter w is given more than once; give it once"
+        );
+        let far = parse(&QUERY.replace("d=4", "d=1e308")).unwrap_err();
+        assert_eq!(far, "d=1e308: expected from 1e-9 to 1000000000000");
+        let offset = parse(&format!("{QUERY}&ox=1&ox=2")).unwrap_err();
+        assert!(offset.contains("ox"), "{offset}");
     }
 }

@@ -24,11 +24,14 @@
 mod api;
 mod commands;
 mod display_mesh;
+mod facing;
 mod http;
 mod image;
 mod pool;
 mod publish;
+mod recording;
 mod routes;
+mod rules;
 mod simulation_thread;
 mod solver;
 mod stepping;
@@ -42,9 +45,10 @@ use http::{Connection, Method, ReadError};
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
 use pool::{Member, Pool};
+use recording::{read_frames, Frames};
 use routes::Routes;
 use simulation_thread::{Message, SceneAssets, Shared, Shown, SimulationThread, MAX_ITERATIONS};
-use solver::Backend;
+use solver::{Backend, NotBuilt};
 use std::io::Write;
 use std::net::{IpAddr, Ipv4Addr, Ipv6Addr, SocketAddr, TcpListener, TcpStream};
 use std::path::{Path, PathBuf};
@@ -68,14 +72,18 @@ Serves an interactive viewer on http://127.0.0.1:P/ and prints its URL. The
 simulation runs here, starting paused at rest, and steps only while playing
 and a page shows it; the page draws it with WebGL (without WebGL, as images
 drawn by this program's renderer), with buttons, a scene picker, a solve
-picker (the assignment, the handout's code dense or sparse, the
-assignment's accuracy fast), compare with (a second simulation from the
-same start, beside the first or as a wireframe over it), sliders for k, Δt,
-mass scale and iterations, a method picker and a plot. A long step can be
-stopped from the page (Esc). Keys: space step, A play, L springs, R reset,
-W wind, F fit, M method, ? help; drag to orbit, right-drag to pan, wheel to
-zoom, shift-drag to pull a vertex; by touch, one finger orbits, two zoom
-and pan, a long press pulls. Ctrl-C stops it.
+picker (the assignment, the handout's code dense or sparse, the fast mode:
+the assignment's energy, not its motion), compare (a second simulation from
+the same start, or your own program's frames with --frames, beside the
+first or as a wireframe over it), sliders for k, Δt, mass scale and
+iterations, a method picker and a plot. Esc stops whatever runs: a long
+step, the dense setup, the animation. Large print (Aa) for a projector; on
+a phone the panels fold into a drawer. Keys, whatever control has focus:
+space step, A play, L springs, R reset (to the scene as it loaded),
+shift-R restart (keeping the settings), W wind, F fit, M method, ? help;
+drag to orbit, right-drag to pan, wheel to zoom, shift-drag to pull a
+vertex; by touch, one finger orbits, two zoom and pan, a long press pulls.
+Ctrl-C stops it.
 
 The viewer has no authentication: it binds to the loopback address unless
 --address says otherwise, and anyone who can reach that port can drive it.")]
@@ -89,6 +97,9 @@ pub struct ViewArgs {
     /// Address to serve on (0.0.0.0 serves every network: anyone who reaches it can drive the viewer).
     #[arg(long, value_name = "ADDR", default_value = "127.0.0.1", value_parser = address)]
     address: IpAddr,
+    /// A folder of frames your own program wrote, one OBJ per step from rest (frame-000000.obj, … or any numbered NAME0.obj, NAME1.obj, …): played back beside the simulation, the plot showing the distance between the two at each step.
+    #[arg(long, value_name = "DIR")]
+    frames: Option<PathBuf>,
     #[command(flatten)]
     simulation: SimulationFlags,
 }
@@ -130,7 +141,27 @@ pub fn run(args: ViewArgs) -> Result<(), AppError> {
         true => Backend::Dense,
         false => Backend::Sparse,
     };
-    serve(scene, scenes, address, backend, options)
+    let frames = match &args.frames {
+        Some(folder) => Some(Arc::new(read_frames(folder, &scene, &args.scene)?)),
+        None => None,
+    };
+    let start = Given {
+        scene,
+        scenes,
+        backend,
+        options,
+        frames,
+    };
+    serve(start, address)
+}
+
+/// What the command line gives the viewer to show.
+struct Given {
+    scene: Scene,
+    scenes: Vec<PathBuf>,
+    backend: Backend,
+    options: SimulationOptions,
+    frames: Option<Arc<Frames>>,
 }
 
 /// The scenes the page can switch to: the one given first, then the
@@ -173,16 +204,16 @@ fn scene_files(folder: &Path) -> Vec<PathBuf> {
 }
 
 /// Starts the threads, prints the URL, and serves until Ctrl-C.
-fn serve(
-    scene: Scene,
-    scenes: Vec<PathBuf>,
-    address: SocketAddr,
-    backend: Backend,
-    options: SimulationOptions,
-) -> Result<(), AppError> {
+fn serve(given: Given, address: SocketAddr) -> Result<(), AppError> {
+    let Given {
+        scene,
+        scenes,
+        backend,
+        options,
+        frames,
+    } = given;
     let cancel = Arc::new(AtomicBool::new(false));
-    let run =
-        solver::build(&scene, &scenes[0], backend, options, &cancel).map_err(AppError::Failed)?;
+    let run = first_simulation(&scene, &scenes[0], backend, options, &cancel)?;
     let listener = TcpListener::bind(address).map_err(|e| bind_error(address, &e))?;
     let local = listener.local_addr()?;
     let stop_requested = stop_signal()?;
@@ -193,6 +224,8 @@ fn serve(
         scene,
         scenes,
         scene_index: 0,
+        initial: options,
+        frames,
     };
     let simulation_thread = SimulationThread::new(start, Arc::clone(&shared));
     let simulation_handle = thread::Builder::new()
@@ -222,14 +255,31 @@ fn serve(
     if wake_acceptor(local) {
         let _ = acceptor.join();
     }
-    // The simulation thread sees Quit after the step it is in, which the
-    // flag ends at its next iteration; a precomputation is not waited for:
-    // returning ends the process, and the work with it.
+    // The simulation thread sees Quit after the step or the precomputation
+    // it is in, which the flag ends at its next iteration or row; whatever
+    // is still running after the grace ends with the process.
     let grace = std::time::Instant::now() + STOP_GRACE;
     while !simulation_handle.is_finished() && std::time::Instant::now() < grace {
         thread::sleep(Duration::from_millis(10));
     }
     Ok(())
+}
+
+/// The simulation the viewer starts with, refused as the command line
+/// refuses it.
+fn first_simulation(
+    scene: &Scene,
+    path: &Path,
+    backend: Backend,
+    options: SimulationOptions,
+    cancel: &Arc<AtomicBool>,
+) -> Result<Box<dyn solver::Run>, AppError> {
+    solver::build(scene, path, backend, options, cancel).map_err(|not| {
+        AppError::Failed(match not {
+            NotBuilt::Refused(why) => why,
+            NotBuilt::Cancelled => "the precomputation was cancelled".into(),
+        })
+    })
 }
 
 /// What the threads share, for `scene` at rest on `backend`.

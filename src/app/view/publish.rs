@@ -3,9 +3,11 @@
 //! parameters, timings, the last steps of each).
 
 use super::api::{Compared, Status, StepRecord, HISTORY_LENGTH};
+use super::rules::converged;
 use super::simulation_thread::{Shared, Shown, SimulationThread};
-use super::solver;
-use masssprings::sim::{StepReport, Stop};
+use crate::app::limits::dense_need;
+use masssprings::memory::{self, gigabytes};
+use masssprings::sim::StepReport;
 use std::collections::VecDeque;
 use std::time::Duration;
 
@@ -68,8 +70,30 @@ impl SimulationThread {
         if let (Some((report, time)), Some(second), Some(compare)) =
             (reports[1], &self.second, status.compare.as_mut())
         {
-            push(&mut compare.history, step_record(second, &report, time));
+            let record = StepRecord {
+                distance: distance(&self.main, second),
+                ..step_record(second, &report, time)
+            };
+            push(&mut compare.history, record);
         }
+    }
+
+    /// What the dense path would take for the scene shown, against the
+    /// memory rule (the page says it before the solve picker starts it).
+    pub(super) fn publish_dense_need(&self) {
+        let (bytes, what) = dense_need(&self.scene);
+        let limit = memory::limit();
+        let mut status = Shared::lock(&self.shared.status);
+        status.dense_fits = bytes <= limit.bytes;
+        status.dense_memory = match status.dense_fits {
+            true => format!("{what}: {}", gigabytes(bytes)),
+            false => format!(
+                "{what}: {}, more than the {} allowed here ({})",
+                gigabytes(bytes),
+                gigabytes(limit.bytes),
+                limit.source
+            ),
+        };
     }
 
     /// Forgets the steps of every history (a reset, another scene).
@@ -102,21 +126,33 @@ fn publish_main(status: &mut Status, main: &Shown) {
     status.plain_first = options.step.plain_first;
     status.start = options.step.start.name();
     status.backend = main.backend.name();
-    status.solver = solver::name_of(options);
-    status.functions = solver::functions(options, main.backend);
+    status.solver = run.solver_name();
+    status.functions = run.path();
     status.energy = run.mechanical_energy();
 }
 
 /// The second simulation's part of the status.
 fn publish_second(compare: &mut Compared, second: &Shown) {
     let options = second.run.options();
-    compare.solver = solver::name_of(options);
+    compare.solver = second.run.solver_name();
     compare.backend = second.backend.name();
     compare.method = options.step.method.name();
-    compare.functions = solver::functions(options, second.backend);
+    compare.functions = second.run.path();
     compare.ms_per_step = second.ms_per_step;
     compare.iterations = options.step.iterations;
     compare.energy = second.run.mechanical_energy();
+    compare.ended = second.run.past_its_end();
+}
+
+/// The largest distance between a vertex of `main` and the same vertex of
+/// `second` (`None` when `second` has run out of frames).
+fn distance(main: &Shown, second: &Shown) -> Option<f64> {
+    if second.run.past_its_end() {
+        return None;
+    }
+    let pairs = main.run.positions().iter().zip(second.run.positions());
+    let squared = pairs.map(|(p, q)| (0..3).map(|c| (p[c] - q[c]).powi(2)).sum::<f64>());
+    Some(squared.fold(0.0, f64::max).sqrt())
 }
 
 fn push(history: &mut VecDeque<StepRecord>, record: StepRecord) {
@@ -133,11 +169,10 @@ fn step_record(shown: &Shown, report: &StepReport, time: Duration) -> StepRecord
         iterations: report.iterations,
         energy_decrease: report.energy_decrease,
         relative_gradient: report.relative_gradient,
-        converged: matches!(
-            report.stop,
-            Stop::Tolerance | Stop::EnergyTolerance | Stop::AtLeastPlain
-        ),
+        converged: converged(report.stop),
+        stop: report.stop.name(),
         energy: shown.run.mechanical_energy(),
         ms: 1e3 * time.as_secs_f64(),
+        distance: None,
     }
 }

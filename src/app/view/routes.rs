@@ -12,10 +12,12 @@ use super::simulation_thread::{Message, Reply, SceneAssets, Shared};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, RecvTimeoutError, Sender};
 use std::sync::Arc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 const PAGE: &str = include_str!("assets/viewer.html");
 const SCRIPT: &str = include_str!("assets/viewer.js");
+const BACKEND: &str = include_str!("assets/backend.js");
+const PLOT: &str = include_str!("assets/plot.js");
 const STYLE: &str = include_str!("assets/viewer.css");
 
 /// The page may load only what this server serves: no network beyond it.
@@ -24,9 +26,17 @@ const CONTENT_SECURITY_POLICY: &str = "default-src 'none'; script-src 'self'; \
      form-action 'none'; frame-ancestors 'none'";
 
 /// How long a command waits for the simulation thread's answer before the
-/// page is told (`202`) that it waits for the work in progress (a long
-/// step, a precomputation) and will be applied after it.
+/// page is told (`202`) that it is being applied, or waits for the work in
+/// progress (a long step, a precomputation), and will be applied after it.
 const ANSWER_WITHIN: Duration = Duration::from_millis(400);
+
+/// Work that will not end within this is not waited for: a command queued
+/// behind it is answered (`202`) at once.
+const SOON: Duration = Duration::from_millis(100);
+
+/// How often a command waiting for its answer looks again whether the
+/// work ahead of it will end soon.
+const LOOK_AGAIN: Duration = Duration::from_millis(10);
 
 /// Commands that may wait for the simulation thread at once; one more is
 /// refused (`503`, not applied), but a cancel, which always goes through.
@@ -56,9 +66,9 @@ impl Routes {
                 Response::new(200, "text/html; charset=utf-8", PAGE)
                     .with_header("Content-Security-Policy", CONTENT_SECURITY_POLICY)
             }
-            "/viewer.js" if read_only => {
-                Response::new(200, "text/javascript; charset=utf-8", SCRIPT)
-            }
+            "/viewer.js" if read_only => script(SCRIPT),
+            "/backend.js" if read_only => script(BACKEND),
+            "/plot.js" if read_only => script(PLOT),
             "/viewer.css" if read_only => Response::new(200, "text/css; charset=utf-8", STYLE),
             "/texture.png" if read_only => match self.scene_assets().1 {
                 Some(png) => Response::new(200, "image/png", png.to_vec()),
@@ -72,8 +82,8 @@ impl Routes {
             "/api/frame" if read_only => self.frame(request.query.as_deref()),
             "/api/image" if read_only => image::respond(&self.shared, request.query.as_deref()),
             "/api/command" if request.method == Method::Post => self.command(request),
-            "/" | "/index.html" | "/viewer.js" | "/viewer.css" | "/texture.png" | "/api/scene"
-            | "/api/status" | "/api/frame" | "/api/image" => {
+            "/" | "/index.html" | "/viewer.js" | "/backend.js" | "/plot.js" | "/viewer.css"
+            | "/texture.png" | "/api/scene" | "/api/status" | "/api/frame" | "/api/image" => {
                 Response::error(405, "use GET").with_header("Allow", "GET, HEAD")
             }
             "/api/command" => Response::error(405, "use POST").with_header("Allow", "POST"),
@@ -133,12 +143,13 @@ impl Routes {
     }
 
     /// Parses a command and hands it to the simulation thread; answers
-    /// with its result, or, when the thread is still busy after
-    /// [`ANSWER_WITHIN`], that it is accepted (`202`, the status as it is
+    /// with its result, or that it is accepted (`202`, the status as it is
     /// now, and the header `X-Command: applying` when it is the work in
     /// progress, `waiting` when it waits for it: it is applied after it,
-    /// and a refusal then shows in the status's note). A cancel sets the
-    /// flag the step in progress looks at first.
+    /// and a refusal then shows in the status's note): at once when it
+    /// waits for work that will not end [`SOON`], after [`ANSWER_WITHIN`]
+    /// otherwise. A cancel sets the flag the step in progress looks at
+    /// first.
     fn command(&self, request: &Request) -> Response {
         let media_type = request.header("content-type").unwrap_or("");
         let media_type = media_type.split(';').next().unwrap_or("").trim();
@@ -172,22 +183,54 @@ impl Routes {
             self.shared.queued.fetch_sub(1, Ordering::SeqCst);
             return json_error(503, "the simulation has stopped");
         }
-        match reply.recv_timeout(ANSWER_WITHIN) {
-            Ok(Ok(())) => json_status(&self.status()),
-            Ok(Err(why)) => json_error(409, &why),
-            Err(RecvTimeoutError::Timeout) => {
-                // Being applied (a step, a precomputation), or waiting its turn.
-                let state = match taken.load(Ordering::SeqCst) {
-                    true => "applying",
-                    false => "waiting",
-                };
-                let mut accepted = json_status(&self.status()).with_header("X-Command", state);
-                accepted.status = 202;
-                accepted
+        let asked = Instant::now();
+        loop {
+            let taken = taken.load(Ordering::SeqCst);
+            let left = ANSWER_WITHIN.saturating_sub(asked.elapsed());
+            if left.is_zero() || (!taken && self.work_ends_late()) {
+                return self.accepted(taken);
             }
-            Err(RecvTimeoutError::Disconnected) => json_error(503, "the simulation has stopped"),
+            match reply.recv_timeout(left.min(LOOK_AGAIN)) {
+                Ok(Ok(())) => return json_status(&self.status()),
+                Ok(Err(why)) => return json_error(409, &why),
+                Err(RecvTimeoutError::Timeout) => continue,
+                Err(RecvTimeoutError::Disconnected) => {
+                    return json_error(503, "the simulation has stopped")
+                }
+            }
         }
     }
+
+    /// Will the work in progress run beyond [`SOON`]? Past the time such
+    /// work takes (or with no such time known), it is taken to run as long
+    /// again as it has.
+    fn work_ends_late(&self) -> bool {
+        let Some(busy) = Shared::lock(&self.shared.busy).clone() else {
+            return false;
+        };
+        let elapsed = busy.since.elapsed();
+        let left = match busy.expected {
+            Some(expected) if elapsed < expected => expected - elapsed,
+            _ => elapsed,
+        };
+        left > SOON
+    }
+
+    /// `202`: the command is being applied (`taken`), or waits its turn.
+    fn accepted(&self, taken: bool) -> Response {
+        let state = match taken {
+            true => "applying",
+            false => "waiting",
+        };
+        let mut accepted = json_status(&self.status()).with_header("X-Command", state);
+        accepted.status = 202;
+        accepted
+    }
+}
+
+/// One of the page's scripts.
+fn script(text: &'static str) -> Response {
+    Response::new(200, "text/javascript; charset=utf-8", text)
 }
 
 fn json_status(status: &Status) -> Response {

@@ -18,13 +18,15 @@
 //! arrives during a step waits for it (the page is answered at once that
 //! it waits, [`super::routes`]) and is applied after it.
 
-use super::api::{Command, Frame, Status, HISTORY_LENGTH};
+use super::api::{Command, Frame, FramesGiven, Status, HISTORY_LENGTH};
 use super::display_mesh::display_mesh;
+use super::recording::{Frames, RECORDING};
+use super::rules::DragReach;
 use super::solver::{self, Backend, Run};
 use super::watchers::Watchers;
 use crate::app::draw::texture::{read_png_file, Texture};
-use masssprings::mesh::bounding_box::BoundingBox;
 use masssprings::mesh::Scene;
+use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::StepMethod;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -32,10 +34,7 @@ use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
-/// The most iterations a step of the viewer may take, from the command line
-/// as from the page: a step must end within moments for the viewer to
-/// answer and to stop (and any can be cancelled).
-pub const MAX_ITERATIONS: usize = 1000;
+pub use super::rules::MAX_ITERATIONS;
 
 /// The scene's PNG texture, read from the path the scene names; `None`
 /// (with a warning) when it cannot be read or is not a PNG.
@@ -89,6 +88,10 @@ pub struct Busy {
     /// What: `step 12`, `precomputing the skirt`.
     pub what: String,
     pub since: Instant,
+    /// How long such work took lately (a step: the time per step), when
+    /// known: whether a command sent meanwhile waits for its end or is
+    /// told at once that it waits (`routes`).
+    pub expected: Option<Duration>,
 }
 
 /// What the page loads once per scene, and what the fallback renderer
@@ -153,6 +156,7 @@ pub struct Saved {
     pub previous: Vec<[f64; 3]>,
     pub current: Vec<[f64; 3]>,
     pub steps: usize,
+    pub time: f64,
 }
 
 impl Shown {
@@ -225,10 +229,8 @@ pub struct SimulationThread {
     pub(super) error: Option<String>,
     /// What happened that is not an error (a step cancelled, …).
     pub(super) note: Option<String>,
-    /// A drag target must lie within this distance of `center` (a guard
-    /// against targets that would blow the solve up).
-    pub(super) center: [f64; 3],
-    pub(super) reach: f64,
+    /// Where a drag target may lie.
+    pub(super) drag_reach: DragReach,
     /// The scene files the page may switch to, and the one shown.
     pub(super) scenes: Vec<PathBuf>,
     pub(super) scene_index: usize,
@@ -236,6 +238,10 @@ pub struct SimulationThread {
     pub(super) refactor: Option<Duration>,
     /// The backend of the command line, for the solvers without their own.
     pub(super) default_backend: Backend,
+    /// The options of the command line: what reset returns to.
+    pub(super) initial: SimulationOptions,
+    /// A program's frames of the first scene (`--frames`), to compare with.
+    pub(super) frames: Option<Arc<Frames>>,
 }
 
 /// What [`SimulationThread::new`] starts from.
@@ -244,14 +250,17 @@ pub struct Start {
     pub scene: Scene,
     pub scenes: Vec<PathBuf>,
     pub scene_index: usize,
+    /// The command line's options.
+    pub initial: SimulationOptions,
+    /// `--frames`: shown beside the simulation from the start.
+    pub frames: Option<Arc<Frames>>,
 }
 
 impl SimulationThread {
     /// Wraps the simulation of `start` (paused at rest; a cloth without
     /// its springs shown) and publishes its first frame.
     pub fn new(start: Start, shared: Arc<Shared>) -> Self {
-        let bounds = BoundingBox::of(start.main.run.rest_positions());
-        let (center, diagonal) = (bounds.centre(), bounds.diagonal());
+        let drag_reach = DragReach::of(start.main.run.rest_positions());
         let show_springs = start.scene.faces.first().is_none_or(|face| face.len() < 3);
         let default_backend = start.main.backend;
         let mut thread = SimulationThread {
@@ -265,17 +274,22 @@ impl SimulationThread {
             rate: StepRate::new(),
             error: None,
             note: None,
-            center,
-            reach: 10.0 * diagonal.max(1.0),
+            drag_reach,
             scenes: start.scenes,
             scene_index: start.scene_index,
             refactor: None,
             default_backend,
+            initial: start.initial,
+            frames: start.frames,
         };
-        let cancel = Arc::clone(&thread.shared.cancel);
-        thread.main.run.set_cancel(cancel);
         thread.publish_frame();
         thread.publish_scene_list();
+        thread.publish_dense_need();
+        if thread.frames.is_some() {
+            if let Err(why) = thread.compare(Some(RECORDING), None) {
+                thread.error = Some(why);
+            }
+        }
         thread.publish_status();
         thread
     }
@@ -356,11 +370,13 @@ impl SimulationThread {
         std::iter::once(&mut self.main).chain(self.second.as_mut())
     }
 
-    /// Says what the thread is busy with (until [`Self::done`]).
-    pub(super) fn busy(&self, what: String) {
+    /// Says what the thread is busy with (until [`Self::done`]), and how
+    /// long such work takes, when known.
+    pub(super) fn busy(&self, what: String, expected: Option<Duration>) {
         *Shared::lock(&self.shared.busy) = Some(Busy {
             what,
             since: Instant::now(),
+            expected,
         });
     }
 
@@ -383,6 +399,11 @@ impl SimulationThread {
         status.methods = StepMethod::ALL.map(StepMethod::name).to_vec();
         status.solvers = solver::solver_names();
         status.history.reserve(HISTORY_LENGTH);
+        status.frames = self.frames.as_ref().map(|frames| FramesGiven {
+            folder: frames.folder.display().to_string(),
+            steps: frames.positions.len() - 1,
+            scene: scene_name(&self.scenes[0]),
+        });
     }
 }
 

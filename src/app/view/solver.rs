@@ -12,13 +12,14 @@
 //! How a name becomes options is `SimulationOptions::solved_by`, the one
 //! rule `--textbook` and `--accuracy` use too; nothing here repeats it.
 
+use super::rules::functions;
+pub use super::rules::{name_of, options_named, solver_names};
 use crate::app::error::AppError;
-use crate::app::limits::precompute;
+use crate::app::limits::{check_precomputation, precomputation_failed};
 use masssprings::mesh::Scene;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{
-    Dense, LinearAlgebra, Simulation, SimulationError, Solver, Sparse, StepControl, StepMethod,
-    StepReport,
+    Dense, LinearAlgebra, Simulation, SimulationError, Sparse, StepControl, StepReport,
 };
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
@@ -42,12 +43,21 @@ pub trait Run: Send {
     fn set_parameters(&mut self, k: f64, delta_t: f64, mass_scale: f64) -> Result<(), String>;
     fn set_step(&mut self, step: StepControl) -> Result<(), String>;
     fn set_state(&mut self, previous: &[[f64; 3]], current: &[[f64; 3]], steps: usize);
-    fn set_cancel(&mut self, flag: Arc<AtomicBool>);
+    fn set_time(&mut self, time: f64);
     fn reset(&mut self) -> Result<(), String>;
     fn start_drag(&mut self, vertex: usize, target: [f64; 3]) -> Result<(), String>;
     fn drag_to(&mut self, target: [f64; 3]) -> Result<(), String>;
     fn end_drag(&mut self) -> Result<(), String>;
     fn dragged(&self) -> Option<usize>;
+    /// Has it run out of what it shows (a recording past its last frame)?
+    fn past_its_end(&self) -> bool {
+        false
+    }
+    /// Its solver's name for the status ([`name_of`]; `None`: the
+    /// expert's own method and rules).
+    fn solver_name(&self) -> Option<&'static str>;
+    /// Which path and functions run its step, for the status.
+    fn path(&self) -> String;
 }
 
 impl<B: LinearAlgebra> Run for Simulation<B>
@@ -100,8 +110,8 @@ where
         Simulation::set_state(self, previous, current, steps)
             .expect("a state of the same scene, finite");
     }
-    fn set_cancel(&mut self, flag: Arc<AtomicBool>) {
-        Simulation::set_cancel(self, Some(flag));
+    fn set_time(&mut self, time: f64) {
+        Simulation::set_time(self, time);
     }
     fn reset(&mut self) -> Result<(), String> {
         Simulation::reset(self).map_err(|e| e.to_string())
@@ -117,6 +127,12 @@ where
     }
     fn dragged(&self) -> Option<usize> {
         Simulation::dragged(self)
+    }
+    fn solver_name(&self) -> Option<&'static str> {
+        name_of(Simulation::options(self))
+    }
+    fn path(&self) -> String {
+        functions(Simulation::options(self), Backend::of::<B>().name())
     }
 }
 
@@ -136,6 +152,14 @@ impl Backend {
         }
     }
 
+    /// The backend `B` is.
+    pub fn of<B: LinearAlgebra>() -> Backend {
+        match B::NAME == Dense::NAME {
+            true => Backend::Dense,
+            false => Backend::Sparse,
+        }
+    }
+
     /// The backend named `name`.
     pub fn parse(name: &str) -> Result<Backend, String> {
         match name {
@@ -148,26 +172,51 @@ impl Backend {
     }
 }
 
+/// Why [`build`] made no simulation.
+#[derive(Debug, Clone, PartialEq)]
+pub enum NotBuilt {
+    /// Refused, and why (the command line's words).
+    Refused(String),
+    /// The cancel flag was set while it precomputed.
+    Cancelled,
+}
+
 /// The simulation of `scene` (read from `path`) on `backend`, starting at
 /// rest with `options`, refused as the command line refuses it (the dense
-/// path's memory, `Q`'s overflow, a textbook run with other rules); steps
-/// stop when `cancel` is set.
+/// path's memory, `Q`'s overflow, a textbook run with other rules); its
+/// precomputation and its steps stop when `cancel` is set.
 pub fn build(
     scene: &Scene,
     path: &Path,
     backend: Backend,
     options: SimulationOptions,
     cancel: &Arc<AtomicBool>,
-) -> Result<Box<dyn Run>, String> {
-    let why = |error: AppError| match error {
-        AppError::Usage(why) | AppError::Failed(why) => why,
+) -> Result<Box<dyn Run>, NotBuilt> {
+    match backend {
+        Backend::Sparse => made::<Sparse>(scene, path, options, cancel),
+        Backend::Dense => made::<Dense>(scene, path, options, cancel),
+    }
+}
+
+/// [`build`] on backend `B`.
+fn made<B: LinearAlgebra + 'static>(
+    scene: &Scene,
+    path: &Path,
+    options: SimulationOptions,
+    cancel: &Arc<AtomicBool>,
+) -> Result<Box<dyn Run>, NotBuilt>
+where
+    Simulation<B>: Send,
+{
+    let refused = |error: AppError| match error {
+        AppError::Usage(why) | AppError::Failed(why) => NotBuilt::Refused(why),
     };
-    let mut run: Box<dyn Run> = match backend {
-        Backend::Sparse => Box::new(precompute::<Sparse>(scene, path, options).map_err(why)?),
-        Backend::Dense => Box::new(precompute::<Dense>(scene, path, options).map_err(why)?),
-    };
-    run.set_cancel(Arc::clone(cancel));
-    Ok(run)
+    check_precomputation::<B>(scene, path, options).map_err(refused)?;
+    match Simulation::<B>::from_scene_cancellable(scene, options, Arc::clone(cancel)) {
+        Ok(simulation) => Ok(Box::new(simulation)),
+        Err(SimulationError::Cancelled) => Err(NotBuilt::Cancelled),
+        Err(error) => Err(refused(precomputation_failed(path, &error))),
+    }
 }
 
 /// Gives `to` (the same scene, just built) the state of `from`: its
@@ -180,65 +229,6 @@ pub fn carry_over(from: &dyn Run, to: &mut dyn Run) -> Result<(), String> {
     }
     to.set_wind(from.options().wind);
     to.set_state(from.previous_positions(), from.positions(), from.steps());
+    to.set_time(from.time());
     Ok(())
-}
-
-/// Which path runs a step of `options` on `backend`, and its functions,
-/// for the status panel.
-pub fn functions(options: &SimulationOptions, backend: Backend) -> String {
-    let factor = match backend {
-        Backend::Dense => "dense Cholesky",
-        Backend::Sparse if options.textbook => "simplicial sparse Cholesky",
-        Backend::Sparse => "supernodal sparse Cholesky",
-    };
-    if options.textbook {
-        let name = backend.name();
-        return format!(
-            "the handout's code as written: sim/textbook.rs, \
-             fast_mass_springs_step_{name} ({factor})"
-        );
-    }
-    let step = &options.step;
-    let method = match step.method {
-        StepMethod::Lbfgs if step.plain_first => "plain_then_lbfgs",
-        method => method.name(),
-    };
-    format!("fast path: sim/step.rs solve_step → sim/methods/{method}.rs ({factor})")
-}
-
-/// The names a page may ask for: the solvers, and what `compare` takes
-/// besides ([`CONVERGED`]).
-pub fn solver_names() -> Vec<&'static str> {
-    Solver::ALL.map(Solver::name).to_vec()
-}
-
-/// The comparison's name for a step solved far: L-BFGS until an
-/// iteration takes off at most a thousandth of the step's decrease, at
-/// most 200 iterations (`--method lbfgs --energy-tolerance 1e-3
-/// --iterations 200`).
-pub const CONVERGED: &str = "converged";
-
-/// The options of `name` (a solver, or [`CONVERGED`]) on top of `base`.
-pub fn options_named(base: SimulationOptions, name: &str) -> Result<SimulationOptions, String> {
-    if name == CONVERGED {
-        let assignment = base.solved_by(Solver::Assignment);
-        let step = StepControl {
-            method: StepMethod::Lbfgs,
-            energy_tolerance: Some(1e-3),
-            iterations: 200,
-            ..assignment.step
-        };
-        return Ok(SimulationOptions { step, ..assignment });
-    }
-    Ok(base.solved_by(name.parse::<Solver>()?))
-}
-
-/// The name of `options` for the status: a solver's, [`CONVERGED`], or
-/// `None` (the expert's own method and rules).
-pub fn name_of(options: &SimulationOptions) -> Option<&'static str> {
-    if let Some(solver) = options.solver() {
-        return Some(solver.name());
-    }
-    let converged = options_named(*options, CONVERGED).ok()?;
-    (converged == *options).then_some(CONVERGED)
 }

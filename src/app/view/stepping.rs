@@ -17,7 +17,12 @@ impl SimulationThread {
     /// stops the animation with its reason.
     pub(super) fn step_once(&mut self) -> Reply {
         let number = self.main.run.steps() + 1;
-        self.busy(format!("step {number}"));
+        let typical = self
+            .all_mut()
+            .map(|shown| shown.ms_per_step)
+            .fold(0.0, f64::max);
+        let expected = (typical > 0.0).then(|| Duration::from_secs_f64(typical / 1e3));
+        self.busy(format!("step {number}"), expected);
         let started = Instant::now();
         let comparing = self.second.is_some();
         for shown in self.all_mut() {
@@ -107,12 +112,14 @@ fn save(shown: &mut Shown, comparing: bool) {
         previous: Vec::with_capacity(run.positions().len()),
         current: Vec::with_capacity(run.positions().len()),
         steps: 0,
+        time: 0.0,
     });
     saved.previous.clear();
     saved.previous.extend_from_slice(run.previous_positions());
     saved.current.clear();
     saved.current.extend_from_slice(run.positions());
     saved.steps = run.steps();
+    saved.time = run.time();
 }
 
 /// Puts `shown` back where it was saved, when its step `steps + 1`
@@ -122,8 +129,8 @@ fn restore(shown: &mut Shown, steps: usize) {
         return;
     }
     if let Some(saved) = &shown.saved {
-        shown
-            .run
-            .set_state(&saved.previous, &saved.current, saved.steps);
+        let run = &mut shown.run;
+        run.set_state(&saved.previous, &saved.current, saved.steps);
+        run.set_time(saved.time);
     }
 }

@@ -100,16 +100,13 @@ pub fn gram_block_rows(
     let (ys, block) = prepare(values, column_base, y_first, width, rows, block, rows_of_y);
     let first = x_first;
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx512f")
-        && std::arch::is_x86_feature_detected!("avx2")
-        && std::arch::is_x86_feature_detected!("fma")
-    {
+    if crate::linalg::kernels::avx512_fma() {
         // SAFETY: the CPU supports the features the function is compiled for.
         unsafe { avx512::gram_block(values, column_base, first, rows, ys, block) };
         return;
     }
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+    if crate::linalg::kernels::avx2_fma() {
         // SAFETY: the CPU supports the features the function is compiled for.
         unsafe { avx2::gram_block(values, column_base, first, rows, ys, block) };
         return;
@@ -193,6 +190,7 @@ fn plain_sums(
 ///
 /// The generated function's safety contract: rows `row .. row + 2·lanes`
 /// exist in every column of `X`, and `r + 2·lanes ≤ rows`.
+#[cfg(target_arch = "x86_64")]
 macro_rules! tile {
     ($run:ident, $name:ident, $features:literal, $lanes:expr, $lines:expr, $zero:ident, $load:ident, $set1:ident, $fmadd:ident, $store:ident) => {
         /// The block's rows from `r` on, tile by tile while whole tiles

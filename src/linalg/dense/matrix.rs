@@ -12,6 +12,7 @@
 //! ```
 //!
 //! with [`mul`](DenseMatrix::mul), [`transpose`](DenseMatrix::transpose),
+//! [`transpose_mul_self`](DenseMatrix::transpose_mul_self) (`AᵀA`),
 //! [`scale`](DenseMatrix::scale) and [`scaled_add`](DenseMatrix::scaled_add),
 //! and each time step multiplies matrices with the n×3 block of positions:
 //! [`mul_points`](DenseMatrix::mul_points) computes `A p`, and
@@ -34,7 +35,12 @@
 //! * The products with vectors and points write into a buffer the caller
 //!   provides and allocate nothing, so they can run in a time-step loop.
 
+use crate::linalg::cancel::Cancel;
 use crate::linalg::error::LinalgError;
+
+/// Rows of `A` that [`DenseMatrix::transpose_mul_self`] works through
+/// between two looks at its [`Cancel`].
+pub const ROWS_BETWEEN_LOOKS: usize = 256;
 
 /// A dense `nrows × ncols` matrix stored row by row.
 ///
@@ -209,6 +215,34 @@ impl DenseMatrix {
             for (k, &a_ik) in self.row(i).iter().enumerate() {
                 for (c, &b) in product_row.iter_mut().zip(other.row(k)) {
                     *c += a_ik * b;
+                }
+            }
+        }
+        Ok(product)
+    }
+
+    /// The Gram matrix `AᵀA` (`ncols × ncols`) of `self` (`m × n`), without
+    /// forming `Aᵀ`: row `i` of the product is `Σ_k a_ki · (row k of A)`,
+    /// the sum [`mul`](DenseMatrix::mul) forms for `Aᵀ · A`, in the same
+    /// order (so the same bits). `n² m` multiply-adds, each row of the
+    /// product reading all of `A`; `cancel` is looked at every
+    /// [`ROWS_BETWEEN_LOOKS`] rows of `A` (a row of the product reads the
+    /// skirt's 3 GB `A` once: too long to wait for).
+    ///
+    /// # Errors
+    /// [`LinalgError::Cancelled`] once `cancel` is set (the partial product
+    /// is dropped).
+    pub fn transpose_mul_self(&self, cancel: Cancel<'_>) -> Result<DenseMatrix, LinalgError> {
+        let mut product = DenseMatrix::zeros(self.ncols, self.ncols);
+        for i in 0..self.ncols {
+            let product_row = product.row_mut(i);
+            for k in 0..self.nrows {
+                if k % ROWS_BETWEEN_LOOKS == 0 {
+                    cancel.check()?;
+                }
+                let a_ki = self[(k, i)];
+                for (c, &a) in product_row.iter_mut().zip(self.row(k)) {
+                    *c += a_ki * a;
                 }
             }
         }

@@ -283,18 +283,34 @@ fn lead_top(shared: &Shared, team: &Team) -> Result<(), FailedPivot> {
 }
 
 /// The other threads' part of the top: the supernodes factored together.
+///
+/// A follower learns that thread 0 stopped only at the first barrier of the
+/// next supernode they share, where thread 0 waits for it
+/// ([`factor_together`]); it never looks at `stop` anywhere else: between
+/// two shared supernodes it could see thread 0's `stop` early and leave
+/// while thread 0 waits for it at that barrier.
 fn follow_top(shared: &Shared, team: &Team) {
     let scratch = scratch(shared, team);
     for &item in shared.plan.items() {
         let Item::Top(s) = item else { continue };
         if !shared.together[s] {
-            continue; // thread 0's alone; `stop` is read only after a barrier
+            continue; // thread 0's alone
         }
-        let failed = factor_together(shared, team, s, scratch).is_err();
-        if failed || shared.stop.load(Ordering::SeqCst) {
-            return; // a pivot failed: here (every thread found it), or thread 0's
+        match factor_together(shared, team, s, scratch) {
+            Ok(Together::Done) => {}
+            // thread 0 stopped before `s`, or a pivot of `s` failed (every
+            // thread found it, at the same panel)
+            Ok(Together::Stopped) | Err(_) => return,
         }
     }
+}
+
+/// How the team's work on a top supernode ended.
+enum Together {
+    /// Factored.
+    Done,
+    /// Not started: thread 0 had stopped at a failed pivot before it.
+    Stopped,
 }
 
 /// Task `t`'s outbox into the lists, in order (or its failed pivot).
@@ -337,20 +353,24 @@ fn factor_alone(shared: &Shared, s: usize, scratch: &mut Scratch) -> Result<(), 
 /// applies every waiting update to its rows; the team factors the block;
 /// thread 0 moves the descendants on to their next lists.
 ///
+/// `stop` is read right after the first barrier, where every thread sees
+/// the same value: thread 0 sets it before that barrier, and cannot set it
+/// again before every thread has passed the next one.
+///
 /// # Errors
-/// Thread 0's: a pivot of `s` that is not positive.
+/// A pivot of `s` that is not positive (every thread finds it).
 fn factor_together(
     shared: &Shared,
     team: &Team,
     s: usize,
     scratch: &mut Scratch,
-) -> Result<(), FailedPivot> {
+) -> Result<Together, FailedPivot> {
     if team.leads() {
         load_alone(shared, s);
     }
     team.barrier();
     if shared.stop.load(Ordering::SeqCst) {
-        return Ok(()); // thread 0 stopped before this supernode
+        return Ok(Together::Stopped); // thread 0 stopped before this supernode
     }
     scratch.place_rows_of(shared.input.symbolic, s);
     apply_updates_to_rows(shared, team, s, scratch);
@@ -359,7 +379,7 @@ fn factor_together(
     if team.leads() {
         move_descendants_on(shared, s);
     }
-    Ok(())
+    Ok(Together::Done)
 }
 
 /// Thread 0, before the team starts on `s`: its columns loaded with `C`,

@@ -84,7 +84,7 @@ pub fn solve_in_place<const W: usize>(
         values,
     };
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+    if crate::linalg::kernels::avx2_fma() {
         // SAFETY: the CPU supports the features the function is compiled for.
         unsafe { solve_in_place_avx2(l, x) };
         return;

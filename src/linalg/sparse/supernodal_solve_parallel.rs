@@ -198,8 +198,7 @@ impl<'a, const W: usize> TeamSolve<'a, W> {
     pub fn sweep(&self, team: &Team) {
         assert_eq!(team.size(), self.threads(), "the plan's threads");
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-        {
+        if crate::linalg::kernels::avx2_fma() {
             // SAFETY: the CPU supports the features the function is compiled for.
             unsafe { team_solve_avx2(self, team) };
             return;

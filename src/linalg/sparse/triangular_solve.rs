@@ -49,7 +49,7 @@ pub struct FactorView<'a> {
 /// `x` holds `b` on entry and `x = (L Lᵀ)⁻¹ b` on return.
 pub fn solve_in_place<const W: usize>(l: FactorView, x: &mut [[f64; W]]) {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+    if crate::linalg::kernels::avx2_fma() {
         // SAFETY: the CPU supports the features the function is compiled for.
         unsafe { solve_in_place_avx2(l, x) };
         return;

@@ -7,9 +7,15 @@
 //! caller runs it as member 0, then waits until all have counted out, so
 //! that the closure, which borrows the caller's data, outlives every use.
 //! A run allocates nothing. Dropping the pool ends its threads.
+//!
+//! The caller's choice of kernels ([`kernels`](crate::linalg::kernels),
+//! a choice each thread holds) goes with the closure: every thread of a
+//! run computes with the kernels the caller computes with, so a run with
+//! portable kernels gives the portable bits on any number of threads.
 
 use super::barrier::{Barrier, Team};
 use super::signal::Signal;
+use crate::linalg::kernels::{self, Kernels};
 use std::cell::UnsafeCell;
 use std::panic::{catch_unwind, resume_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -22,8 +28,9 @@ type Job = *const (dyn Fn(&Team) + Sync);
 /// What the caller and the pool's threads share.
 struct Shared {
     size: usize,
-    /// The closure of the run in progress (written only between runs).
-    job: UnsafeCell<Option<Job>>,
+    /// The closure of the run in progress and the caller's kernels
+    /// (written only between runs).
+    job: UnsafeCell<Option<(Job, Kernels)>>,
     /// Incremented by each run; the threads wait for it to change.
     generation: AtomicUsize,
     /// Threads still running the current closure.
@@ -129,7 +136,9 @@ impl Threads {
         // between a change of generation and their count-out, and the last
         // run waited for every count-out); the lifetime is erased because
         // this function does not return before every thread is done with it.
-        unsafe { *shared.job.get() = Some(std::mem::transmute::<_, Job>(job)) };
+        unsafe {
+            *shared.job.get() = Some((std::mem::transmute::<_, Job>(job), kernels::chosen()));
+        }
         shared.running.store(shared.size - 1, Ordering::SeqCst);
         shared.generation.fetch_add(1, Ordering::SeqCst);
         shared.jobs.notify();
@@ -183,10 +192,11 @@ fn serve(shared: &Shared, index: usize) {
         seen = shared.generation.load(Ordering::SeqCst);
         // SAFETY: the generation changed, so a run is in progress and its
         // closure is published; it stays valid until this thread counts out.
-        let job = unsafe { (*shared.job.get()).expect("a run publishes its closure") };
+        let (job, chosen) = unsafe { (*shared.job.get()).expect("a run publishes its closure") };
         let team = Team::new(index, shared.size, &shared.barrier);
         // SAFETY: see above.
-        if catch_unwind(AssertUnwindSafe(|| unsafe { (*job)(&team) })).is_err() {
+        let run = || kernels::with(chosen, || unsafe { (*job)(&team) });
+        if catch_unwind(AssertUnwindSafe(run)).is_err() {
             shared.panicked.store(true, Ordering::SeqCst);
             shared.barrier.poison();
         }

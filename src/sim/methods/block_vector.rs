@@ -13,7 +13,7 @@
 /// to the same bits.
 pub fn dot(x: &[[f64; 3]], y: &[[f64; 3]]) -> f64 {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
+    if crate::linalg::kernels::avx2() {
         // SAFETY: the CPU supports the features the function is compiled for.
         return unsafe { crate::sim::simd::block_vector::dot(x, y) };
     }
@@ -49,7 +49,7 @@ pub fn norm(x: &[[f64; 3]]) -> f64 {
 /// [`dot`]).
 pub fn add_scaled(y: &mut [[f64; 3]], alpha: f64, x: &[[f64; 3]]) {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
+    if crate::linalg::kernels::avx2() {
         // SAFETY: the CPU supports the features the function is compiled for.
         return unsafe { crate::sim::simd::block_vector::add_scaled(y, alpha, x) };
     }

@@ -23,7 +23,7 @@ pub struct Vertices<'a> {
 /// elsewhere.
 pub fn vertex_sums(vertices: &Vertices<'_>, p: &[[f64; 3]]) -> ([f64; 2], usize) {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
+    if crate::linalg::kernels::avx2() {
         // SAFETY: the CPU supports the features the function is compiled for.
         return unsafe { avx2::vertex_sums(vertices, p) };
     }

@@ -29,7 +29,7 @@
 //! Source: Liu et al. 2013, §3 (the local step); Intel's intrinsics guide
 //! for the instructions.
 
-use crate::sim::local_step::{self, add_springs_to_transpose, project_spring};
+use crate::sim::local_step::{self, add_springs_to_transpose};
 
 /// [`local_step::project_springs`], four springs per instruction on a CPU
 /// with AVX2: the same bits.
@@ -40,11 +40,11 @@ use crate::sim::local_step::{self, add_springs_to_transpose, project_spring};
 pub fn project_springs(springs: &[[usize; 2]], r: &[f64], p: &[[f64; 3]], d: &mut [[f64; 3]]) {
     assert!(r.len() == springs.len() && d.len() == springs.len());
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
+    if crate::linalg::kernels::avx2() {
         // SAFETY: the CPU supports the features the function is compiled for.
         let done = unsafe { avx2::project_groups_of_four(springs, r, p, d) };
         for e in done..springs.len() {
-            d[e] = project_spring(springs[e], r[e], p);
+            d[e] = local_step::project_spring(springs[e], r[e], p);
         }
         return;
     }
@@ -66,16 +66,30 @@ pub fn project_springs_into_transpose<const L: usize>(
     const { assert!(L == 3 || L == 4, "rows of x, y, z, padded or not") };
     assert!(r.len() == springs.len() && out.len() == p.len());
     out.fill([0.0; 3]);
-    let mut done = 0;
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU supports the features the function is compiled for.
-        done = unsafe { avx2::project_groups_of_four_into_transpose(springs, r, p, out) };
-    }
+    let done = groups_of_four_into_transpose(springs, r, p, out);
     add_springs_to_transpose(springs, r, p, out, done);
 }
 
+/// The springs `0 .. 4·⌊m/4⌋` of [`project_springs_into_transpose`], four
+/// per instruction, where the native kernels run with AVX2; returns how
+/// many springs it did (none elsewhere).
+fn groups_of_four_into_transpose<const L: usize>(
+    springs: &[[usize; 2]],
+    r: &[f64],
+    p: &[[f64; L]],
+    out: &mut [[f64; 3]],
+) -> usize {
+    #[cfg(target_arch = "x86_64")]
+    if crate::linalg::kernels::avx2() {
+        // SAFETY: the CPU supports the features the function is compiled for.
+        return unsafe { avx2::project_groups_of_four_into_transpose(springs, r, p, out) };
+    }
+    let _ = (springs, r, p, out);
+    0
+}
+
 /// The number of values in each row of `p`: 3 (x, y, z) or 4 (padded).
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
 pub(crate) const fn row_length<const L: usize>(_: &[[f64; L]]) -> usize {
     L

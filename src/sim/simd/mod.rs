@@ -3,7 +3,8 @@
 //! Each file here is the twin of a file one level up, which holds the
 //! formula one spring (or vertex) at a time: read that first. The twins do
 //! the same arithmetic lane by lane on a CPU with AVX2 (checked at run time)
-//! and fall back to the formula elsewhere; the tests hold each to its
+//! and fall back to the formula elsewhere, and wherever the portable
+//! kernels are chosen ([`kernels`](crate::linalg::kernels)); the tests hold each to its
 //! formula, bit for bit where the order of the sums is the same
 //! (`tests/linalg/kernels.rs`).
 //!

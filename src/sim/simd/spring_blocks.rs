@@ -32,7 +32,7 @@ pub unsafe fn add_owned_springs<const L: usize>(
     assert!(block.springs.len() == block.numbers.len() && block.owns.len() == block.numbers.len());
     let mut done = 0;
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
+    if crate::linalg::kernels::avx2() {
         // SAFETY: the CPU supports the features the function is compiled
         // for; the rows as the caller promises.
         done = unsafe { avx2::groups_of_four(block, r, p, out) };

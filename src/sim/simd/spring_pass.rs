@@ -32,7 +32,7 @@ impl Springs<'_> {
             .as_ref()
             .is_none_or(|t| t.len() == p.len()));
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
+        if crate::linalg::kernels::avx2() {
             // SAFETY: the CPU supports the features the function is compiled for.
             return unsafe { avx2::measure(self, p, outputs) };
         }

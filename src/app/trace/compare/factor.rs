@@ -74,6 +74,21 @@ pub fn above_diagonal(l: &CscMatrix) -> Option<(usize, usize, f64)> {
     })
 }
 
+/// The first pivot `Lⱼⱼ` that is not positive (a missing one is 0): a
+/// Cholesky factor has a positive diagonal, and `L` with a column negated
+/// still gives `L Lᵀ = P Q Pᵀ`, so the product alone would not see it.
+pub fn first_pivot_not_positive(l: &CscMatrix) -> Option<(usize, f64)> {
+    (0..l.ncols()).find_map(|j| {
+        let (rows, values) = l.column(j);
+        let pivot = rows
+            .iter()
+            .zip(values)
+            .find(|(&i, _)| i == j)
+            .map_or(0.0, |(_, &v)| v);
+        (pivot.is_nan() || pivot <= 0.0).then_some((j, pivot))
+    })
+}
+
 /// The lower triangle of `Q' = P Q Pᵀ`: `Q'ₖₗ = Q[perm[k], perm[l]]`.
 fn permuted_lower(q: &CscMatrix, perm: &[usize]) -> CscMatrix {
     let new_of = inverse(perm);

@@ -109,9 +109,13 @@ impl Report<'_> {
             let file = quantity.file_name();
             let at = match place {
                 Some(place) => self.context.describe(quantity.spec, place),
-                None => reason
-                    .strip_prefix(&format!("{file}: "))
-                    .map_or(reason.clone(), str::to_string),
+                // the reason starts with the student's file: DIR/L.mtx
+                None => match reason.split_once(&format!("{file}: ")) {
+                    Some((folder, rest)) if folder.is_empty() || folder.ends_with('/') => {
+                        rest.to_string()
+                    }
+                    _ => reason.clone(),
+                },
             };
             Some((quantity, at))
         })
@@ -219,7 +223,7 @@ impl Report<'_> {
         if given == 0 {
             return Err(AppError::Failed(format!(
                 "{} holds none of the files trace writes (A.mtx, r.mtx, M.mtx, …): nothing was compared",
-                theirs.display()
+                masssprings::files::shown(theirs)
             )));
         }
         match self.first() {
@@ -240,7 +244,7 @@ pub fn ignored(theirs: &Path, all: &[Quantity]) -> Vec<String> {
     };
     let mut ignored: Vec<String> = entries
         .flatten()
-        .map(|entry| entry.file_name().to_string_lossy().into_owned())
+        .map(|entry| masssprings::files::escaped(&entry.file_name().to_string_lossy()).into_owned())
         .filter(|name| name.ends_with(".mtx") && !all.iter().any(|q| q.file_name() == *name))
         .collect();
     ignored.sort();

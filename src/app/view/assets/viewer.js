@@ -1,21 +1,7 @@
 // The page of `masssprings view`: draws, with plain WebGL, the simulation
-// that runs in the masssprings process, and sends it keys and drags.
-//
-// Data flow (see src/app/view/api.rs):
-//   GET  /api/scene         once per scene: triangles, springs, pins, texture
-//                           coordinates (again when status.scene_serial changes)
-//   GET  /api/frame?since=S&page=ID
-//                           every animation frame: the positions (binary f32;
-//                           of both simulations when comparing), or 204 when
-//                           nothing moved since frame serial S; it also tells
-//                           the server this page is watching (the simulation
-//                           runs only while some page is)
-//   GET  /api/status        four times a second: steps, timings, toggles,
-//                           parameters, the last steps' convergence and
-//                           energies, the step in progress
-//   GET  /api/image?…       without WebGL: the frame drawn by the server's
-//                           own renderer for this page's camera (a PNG)
-//   POST /api/command       keys, buttons, sliders, pickers, drags, stop
+// that runs in the masssprings process, and sends it keys and drags. It
+// asks the simulation for everything through `backend` (backend.js), and
+// draws its plot with plot.js.
 //
 // Each tab keeps its own camera; every command acts on the one simulation
 // the server runs, so two tabs see the same cloth.
@@ -24,10 +10,14 @@
 // flat, lit on both sides), then, when shown (key L), the springs as lines
 // and the point masses as discs sized to the mesh spacing, and always the
 // pinned vertices as silver discs. When comparing, the second simulation
-// beside the first (the same drawing, moved along x) or as an orange
-// wireframe over it.
+// beside the first (the same drawing, moved to its right) or as an orange
+// wireframe over it, each with a label naming its solver.
+//
+// In front of a class: the keys work whatever control has focus (but a
+// text field), Esc stops whatever runs, every number says what it is on
+// hover, large print (Aa) is on by default on a window at most 1100 px
+// wide, and on a phone the panels fold into a drawer.
 'use strict';
-
 // ---------------------------------------------------------------------------
 // The look: the same numbers as `masssprings render` (src/app/render/look.rs),
 // so a rendered GIF looks like this page.
@@ -64,11 +54,20 @@ const LOOK = {
 const PICK_RADIUS = 24;
 /** A touch held this long without moving pulls the nearest vertex. */
 const LONG_PRESS_MS = 500;
-/** The random name this page gives itself on /api/frame. */
-const PAGE_ID = Math.floor(Math.random() * 2 ** 31) + 1;
 /** Milliseconds between two status polls. */
 const STATUS_PERIOD = 250;
-
+/** A window at most this wide starts in large print (a projector, a phone). */
+const LARGE_PRINT_WIDTH = 1100;
+/** A window narrower than this is laid out as a phone's: the statistics
+ *  and the controls side by side would overlap (in small and in large
+ *  print). */
+const NARROW_WIDTH = { small: 710, large: 780 };
+/** Cloths whose box moved less than this share of its size over the
+ *  last SETTLED_FRAMES frames have settled: the camera frames them again
+ *  as they are. */
+const SETTLED_MOTION = 0.01;
+const SETTLED_FRAMES = 10;
+const SETTLED_SHRINK = 0.8;
 // ---------------------------------------------------------------------------
 // Small vector and matrix helpers. Matrices are 4×4, column-major
 // Float32Arrays, as WebGL's uniformMatrix4fv expects: m[4 * column + row].
@@ -142,17 +141,23 @@ function transform(m, p) {
 // The orbit camera. It looks at `target` from the direction
 //   back = (cos e · sin a, sin e, cos e · cos a)
 // (azimuth a from +z toward +x, elevation e), from `distance` away; world y
-// is up. When a scene loads it frames the cloth, and until the user moves
-// the camera it keeps framing everything the cloth has occupied since (like
-// the renderer, which frames all frames). F frames the cloth as it is now.
+// is up. A scene first faces the page at the azimuth the server chose
+// (facing.rs: the face of the cloth as it will hang, not its edge).
 //
-// Framing fills the free part of the window, not the whole canvas: the
-// panels cover its left and right sides. The free area is the largest of
-// the rectangles between the panels, below both, and below the statistics
-// left of the controls that the scene fits best; the lens is shifted
-// (`shift`, in normalised device coordinates) so that the scene's centre
-// lands in its middle, and the distance is the least at which the scene
+// Framing fills the free part of the window: the largest rectangles no
+// panel covers; the lens is shifted (`shift`, in normalised device
+// coordinates) so that the scene's centre lands in the middle of the one
+// the scene fits best, and the distance is the least at which the scene
 // fits its width and height with the margin.
+//
+// The camera follows the cloth until the user moves it (orbit, pan, zoom);
+// F frames the cloth as it is and follows it again. Following, it frames
+// everything the cloths have occupied since it last framed them (a cloth
+// never leaves the view), and frames them afresh, as they are, when a
+// comparison starts or stops, when the drawing of the compared one
+// changes, and when the cloths settle (their box all but still over
+// SETTLED_FRAMES frames): a fallen flag then fills the height of the free
+// area instead of the box of its fall.
 
 const camera = {
   azimuth: LOOK.azimuthDegrees * Math.PI / 180,
@@ -161,8 +166,12 @@ const camera = {
   target: [0, 0, 0],
   distance: 1,
   shift: [0, 0],
-  autoFrame: true,
+  follow: true,
   box: emptyBox(),
+  /** The cloths' boxes over the last frames, and whether the camera has
+   *  framed them since they settled. */
+  recent: [],
+  framedStill: false,
 };
 
 function emptyBox() {
@@ -180,13 +189,19 @@ function cameraFrame() {
   return { eye, right, up, back };
 }
 
-/** Grows the camera's box by `positions`, moved by `offset`. */
+/** Grows the camera's box by `positions`, moved by `offset`. The box is
+ *  in the camera's axes (right, up, back), so that it holds the cloths as
+ *  tightly as the camera sees them (the orientation does not change while
+ *  the camera follows). */
 function growBox(positions, offset = [0, 0, 0]) {
   const { min, max } = camera.box;
+  const axes = ['right', 'up', 'back'].map((name) => cameraFrame()[name]);
   for (let i = 0; i < positions.length; i += 3) {
+    const p = [positions[i] + offset[0], positions[i + 1] + offset[1], positions[i + 2] + offset[2]];
     for (let k = 0; k < 3; k++) {
-      min[k] = Math.min(min[k], positions[i + k] + offset[k]);
-      max[k] = Math.max(max[k], positions[i + k] + offset[k]);
+      const along = dot(p, axes[k]);
+      min[k] = Math.min(min[k], along);
+      max[k] = Math.max(max[k], along);
     }
   }
 }
@@ -197,54 +212,74 @@ function growBoxByShown() {
   if (state.second) growBox(state.second, secondOffset());
 }
 
-/** The rectangles of the canvas (CSS pixels) that no panel covers, each
- *  { left, top, width, height }; the whole canvas when none is left. */
+/** The panels on the page, as shown (hidden ones left out): what framing
+ *  keeps clear of. */
+function panelRectangles() {
+  return ['overlay', 'controls', 'help']
+    .map((id) => document.getElementById(id).getBoundingClientRect())
+    .filter((r) => r.width > 0 && r.height > 0);
+}
+
+/** The largest rectangles of the canvas (CSS pixels) that no panel covers,
+ *  each { left, top, width, height }: every rectangle bounded by the
+ *  canvas's and the panels' edges that meets no panel and is not inside
+ *  another; the whole canvas when none is left. Comparing, the top of
+ *  each is kept for the labels over the cloths. */
 function freeAreas() {
   const width = canvas.clientWidth;
   const height = canvas.clientHeight;
   const gap = 8;
-  const o = overlay.getBoundingClientRect();
-  const c = document.getElementById('controls').getBoundingClientRect();
-  const bottom = document.getElementById('help').getBoundingClientRect().top - gap;
-  const rectangle = (left, top, right, low) => ({ left, top, width: right - left, height: low - top });
-  const areas = [
-    rectangle(o.right + gap, 0, c.left - gap, bottom), // between the panels
-    rectangle(0, Math.max(o.bottom, c.bottom) + gap, width, bottom), // below both
-    rectangle(0, o.bottom + gap, c.left - gap, bottom), // below the statistics
-  ].filter((r) => r.width >= 80 && r.height >= 80);
-  return areas.length > 0 ? areas : [rectangle(0, 0, width, height)];
+  const panels = panelRectangles();
+  const lefts = [0, ...panels.map((r) => r.right + gap)];
+  const rights = [width, ...panels.map((r) => r.left - gap)];
+  const tops = [0, ...panels.map((r) => r.bottom + gap)];
+  const bottoms = [height, ...panels.map((r) => r.top - gap)];
+  const meets = (a, r) => a.left < r.right && a.right > r.left && a.top < r.bottom && a.bottom > r.top;
+  const found = [];
+  for (const left of lefts) for (const right of rights) for (const top of tops) for (const bottom of bottoms) {
+    const a = { left, right, top, bottom };
+    if (right - left < 80 || bottom - top < 80 || panels.some((r) => meets(a, r))) continue;
+    if (!found.some((b) => b.left === left && b.right === right && b.top === top && b.bottom === bottom)) found.push(a);
+  }
+  const inside = (a, b) => a !== b && a.left >= b.left && a.right <= b.right && a.top >= b.top && a.bottom <= b.bottom;
+  const largest = found.filter((a) => !found.some((b) => inside(a, b)));
+  const labels = state.second ? 1.9 * labelFont() : 0;
+  const areas = largest.map((a) => ({ left: a.left, top: a.top + labels, width: a.right - a.left,
+    height: a.bottom - a.top - labels }));
+  return areas.length > 0 ? areas : [{ left: 0, top: 0, width, height }];
 }
 
 /** The distance at which the box fits `area` (a rectangle of the canvas)
  *  with the margin, for the current angles (as src/app/render/camera.rs
  *  frames the whole image). */
-function distanceToFit(area, aspect, target) {
+function distanceToFit(area, aspect) {
   const { min, max } = camera.box;
-  const { right, up, back } = cameraFrame();
   const tanY = Math.tan(camera.fovY / 2) * area.height / Math.max(1, canvas.clientHeight);
   const tanX = Math.tan(camera.fovY / 2) * aspect * area.width / Math.max(1, canvas.clientWidth);
   let distance = 1e-6;
   for (let corner = 0; corner < 8; corner++) {
-    const p = [0, 1, 2].map((k) => ((corner >> k) & 1 ? max[k] : min[k]));
-    const o = sub(p, target);
-    const fit = Math.max(Math.abs(dot(o, right)) / tanX, Math.abs(dot(o, up)) / tanY);
-    distance = Math.max(distance, dot(o, back) + LOOK.margin * fit);
+    // The corner from the box's centre, along right, up and back.
+    const o = [0, 1, 2].map((k) => ((corner >> k) & 1 ? max[k] - min[k] : min[k] - max[k]) / 2);
+    const fit = Math.max(Math.abs(o[0]) / tanX, Math.abs(o[1]) / tanY);
+    distance = Math.max(distance, o[2] + LOOK.margin * fit);
   }
   return distance;
 }
 
 /** Aims at the box: target = its centre, in the middle of the free area
- *  where it is largest, at the least distance at which it fits there. */
+ *  where it is largest (of the areas where it is within 10% of that, the
+ *  largest area), at the least distance at which it fits there. */
 function aimAtBox(aspect) {
   const { min, max } = camera.box;
   if (!(min[0] <= max[0])) return;
-  const target = scale(add(min, max), 0.5);
-  let best = null;
-  for (const area of freeAreas()) {
-    const distance = distanceToFit(area, aspect, target);
-    if (!best || distance < best.distance) best = { area, distance };
-  }
-  const { area, distance } = best;
+  const { right, up, back } = cameraFrame();
+  const centre = scale(add(min, max), 0.5);
+  const target = add(add(scale(right, centre[0]), scale(up, centre[1])), scale(back, centre[2]));
+  const fits = freeAreas().map((area) => ({ area, distance: distanceToFit(area, aspect) }));
+  const closest = Math.min(...fits.map((fit) => fit.distance));
+  const size = ({ area }) => area.width * area.height;
+  const { area, distance } = fits.filter((fit) => fit.distance <= 1.1 * closest)
+    .reduce((best, fit) => (size(fit) > size(best) ? fit : best));
   camera.target = target;
   camera.distance = distance;
   camera.shift = [
@@ -254,21 +289,62 @@ function aimAtBox(aspect) {
   window.viewer.framedArea = area;
 }
 
-/** While the camera is automatic, frames everything seen so far. */
+/** While following, frames everything seen since the last framing. */
 function frameScene(aspect) {
-  if (!camera.autoFrame) return;
+  if (!camera.follow) return;
   growBoxByShown();
   aimAtBox(aspect);
 }
 
-/** Key F: frames the cloth as it is now (and stays there). */
-function fitToCloth() {
-  if (!state.positions) return;
+/** Frames the cloths as they are now (while following). */
+function frameAfresh() {
+  if (!camera.follow || !state.positions) return;
   camera.box = emptyBox();
   growBoxByShown();
   aimAtBox(aspectRatio());
-  camera.autoFrame = false;
+  window.viewer.refits++;
+}
+
+/** Key F: frames the cloth as it is now, and follows it again. */
+function fitToCloth() {
+  if (!state.positions) return;
+  camera.follow = true;
+  frameAfresh();
   window.viewer.fits++;
+}
+
+/** A new frame arrived: frames the cloths afresh once their box has kept
+ *  still over the last SETTLED_FRAMES frames, when it has shrunk to less
+ *  than SETTLED_SHRINK of the framed box across or up the screen (a
+ *  fallen cloth; a flag flapping in the wind within the box framed keeps
+ *  its camera). */
+function watchSettling() {
+  const saved = camera.box;
+  camera.box = emptyBox();
+  growBoxByShown();
+  const box = camera.box;
+  camera.box = saved;
+  const recent = camera.recent;
+  recent.push(box);
+  if (recent.length > SETTLED_FRAMES) recent.shift();
+  if (recent.length < SETTLED_FRAMES) return;
+  const size = Math.hypot(...sub(box.max, box.min));
+  const then = recent[0];
+  const moved = Math.max(...[0, 1, 2].flatMap((k) => [Math.abs(box.min[k] - then.min[k]),
+    Math.abs(box.max[k] - then.max[k])]));
+  if (moved >= SETTLED_MOTION * size) {
+    camera.framedStill = false;
+  } else if (!camera.framedStill) {
+    camera.framedStill = true;
+    const extent = (b, k) => b.max[k] - b.min[k];
+    const shrunk = [0, 1].some((k) => extent(box, k) < SETTLED_SHRINK * extent(saved, k));
+    if (shrunk) frameAfresh();
+  }
+}
+
+/** The user moved the camera: it stops following the cloth. */
+function takeCamera() {
+  camera.follow = false;
 }
 
 /** Moves the target by (dx, dy) CSS pixels across the screen. */
@@ -276,7 +352,7 @@ function pan(dx, dy) {
   const { right, up } = cameraFrame();
   const worldPerPixel = 2 * camera.distance * Math.tan(camera.fovY / 2) / Math.max(1, canvas.clientHeight);
   camera.target = add(camera.target, add(scale(right, -dx * worldPerPixel), scale(up, dy * worldPerPixel)));
-  camera.autoFrame = false;
+  takeCamera();
 }
 
 /** Zooms by `factor` (< 1: closer) toward the point under (x, y): eye and
@@ -286,7 +362,7 @@ function zoomToward(x, y, factor) {
   const anchor = pointUnderCursor(x, y, camera.target, matrices);
   camera.target = add(anchor, scale(sub(camera.target, anchor), factor));
   camera.distance *= factor;
-  camera.autoFrame = false;
+  takeCamera();
 }
 
 /** projection · view, and the pieces picking needs. */
@@ -444,6 +520,7 @@ const state = {
   frameSteps: null, // and its step count
   connected: true,
   frameRequestPending: false,
+  statusRequestPending: false,
   dragged: null, // { vertex, point, offset } while shift-dragging
   dragTarget: null, // where the dragged vertex is pulled to
   sceneSerial: null, // status.scene_serial of the scene drawn
@@ -451,17 +528,19 @@ const state = {
   refusal: null, // why the last command was refused
   waiting: null, // a command that waits for the step in progress
   sliderHeld: false,
+  pending: new Set(), // controls whose command is not answered yet
   layout: 'beside', // how the compared simulation is drawn: beside, overlay
 };
 
 // What tests (tests/browser) read.
 window.viewer = {
   ready: false, framesReceived: 0, framesDrawn: 0, textureLoaded: false, error: null,
-  fits: 0, scenesLoaded: 0, plotPoints: 0, fallback, imagesDrawn: 0, framedArea: null,
+  fits: 0, refits: 0, scenesLoaded: 0, plotPoints: 0, plotText: [], fallback, imagesDrawn: 0, framedArea: null,
   lastCommand: null, // { command, status, ms } of the last command answered
   state, camera, look: LOOK,
   screenPositionOf: (vertex, set = 0) => screenPosition(vertex, cameraMatrices(aspectRatio()), set),
   freeAreas: () => freeAreas(),
+  panels: () => panelRectangles().map((r) => r.toJSON()),
 };
 
 let gpu = null; // programs and buffers, made once the scene is known
@@ -548,6 +627,12 @@ function loadTexture(url) {
     gpu.texture = texture;
     window.viewer.textureLoaded = true;
   };
+  image.onerror = () => {
+    // a PNG the server decodes is never served broken; a user's own, read
+    // by the page, can be
+    state.refusal = 'texture: the browser cannot decode this PNG; the cloth is drawn without it';
+    window.viewer.textureLoaded = true;
+  };
   image.src = url;
 }
 
@@ -596,11 +681,12 @@ function vertexNormals(positions, normals) {
 }
 
 /** Where the compared simulation is drawn, relative to the first: beside
- *  it along x (by a little more than the rest shape's diagonal), or over
- *  it. */
+/** Where the compared simulation is drawn, relative to the first: beside
+ *  it, to its right for the scene's first view (the server's `beside`:
+ *  a fifth more than the rest shape's width that way), or over it. */
 function secondOffset() {
   if (state.layout !== 'beside' || !state.scene) return [0, 0, 0];
-  return [1.1 * Math.max(state.scene.diagonal, 1e-3), 0, 0];
+  return state.scene.beside;
 }
 
 // ---------------------------------------------------------------------------
@@ -648,6 +734,7 @@ function draw() {
     }
   }
   if (state.dragged && state.dragTarget) drawDragMarker(matrices, pixelRatio);
+  placeLabels(matrices);
   window.viewer.framesDrawn++;
 }
 
@@ -808,18 +895,21 @@ function drawImage() {
   const key = imageKey();
   if (imageView.pending || key === imageView.key || !state.positions) return;
   imageView.pending = true;
-  fetch(`/api/image?${key}`, { cache: 'no-store' })
-    .then((response) => (response.ok ? response.blob() : Promise.reject(new Error(`image: ${response.status}`))))
+  backend.image(key)
     .then((blob) => createImageBitmap(blob))
     .then((bitmap) => {
       imageView.context = imageView.context || canvas.getContext('2d');
       imageView.context.drawImage(bitmap, 0, 0, canvas.width, canvas.height);
       if (state.dragged && state.dragTarget) drawDragMarker2d(imageView.context);
+      placeLabels(cameraMatrices(aspectRatio()));
       imageView.key = key;
       window.viewer.imagesDrawn++;
       window.viewer.framesDrawn++;
     })
-    .catch((error) => { window.viewer.error = String(error); })
+    .catch((error) => {
+      window.viewer.error = String(error);
+      state.refusal = error.message;
+    })
     .finally(() => { imageView.pending = false; });
 }
 
@@ -837,6 +927,7 @@ function imageKey() {
     sx: camera.shift[0], sy: camera.shift[1],
     springs: state.status && state.status.show_springs ? 1 : 0,
     ox: secondOffset()[0],
+    oz: secondOffset()[2],
     frame: state.serial,
   };
   if (state.dragged && state.dragTarget) parameters.drag = state.dragTarget.join(',');
@@ -864,46 +955,46 @@ function drawDragMarker2d(context) {
 }
 
 // ---------------------------------------------------------------------------
-// Talking to the server. Every command is answered within half a second:
-// 200 applied, 409 refused (the reason is shown), or 202: it waits for the
-// step in progress and is applied after it (a refusal then shows in the
-// status's note); the overlay says which, and ■ stop (Esc) cancels the
-// step.
+// Talking to the simulation, through `backend` (backend.js). A command is
+// answered 200 (applied), 409 (refused: the reason is shown) or 202: it
+// waits for the work in progress and is applied after it, answered at
+// once when that work will not end soon (a refusal then shows in the
+// status's note); the overlay says which, and ■ stop (Esc) stops the work.
 
 async function sendCommand(body) {
   const started = performance.now();
-  const response = await fetch('/api/command', {
-    method: 'POST',
-    headers: { 'Content-Type': 'application/json' },
-    body: JSON.stringify(body),
-  });
-  const answer = await response.json();
-  window.viewer.lastCommand = { command: body.command, status: response.status, ms: performance.now() - started };
-  if (response.ok) {
+  const { status, ok, waits, answer } = await backend.command(body);
+  window.viewer.lastCommand = { command: body.command, status, ms: performance.now() - started };
+  if (ok) {
     state.status = answer;
     state.refusal = null;
-    const waits = response.status === 202 && response.headers.get('X-Command') === 'waiting';
-    state.waiting = waits ? body.command : null;
+    // Waiting lasts until the work ends (onStatus), whatever another
+    // command's answer says meanwhile.
+    if (waits) state.waiting = body.command;
   } else {
     state.refusal = `${body.command}: ${answer.error}`;
     console.warn('command refused:', body.command, answer.error);
   }
   onStatus();
-  return answer;
+  return { status, answer };
 }
 
-function send(body) {
-  return sendCommand(body).catch(() => setConnected(false));
+/** Sends `body`; `control` (an id), if given, is not overwritten by the
+ *  status until the answer has come. */
+function send(body, control = null) {
+  if (control) state.pending.add(control);
+  return sendCommand(body)
+    .catch(() => setConnected(false))
+    .finally(() => { if (control) state.pending.delete(control); });
 }
 
-/** Asks for the frame after the one we have; 204 means nothing moved. */
+/** Asks for the frame after the one we have; null means nothing moved. */
 async function pollFrame() {
   if (state.frameRequestPending || state.loadingScene) return;
   state.frameRequestPending = true;
   try {
-    const since = state.serial === null ? '' : `since=${state.serial}&`;
-    const response = await fetch(`/api/frame?${since}page=${PAGE_ID}`, { cache: 'no-store' });
-    if (response.status === 200) takeFrame(await response.arrayBuffer());
+    const bytes = await backend.frame(state.serial);
+    if (bytes) takeFrame(bytes);
     setConnected(true);
   } catch (error) {
     setConnected(false);
@@ -920,20 +1011,30 @@ function takeFrame(bytes) {
   const n = header.getUint32(0, true);
   if (!state.scene || n !== state.scene.n || state.loadingScene) return;
   const sets = (bytes.byteLength - 16) / (12 * n);
+  const comparedBefore = state.second !== null;
   state.serial = header.getUint32(4, true);
   state.frameSteps = header.getUint32(8, true);
   applyFrame(new Float32Array(bytes, 16, 3 * n), 0);
   if (sets === 2) applyFrame(new Float32Array(bytes, 16 + 12 * n, 3 * n), 1); else state.second = null;
+  // A comparison started or stopped: frame what is shown now.
+  if ((state.second !== null) !== comparedBefore) {
+    camera.recent = [];
+    frameAfresh();
+  }
+  watchSettling();
   window.viewer.framesReceived++;
 }
 
 async function pollStatus() {
+  if (state.statusRequestPending) return; // a slow answer is not asked for again meanwhile
+  state.statusRequestPending = true;
   try {
-    const response = await fetch('/api/status', { cache: 'no-store' });
-    state.status = await response.json();
+    state.status = await backend.status();
     setConnected(true);
   } catch (error) {
     setConnected(false);
+  } finally {
+    state.statusRequestPending = false;
   }
   onStatus();
 }
@@ -944,21 +1045,23 @@ function setConnected(connected) {
 }
 
 /** Fetches the scene the server shows (at start, and when it changes):
- *  the mesh, its texture, a fresh camera framing it. */
+ *  the mesh, its texture, a fresh camera facing it. */
 async function loadScene() {
   state.loadingScene = true;
   try {
-    const response = await fetch('/api/scene', { cache: 'no-store' });
-    state.scene = await response.json();
+    state.scene = await backend.scene();
     state.pinnedVertices = null;
     gpu = fallback ? null : createGpuScene(state.scene);
     window.viewer.textureLoaded = fallback;
-    if (state.scene.texture && !fallback) loadTexture(`${state.scene.texture}?scene=${state.sceneSerial}`);
+    if (state.scene.texture && !fallback) loadTexture(backend.textureUrl(state.scene.texture, state.sceneSerial));
     state.positions = null;
     state.second = null;
     state.serial = null;
     camera.box = emptyBox();
-    camera.autoFrame = true;
+    camera.recent = [];
+    camera.follow = true;
+    camera.azimuth = state.scene.azimuth;
+    camera.elevation = LOOK.elevationDegrees * Math.PI / 180;
     window.viewer.scenesLoaded++;
   } finally {
     state.loadingScene = false;
@@ -975,22 +1078,70 @@ function onStatus() {
   }
   if (s && !s.busy) state.waiting = null;
   updateOverlay();
-  drawPlot();
+  updatePlot();
   syncControls();
 }
+
+// ---------------------------------------------------------------------------
+// The statistics: one line each, every number with its unit and, on
+// hover, what it is. On a phone with the drawer closed, only the lines
+// that say where the simulation is and what it is doing.
 
 /** The names of the solvers, as the page says them. */
 const SOLVER_LABELS = {
   assignment: 'the assignment (plain, 50 iterations)',
   textbook: 'the handout\'s code',
-  'accuracy-assignment': 'assignment accuracy, fast',
+  'accuracy-assignment': 'fast: every step as low in energy as the assignment\'s',
   converged: 'converged (L-BFGS, energy tolerance 1e-3)',
+  frames: 'your frames',
+};
+
+/** Short names, for the labels over the cloths and the plot's legend. */
+const SHORT_LABELS = {
+  assignment: 'assignment (plain-50)',
+  textbook: 'handout\'s code',
+  'accuracy-assignment': 'fast (its energy)',
+  converged: 'converged (L-BFGS)',
+  frames: 'your frames',
 };
 
 /** How a simulation is solved, in words: its solver, or its method. */
-function solvedBy(solver, backend, method) {
+function solvedBy(solver, backendName, method, labels = SOLVER_LABELS) {
   if (!solver) return `${method} (expert settings)`;
-  return solver === 'textbook' ? `${SOLVER_LABELS.textbook}, ${backend}` : SOLVER_LABELS[solver];
+  return solver === 'textbook' ? `${labels.textbook}, ${backendName}` : labels[solver];
+}
+
+/** The two simulations' short names: the first, and the compared one. */
+function simulationNames(s) {
+  const first = solvedBy(s.solver, s.backend, s.method, SHORT_LABELS);
+  const c = s.compare;
+  return [first, c ? solvedBy(c.solver, c.backend, c.method, SHORT_LABELS) : ''];
+}
+
+/** What the fast mode keeps and what it does not. */
+const FAST_MODE = 'keeps: every step ends at an energy no higher than the assignment\'s 50 plain iterations reach '
+  + 'from the same state; does not keep: the assignment\'s animation: it leaves less of each step undone, so it '
+  + 'damps less and the cloth falls sooner (docs/convergence.md, section 6)';
+
+/** What the relative gradient says. */
+const RELATIVE_GRADIENT = '‖∇E(p)‖ where the step stopped over ‖∇E(pᵗ)‖ where it started, on the free vertices (no '
+  + 'unit; 1: no closer to the minimum by this measure). On cloth it follows the stiff modes, which the first '
+  + 'iterations kill, not the slow ones where the energy left is: 50 plain iterations take much energy off and '
+  + 'still leave it near 1 (docs/convergence.md, section 4)';
+
+/** Why a step stopped: in a word or two, and in a sentence. */
+const STOP_REASONS = {
+  iterations: ['its budget', 'it ran every iteration it was allowed'],
+  tolerance: ['tolerance', 'its relative gradient reached the tolerance'],
+  'energy-tolerance': ['energy tolerance', 'an iteration took off at most the energy tolerance\'s share of what the '
+    + 'step had taken off (the energy had stopped falling steeply)'],
+  'at-least-plain': ['plain-50\'s decrease', 'its energy fell by at least what 50 plain iterations take off'],
+  stalled: ['stalled', 'the line search found nothing lower: as good as rounding lets this method make it'],
+};
+
+/** A piece of a line: `text`, explained by `title` on hover. */
+function piece(text, title) {
+  return { text, title };
 }
 
 function updateOverlay() {
@@ -1000,7 +1151,28 @@ function updateOverlay() {
     return;
   }
   if (!s) return;
-  statsText.textContent = [...describeScene(s), ...describeWork(s), ...describeComparison(s)].join('\n');
+  const lines = [...describeScene(s), ...describeWork(s), ...describeComparison(s)];
+  statsText.replaceChildren(...lines.map(({ pieces, detail, fine, path }) => {
+    const line = document.createElement('div');
+    if (detail) line.classList.add('detail');
+    if (fine) line.classList.add('fine');
+    if (path) line.classList.add('path');
+    line.append(...pieces.map((p) => {
+      if (typeof p === 'string') return p;
+      const span = document.createElement('span');
+      span.textContent = p.text;
+      span.title = p.title;
+      return span;
+    }));
+    return line;
+  }));
+}
+
+/** A line of the statistics; `detail`: folded away on a phone; `fine`:
+ *  not in large print either; `path`: the functions that run (a fine
+ *  detail in small type). */
+function line(pieces, { detail = false, fine = false, path = false } = {}) {
+  return { pieces, detail: detail || fine || path, fine, path };
 }
 
 /** The scene, the solve and its path, the parameters, the timings. */
@@ -1008,17 +1180,33 @@ function describeScene(s) {
   const tolerance = (s.tolerance === null ? 'all iterations' : `tolerance ${s.tolerance.toExponential(0)}`)
     + (s.energy_tolerance === null ? '' : ` · energy tolerance ${formatNumber(s.energy_tolerance)}`)
     + (s.at_least_plain === null ? '' : ` · at least plain-${s.at_least_plain}`);
+  const solve = s.solver === 'accuracy-assignment'
+    ? [piece(`solve: ${SOLVER_LABELS[s.solver]}, not its motion`, `${FAST_MODE}. Runs ${s.functions}`)]
+    : [piece(`solve: ${solvedBy(s.solver, s.backend, s.method)}`, `runs ${s.functions}`)];
   return [
-    `${s.scene} · ${s.backend} · n ${s.n} · springs ${s.springs}`,
-    `solve: ${solvedBy(s.solver, s.backend, s.method)}`,
-    `  ${s.functions}`,
-    `k ${formatNumber(s.k)} · Δt ${s.delta_t.toFixed(4)} s · mass ×${formatNumber(s.mass_scale)}`,
-    `${s.method}${s.plain_first ? ' (plain first)' : ''} · ≤ ${s.iterations} iterations · ${tolerance}`
-      + ` · start ${s.start === 'inertial' ? 'from momentum' : 'where it is'}`,
-    s.refactor_ms === null ? 'Q factored once, when the scene loaded'
-      : `Q rebuilt and refactored in ${s.refactor_ms.toFixed(1)} ms`,
-    `${s.ms_per_step.toFixed(2)} ms/step · ${s.steps_per_second.toFixed(1)} steps/s`,
-    `step ${s.steps} · t ${s.time.toFixed(2)} s · wind ${s.wind ? 'on' : 'off'}`,
+    line([`${s.scene} · `, piece(`${s.n.toLocaleString('en')} vertices`, 'n: the point masses (the OBJ\'s v lines)'),
+      ' · ', piece(`${s.springs.toLocaleString('en')} springs`, 'the edges of the faces and their diagonals'),
+      ' · ', piece(s.backend, 'the matrices Q is built and factored on: sparse (CSC) or dense')]),
+    line(solve),
+    line([`  ${s.functions}`], { detail: true, path: true }),
+    line([piece(`k ${formatNumber(s.k)} N/m`, 'spring stiffness k'), ' · ',
+      piece(`Δt ${s.delta_t.toFixed(4)} s`, 'the time step'), ' · ',
+      piece(`mass ×${formatNumber(s.mass_scale)}`, 'the factor on every vertex\'s mass (no unit)')], { detail: true }),
+    line([`${s.method}${s.plain_first ? ' (plain first)' : ''} · `,
+      piece(`≤ ${s.iterations} iterations`, 'the most local/global iterations a step may take'),
+      ` · ${tolerance} · start ${s.start === 'inertial' ? 'from momentum' : 'where it is'}`],
+    { fine: s.solver !== null }),
+    line([s.refactor_ms === null ? 'Q factored once, when the scene loaded'
+      : piece(`Q rebuilt and refactored in ${s.refactor_ms.toFixed(1)} ms`,
+        'the time the last change of k, Δt, the masses or the pins took to rebuild Q and factor it again')],
+    { fine: s.refactor_ms === null }),
+    line([piece(`${s.ms_per_step.toFixed(2)} ms/step`, 'milliseconds a step takes, averaged over about the last 10'),
+      ' · ', piece(`${s.steps_per_second.toFixed(1)} steps/s`, 'steps over the last second (real time: 1/Δt)')],
+    { detail: true }),
+    line([piece(`step ${s.steps}`, 'steps since the start or the last reset'), ' · ',
+      piece(`t ${s.time.toFixed(2)} s`, 'simulated time: the sum of every step\'s own Δt'), ' · ',
+      piece(`energy ${formatNumber(s.energy)} J`, 'mechanical energy: kinetic, the springs\' and gravity\'s (0 at rest)'),
+      ` · wind ${s.wind ? 'on' : 'off'}`]),
   ];
 }
 
@@ -1032,23 +1220,30 @@ function describeWork(s) {
   } else {
     running = `animating (while a page shows it: ${s.pages} now)`;
   }
-  const lines = [running];
+  const lines = [line([running])];
   if (s.busy) {
-    lines.push(`${s.busy}: ${(s.busy_ms / 1000).toFixed(1)} s so far · ■ stop (Esc) cancels it`);
-    if (s.queued > 0) lines.push(`${s.queued} command(s) wait for it`);
+    lines.push(line([`${s.busy}: `, piece(`${(s.busy_ms / 1000).toFixed(1)} s so far`, 'how long it has run'),
+      ' · ■ stop (Esc) cancels it']));
+    if (s.queued > 0) {
+      lines.push(line([piece(`${s.queued} command(s) wait for it`, 'commands queued behind the work in progress')]));
+    }
   }
-  if (state.waiting) lines.push(`${state.waiting}: waits for the step in progress, applied after it`);
+  if (state.waiting) lines.push(line([`${state.waiting}: waits for the step in progress, applied after it`]));
   const last = s.history.length > 0 ? s.history[s.history.length - 1] : null;
   if (last) {
-    const gradient = last.relative_gradient === null ? 'not measured'
-      : last.relative_gradient.toExponential(1);
-    lines.push(`last step: ${last.iterations} iterations, relative gradient `
-      + `${gradient}${last.converged ? ' (converged)' : ''}`);
+    const [reason, why] = STOP_REASONS[last.stop] || [last.stop, last.stop];
+    const gradient = last.relative_gradient === null
+      ? ['relative gradient not measured']
+      : [piece(`relative gradient ${last.relative_gradient.toPrecision(2)}`, RELATIVE_GRADIENT)];
+    lines.push(line(['last step: ', piece(`${last.iterations} iterations (${reason})`,
+      `local/global iterations it ran; it stopped because ${why}`), ', ', ...gradient], { detail: true }));
   }
-  if (s.dragged !== null) lines.push(`dragging vertex ${s.dragged + 1}`);
-  if (s.note) lines.push(s.note);
-  if (s.error) lines.push(`stopped: ${s.error}`);
-  if (state.refusal) lines.push(`refused: ${state.refusal}`);
+  if (s.dragged !== null) {
+    lines.push(line([piece(`dragging vertex ${s.dragged + 1}`, 'the vertex pulled, counted from 1 as the OBJ does')]));
+  }
+  if (s.note) lines.push(line([s.note]));
+  if (s.error) lines.push(line([`stopped: ${s.error}`]));
+  if (state.refusal) lines.push(line([`refused: ${state.refusal}`]));
   return lines;
 }
 
@@ -1056,12 +1251,24 @@ function describeWork(s) {
 function describeComparison(s) {
   const c = s.compare;
   if (!c) return [];
-  return [
-    `compared with (${state.layout === 'beside' ? 'right' : 'orange wireframe'}): `
-      + `${solvedBy(c.solver, c.backend, c.method)}`,
-    `  ${c.functions}`,
-    `  ${c.ms_per_step.toFixed(2)} ms/step against ${s.ms_per_step.toFixed(2)}`,
+  const where = state.layout === 'beside' ? 'right' : 'orange wireframe';
+  const lines = [
+    line([piece(`compared with (${where}): ${solvedBy(c.solver, c.backend, c.method)}`, `runs ${c.functions}`)]),
+    line([`  ${c.functions}`], { path: true }),
   ];
+  const last = c.history.length > 0 ? c.history[c.history.length - 1] : null;
+  if (c.solver === 'frames') {
+    const distance = last && last.distance !== null
+      ? piece(`distance now ${formatNumber(last.distance)} m`,
+        'the largest distance between a vertex of ours and the same vertex of your frame of this step')
+      : (c.ended ? `your frames end at step ${s.frames ? s.frames.steps : '?'}; ours goes on alone` : 'no step yet');
+    lines.push(line(['  ', distance]));
+  } else {
+    lines.push(line(['  ', piece(`${c.ms_per_step.toFixed(1)} ms/step`, 'its time per step, averaged'),
+      ` (this one ${s.ms_per_step.toFixed(1)})`, ' · ', piece(`energy ${formatNumber(c.energy)} J`,
+        'its mechanical energy now')], { detail: true }));
+  }
+  return lines;
 }
 
 function formatNumber(x) {
@@ -1071,150 +1278,95 @@ function formatNumber(x) {
 }
 
 // ---------------------------------------------------------------------------
-// The plot. Alone, for the last steps (oldest on the left): the relative
-// gradient where each step stopped (blue line, log scale, 1 at the top,
-// 1e-8 at the bottom) and the iterations it used (grey bars, up to the
-// iteration budget). When comparing, two panels of both simulations (blue:
-// the first, orange: the compared one): the mechanical energy (kinetic,
-// springs, gravity: Simulation::mechanical_energy) above the lowest either
-// reached, log scale, which shows how fast each settles, and the time each
-// step took (milliseconds).
+// The plot (plot.js), under the statistics.
 
-const plot = document.getElementById('plot');
-const plotContext = plot.getContext('2d');
-const PLOT_DECADES = 8;
-const PLOT_LEFT = 30;
-const PLOT_STEPS = 150; // the history's length (api.rs)
+const plotCanvas = document.getElementById('plot');
 
-function drawPlot() {
+function updatePlot() {
   const s = state.status;
-  const height = s && s.compare ? 168 : 96;
-  if (plot.height !== height) {
-    plot.height = height;
-    plot.style.height = `${height}px`;
-  }
-  plotContext.clearRect(0, 0, plot.width, plot.height);
-  if (!s) return;
-  plotContext.font = '9px ui-monospace, monospace';
-  if (s.compare) drawComparison(s); else drawConvergence(s);
+  if (!s || plotCanvas.clientWidth === 0) return;
+  const font = document.body.classList.contains('large') ? 16 : 12;
+  const panels = plotPanels(s, simulationNames(s));
+  window.viewer.plotText = drawPlot(plotCanvas, panels, font);
+  plotCanvas.title = panels.map((panel) => `${panel.title}: ${panel.hover}`).join('\n');
   window.viewer.plotPoints = s.history.length;
 }
 
-function drawConvergence(s) {
-  const c = plotContext;
-  const { width, height } = plot;
-  const bottom = height - 12;
-  const top = 4;
-  const columns = Math.max(1, s.history.length);
-  const columnWidth = (width - PLOT_LEFT) / PLOT_STEPS;
-  c.fillStyle = '#5d6d7e';
-  for (let decade = 0; decade <= PLOT_DECADES; decade += 2) {
-    const y = top + (bottom - top) * decade / PLOT_DECADES;
-    c.fillText(decade === 0 ? '1' : `1e-${decade}`, 0, y + 3);
-    c.fillRect(PLOT_LEFT, y, width - PLOT_LEFT, 0.5);
+// ---------------------------------------------------------------------------
+// Labels over the cloths: when comparing, each cloth has its solver's name
+// above it, on the canvas (over: the wireframe's above the cloth's).
+
+const clothLabels = [document.getElementById('label-0'), document.getElementById('label-1')];
+
+function labelFont() {
+  return document.body.classList.contains('large') ? 18 : 14;
+}
+
+/** Puts each label above its cloth as `matrices` draw it. */
+function placeLabels(matrices) {
+  const s = state.status;
+  const comparing = Boolean(s && s.compare && state.second && state.positions);
+  const names = comparing ? simulationNames(s) : [];
+  clothLabels.forEach((label, set) => {
+    label.hidden = !comparing;
+    if (!comparing) return;
+    const box = projectedBox(set, matrices);
+    const overlaid = state.layout !== 'beside';
+    label.textContent = set === 1 && overlaid ? `orange wireframe: ${names[1]}` : names[set];
+    const y = box.top - 4 - (overlaid && set === 1 ? 1.9 * labelFont() : 0);
+    const half = label.offsetWidth / 2;
+    label.style.left = `${Math.min(Math.max(box.x, half + 4), canvas.clientWidth - half - 4)}px`;
+    label.style.top = `${Math.max(y, 1.7 * labelFont())}px`;
+  });
+  // Two cloths close together: the second label goes above the first.
+  const [a, b] = clothLabels.map((label) => label.getBoundingClientRect());
+  if (comparing && a.left < b.right && b.left < a.right && a.top < b.bottom && b.top < a.bottom) {
+    clothLabels[1].style.top = `${parseFloat(clothLabels[0].style.top) - 1.9 * labelFont()}px`;
   }
-  c.fillText(`relative gradient (line) · iterations (bars, max ${s.iterations}) · last ${columns} steps`,
-    0, height - 1);
-  c.fillStyle = 'rgba(127, 140, 141, 0.45)';
-  s.history.forEach((record, i) => {
-    const h = (bottom - top) * Math.min(1, record.iterations / Math.max(1, s.iterations));
-    c.fillRect(PLOT_LEFT + i * columnWidth, bottom - h, Math.max(1, columnWidth - 0.5), h);
-  });
-  const decades = (record) => (record.relative_gradient === null ? null
-    : Math.min(PLOT_DECADES, Math.max(0, -Math.log10(Math.max(record.relative_gradient, 10 ** -PLOT_DECADES)))));
-  plotLine(s.history, (record) => decades(record), { top, bottom, low: PLOT_DECADES, high: 0 }, '#3f6fb0');
 }
 
-/** Draws `history` as a line: `value(record)` (null: a gap) mapped from
- *  [low, high] to [bottom, top]. */
-function plotLine(history, value, { top, bottom, low, high, columns = PLOT_STEPS }, colour) {
-  const c = plotContext;
-  const columnWidth = (plot.width - PLOT_LEFT) / columns;
-  c.strokeStyle = colour;
-  c.lineWidth = 1.5;
-  c.beginPath();
-  let drawing = false;
-  history.forEach((record, i) => {
-    const v = value(record);
-    if (v === null || !Number.isFinite(v)) {
-      drawing = false;
-      return;
-    }
-    const y = bottom + (top - bottom) * (v - low) / (high - low || 1);
-    const x = PLOT_LEFT + (i + 0.5) * columnWidth;
-    if (drawing) c.lineTo(x, y); else c.moveTo(x, y);
-    drawing = true;
-  });
-  c.stroke();
-}
-
-/** Both simulations: their mechanical energies, on a log scale above the
- *  lowest either reached (so that how fast each settles shows, whatever
- *  the energy's size), and the time each step took. */
-function drawComparison(s) {
-  const first = s.history;
-  const second = alignedHistory(s);
-  const energies = [...first, ...second].map((record) => record.energy).filter(Number.isFinite);
-  const lowest = Math.min(...energies);
-  const spread = Math.max(...energies) - lowest;
-  const floor = lowest - 1e-4 * Math.max(spread, 1e-12);
-  const above = (record) => (Number.isFinite(record.energy) ? Math.log10(record.energy - floor) : null);
-  const logs = [...first, ...second].map(above).filter((v) => v !== null);
-  // At least 30 steps across, so that the first steps of a comparison
-  // are not crowded into its left edge.
-  const columns = Math.max(30, first.length);
-  const energy = {
-    top: 12, bottom: 78, low: Math.floor(Math.min(...logs)), high: Math.ceil(Math.max(...logs)), columns,
-  };
-  const times = [...first, ...second].map((record) => record.ms).filter(Number.isFinite);
-  const time = { top: 100, bottom: 152, low: 0, high: Math.max(1, ...times), columns };
-  drawPanel(energy, `energy above the lowest (log, 1e${energy.low} to 1e${energy.high})`);
-  drawPanel(time, `ms per step (0 to ${time.high.toFixed(0)})`);
-  const colours = ['#3f6fb0', `rgb(${LOOK.second.map((c) => 255 * c).join(',')})`];
-  plotLine(first, above, energy, colours[0]);
-  plotLine(second, above, energy, colours[1]);
-  plotLine(first, (record) => record.ms, time, colours[0]);
-  plotLine(second, (record) => record.ms, time, colours[1]);
-  plotContext.fillStyle = '#5d6d7e';
-  plotContext.fillText('blue: this simulation · orange: the compared one', 0, plot.height - 1);
-}
-
-/** The compared simulation's history, aligned with the first's by step
- *  (the two step together; the comparison may have started later). */
-function alignedHistory(s) {
-  const byStep = new Map(s.compare.history.map((record) => [record.step, record]));
-  return s.history.map((record) => byStep.get(record.step) || { energy: null, ms: null });
-}
-
-/** A panel's frame and title. */
-function drawPanel({ top, bottom }, title) {
-  const c = plotContext;
-  c.fillStyle = '#5d6d7e';
-  c.fillText(title, 0, top - 3);
-  c.fillRect(PLOT_LEFT, top, plot.width - PLOT_LEFT, 0.5);
-  c.fillRect(PLOT_LEFT, bottom, plot.width - PLOT_LEFT, 0.5);
+/** The top and the horizontal middle of simulation `set` on the screen. */
+function projectedBox(set, matrices) {
+  const positions = set === 1 ? state.second : state.positions;
+  const offset = set === 1 ? secondOffset() : [0, 0, 0];
+  let [left, right, top] = [Infinity, -Infinity, Infinity];
+  for (let i = 0; i < positions.length; i += 3) {
+    const p = project([positions[i] + offset[0], positions[i + 1] + offset[1], positions[i + 2] + offset[2]], matrices);
+    if (!p) continue;
+    left = Math.min(left, p.x);
+    right = Math.max(right, p.x);
+    top = Math.min(top, p.y);
+  }
+  return { x: (left + right) / 2, top };
 }
 
 // ---------------------------------------------------------------------------
-// The controls panel: buttons (the keys' commands, and ■ stop, which
-// cancels the step in progress), the scene picker, the solve picker (the
-// assignment, the handout's code dense or sparse, the assignment's
-// accuracy fast: `--textbook` and `--accuracy` on the command line),
-// "compare with" and how the compared simulation is drawn, sliders for k
-// (log scale), Δt, the mass scale (log scale) and the iterations, and, for
-// experts, the method, the two tolerances, the floor and the start. A
-// slider shows its value while it moves and sends set_parameters when let
-// go. Every control sends only what it changes: the others are the
-// server's values, not read back from controls that would round them.
+// The controls panel: buttons (the keys' commands; reset, which returns to
+// the scene as it loaded, and restart, which keeps the settings; ■ stop,
+// which stops whatever runs; large print; the sliders shown or not; on a
+// phone, the drawer), the scene picker, the solve picker (the assignment,
+// the handout's code dense or sparse, the fast mode: `--textbook` and
+// `--accuracy` on the command line), "compare" and how the compared
+// simulation is drawn, sliders for k (log scale), Δt, the mass scale (log
+// scale) and the iterations, and, for experts, the method, the two
+// tolerances, the floor and the start. A slider shows its value while it
+// moves and sends set_parameters when let go. Every control sends only
+// what it changes: the others are the server's values, not read back from
+// controls that would round them. A control keeps what the user chose
+// until the server has answered, then shows the server's value.
 
 const controls = {
   play: document.getElementById('play'),
   step: document.getElementById('step'),
   reset: document.getElementById('reset'),
+  restart: document.getElementById('restart'),
   stop: document.getElementById('stop'),
+  drawer: document.getElementById('drawer'),
   wind: document.getElementById('wind'),
   springs: document.getElementById('springs'),
   fit: document.getElementById('fit'),
+  large: document.getElementById('large'),
+  more: document.getElementById('more'),
   help: document.getElementById('help-button'),
   scene: document.getElementById('scene'),
   solver: document.getElementById('solver'),
@@ -1227,10 +1379,11 @@ const controls = {
   start: document.getElementById('start'),
 };
 
-/** Each slider: how its position maps to the parameter and back. */
+/** Each slider: how its position maps to the parameter and back, and its
+ *  value with its unit. */
 const SLIDERS = {
-  k: { toValue: (x) => 10 ** x, toSlider: Math.log10, show: formatNumber },
-  delta_t: { toValue: (x) => x, toSlider: (v) => v, show: (v) => v.toFixed(4) },
+  k: { toValue: (x) => 10 ** x, toSlider: Math.log10, show: (v) => `${formatNumber(v)} N/m` },
+  delta_t: { toValue: (x) => x, toSlider: (v) => v, show: (v) => `${v.toFixed(4)} s` },
   mass_scale: { toValue: (x) => 10 ** x, toSlider: Math.log10, show: (v) => `×${formatNumber(v)}` },
   iterations: { toValue: (x) => Math.round(x), toSlider: (v) => v, show: String },
 };
@@ -1246,7 +1399,7 @@ function sendParameters(name) {
   const s = state.status;
   const parameters = { k: s.k, delta_t: s.delta_t, mass_scale: s.mass_scale, iterations: s.iterations };
   parameters[name] = sliderValue(name);
-  return send({ command: 'set_parameters', ...parameters });
+  return send({ command: 'set_parameters', ...parameters }, name);
 }
 
 /** A tolerance slider's position (decades, 0: off) as the value sent. */
@@ -1276,13 +1429,13 @@ function sendMethod(changed) {
     start: () => (controls.start.checked ? 'inertial' : 'current'),
   };
   method[changed] = fromPage[changed]();
-  return send({ command: 'set_method', ...method });
+  return send({ command: 'set_method', ...method }, changed);
 }
 
 /** A picker's value, `solver` or `solver:backend`, as a command's fields. */
 function solverChoice(value) {
-  const [solver, backend] = value.split(':');
-  return backend ? { solver, backend } : { solver };
+  const [solver, backendName] = value.split(':');
+  return backendName ? { solver, backend: backendName } : { solver };
 }
 
 for (const name of Object.keys(SLIDERS)) {
@@ -1293,33 +1446,35 @@ for (const name of Object.keys(SLIDERS)) {
 }
 
 const BUTTON_COMMANDS = {
-  play: 'toggle_animation', step: 'step', reset: 'reset', wind: 'toggle_wind', springs: 'toggle_springs',
-  stop: 'cancel',
+  play: 'toggle_animation', step: 'step', reset: 'reset', restart: 'restart', wind: 'toggle_wind',
+  springs: 'toggle_springs', stop: 'cancel',
 };
 for (const [id, command] of Object.entries(BUTTON_COMMANDS)) {
   controls[id].addEventListener('click', () => send({ command }));
 }
 controls.fit.addEventListener('click', fitToCloth);
 controls.help.addEventListener('click', () => toggleHelp());
+controls.large.addEventListener('click', () => setLargePrint(!document.body.classList.contains('large')));
+controls.more.addEventListener('click', () => document.body.classList.toggle('settings-open'));
+controls.drawer.addEventListener('click', () => document.body.classList.toggle('drawer-open'));
 controls.scene.addEventListener('change', () => {
-  send({ command: 'load_scene', scene: Number(controls.scene.value) });
+  send({ command: 'load_scene', scene: Number(controls.scene.value) }, 'scene');
 });
 controls.solver.addEventListener('change', () => {
-  if (controls.solver.value) send({ command: 'set_solver', ...solverChoice(controls.solver.value) });
+  if (controls.solver.value) send({ command: 'set_solver', ...solverChoice(controls.solver.value) }, 'solver');
 });
 controls.compare.addEventListener('change', () => {
   const value = controls.compare.value;
   if (!value) {
-    send({ command: 'compare', with: null });
+    send({ command: 'compare', with: null }, 'compare');
     return;
   }
-  const { solver, backend } = solverChoice(value);
-  send({ command: 'compare', with: solver, ...(backend ? { backend } : {}) });
+  const { solver, backend: backendName } = solverChoice(value);
+  send({ command: 'compare', with: solver, ...(backendName ? { backend: backendName } : {}) }, 'compare');
 });
 controls.layout.addEventListener('change', () => {
   state.layout = controls.layout.value;
-  camera.box = emptyBox(); // frame the pair as it is now drawn
-  if (!camera.autoFrame) fitToCloth();
+  frameAfresh(); // the pair as it is now drawn
 });
 controls.method.addEventListener('change', () => sendMethod('method'));
 controls.tolerance.addEventListener('change', () => sendMethod('tolerance'));
@@ -1338,18 +1493,27 @@ function toleranceText(tolerance) {
   return tolerance === null ? 'off' : formatNumber(tolerance);
 }
 
-/** Shows the status in the controls, except in the one being handled. */
+/** Is `control` (an element) being handled: its command not answered
+ *  yet, or a slider held? Its value is then the user's, not the status's. */
+function handling(control) {
+  return state.pending.has(control.id)
+    || (control.type === 'range' && document.activeElement === control && state.sliderHeld);
+}
+
+/** Shows the status in the controls, but in those being handled. */
 function syncControls() {
   const s = state.status;
   if (!s) return;
   controls.play.textContent = s.animating ? '❚❚ pause' : '▶ play';
   controls.play.classList.toggle('on', s.animating);
-  controls.stop.disabled = !s.busy;
+  const running = Boolean(s.busy) || s.animating;
+  controls.stop.disabled = !running;
   controls.stop.classList.toggle('on', Boolean(s.busy));
   controls.wind.classList.toggle('on', s.wind);
   controls.springs.classList.toggle('on', s.show_springs);
   syncList(controls.scene, s.scenes.map((name, i) => [String(i), name]), String(s.scene_index));
   syncList(controls.method, s.methods.map((name) => [name, name]), s.method);
+  syncSolveLabels(s);
   const solver = s.solver === 'textbook' ? `textbook:${s.backend}` : (s.solver || '');
   syncPicker(controls.solver, solver);
   const compare = !s.compare ? '' : s.compare.solver === 'textbook' ? `textbook:${s.compare.backend}`
@@ -1359,18 +1523,40 @@ function syncControls() {
   syncRules(s);
   for (const name of Object.keys(SLIDERS)) {
     const input = document.getElementById(name);
-    if (document.activeElement === input && state.sliderHeld) continue;
+    if (handling(input)) continue;
     input.value = String(SLIDERS[name].toSlider(s[name]));
     document.getElementById(`${name}-value`).textContent = SLIDERS[name].show(s[name]);
   }
 }
 
+/** The pickers' words that depend on the scene: what the dense setup
+ *  takes, and whether the frames of --frames can be compared with. */
+function syncSolveLabels(s) {
+  const gigabytes = (s.dense_memory.match(/: ([0-9.]+ GB)/) || [])[1] || '';
+  const dense = s.dense_fits ? `the handout's code, dense (${gigabytes})`
+    : `the handout's code, dense (${gigabytes}: over the limit)`;
+  for (const select of [controls.solver, controls.compare]) {
+    const option = select.querySelector('option[value="textbook:dense"]');
+    option.hidden = !s.dense_memory; // a page that runs the simulation itself has no dense path
+    option.textContent = dense;
+    option.title = `${s.dense_memory}; Esc stops its setup`;
+    const fast = select.querySelector('option[value="accuracy-assignment"]');
+    fast.title = FAST_MODE;
+  }
+  const frames = controls.compare.querySelector('option[value="frames"]');
+  frames.hidden = !s.frames || s.scene_index !== 0;
+  if (s.frames) {
+    frames.textContent = `your frames (${s.frames.steps} steps)`;
+    frames.title = `the frames in ${s.frames.folder}, played back one a step from rest`;
+  }
+}
+
 /** The expert's rules: start, floor and the two tolerances. */
 function syncRules(s) {
-  if (document.activeElement !== controls.start) controls.start.checked = s.start === 'inertial';
-  if (document.activeElement !== controls.atLeastPlain) controls.atLeastPlain.checked = s.at_least_plain !== null;
+  if (!handling(controls.start)) controls.start.checked = s.start === 'inertial';
+  if (!handling(controls.atLeastPlain)) controls.atLeastPlain.checked = s.at_least_plain !== null;
   for (const [input, name] of [[controls.tolerance, 'tolerance'], [controls.energyTolerance, 'energy_tolerance']]) {
-    if (document.activeElement === input) continue;
+    if (handling(input)) continue;
     input.value = String(toDecades(s[name]));
     document.getElementById(`${name}-value`).textContent = toleranceText(s[name]);
   }
@@ -1381,16 +1567,45 @@ function syncList(select, entries, value) {
   if (select.options.length !== entries.length) {
     select.replaceChildren(...entries.map(([v, label]) => new Option(label, v)));
   }
-  if (document.activeElement !== select) select.value = value;
+  if (!handling(select)) select.value = value;
 }
 
 /** A fixed picker showing `value` (`''`: the expert's own settings). */
 function syncPicker(select, value) {
-  if (document.activeElement !== select) select.value = value;
+  if (!handling(select)) select.value = value;
 }
 
 window.addEventListener('pointerdown', () => { state.sliderHeld = true; });
 window.addEventListener('pointerup', () => { state.sliderHeld = false; });
+
+// ---------------------------------------------------------------------------
+// The layout: large print (on by default on a window at most
+// LARGE_PRINT_WIDTH wide), a phone's (narrower than NARROW_WIDTH: the
+// drawer), the sliders shown (by default in small print).
+
+/** Large print on or off: the page's text at least 16 px. */
+function setLargePrint(large) {
+  document.body.classList.toggle('large', large);
+  controls.large.classList.toggle('on', large);
+  fitLayout();
+}
+
+/** Follows the window's width: a phone's layout or not. */
+function fitLayout() {
+  const print = document.body.classList.contains('large') ? 'large' : 'small';
+  document.body.classList.toggle('narrow', window.innerWidth < NARROW_WIDTH[print]);
+  layoutChanged();
+}
+
+/** The panels changed size: the plot is drawn again, the camera frames
+ *  the free area that is left. */
+function layoutChanged() {
+  updatePlot();
+  frameAfresh();
+}
+
+window.addEventListener('resize', fitLayout);
+new ResizeObserver(() => layoutChanged()).observe(document.getElementById('controls'));
 
 // ---------------------------------------------------------------------------
 // Help overlay: ? or H shows and hides it, Esc hides it.
@@ -1404,14 +1619,19 @@ function toggleHelp(show = helpOverlay.hidden) {
 helpOverlay.addEventListener('click', () => toggleHelp(false));
 
 // ---------------------------------------------------------------------------
-// Keys: as the assignment's viewer, plus F (fit), M (next method), ?/H
-// (help) and Esc (stop the step in progress, close the help).
+// Keys: as the assignment's viewer, plus shift-R (restart), F (fit), M
+// (next method), ?/H (help) and Esc (stop whatever runs, close the help).
+// They act whatever control has focus (a slider, a picker, a button just
+// clicked), but while typing in a text field; the focused control does
+// not also take the key (space does not click the button, a letter does
+// not pick an option).
 
 const KEY_COMMANDS = {
   ' ': 'step', // pause and advance one step
   a: 'toggle_animation',
   l: 'toggle_springs',
   r: 'reset',
+  R: 'restart',
   w: 'toggle_wind',
 };
 
@@ -1426,30 +1646,43 @@ function nextMethod() {
   });
 }
 
-window.addEventListener('keydown', (event) => {
-  if (event.ctrlKey || event.metaKey || event.altKey) return;
-  const target = event.target;
-  if (target instanceof HTMLInputElement || target instanceof HTMLSelectElement) return;
-  const key = event.key.toLowerCase();
-  if (key === '?' || key === 'h') {
-    toggleHelp();
-  } else if (key === 'escape') {
-    toggleHelp(false);
-    if (state.status && state.status.busy) send({ command: 'cancel' });
-  } else if (key === 'f') {
-    fitToCloth();
-  } else if (key === 'm') {
-    nextMethod();
-  } else {
-    const command = KEY_COMMANDS[key];
-    if (!command) return;
-    event.preventDefault();
-    if (event.repeat && command !== 'step') return; // holding space keeps stepping
-    send({ command });
-    return;
+/** Is `target` a field one types text into? */
+function typingInto(target) {
+  if (target instanceof HTMLTextAreaElement || (target && target.isContentEditable)) return true;
+  const notText = ['range', 'checkbox', 'radio', 'button', 'submit', 'reset', 'color', 'file', 'image'];
+  return target instanceof HTMLInputElement && !notText.includes(target.type);
+}
+
+/** What key `event` does, or null. */
+function keyAction(event) {
+  const key = event.key.length === 1 && !event.shiftKey ? event.key.toLowerCase() : event.key;
+  if (key === '?' || key === 'h' || key === 'H') return () => toggleHelp();
+  if (key === 'Escape') {
+    return () => {
+      toggleHelp(false);
+      send({ command: 'cancel' }); // a step, a setup, the animation: whatever runs
+    };
   }
+  if (key === 'f' || key === 'F') return fitToCloth;
+  if (key === 'm' || key === 'M') return nextMethod;
+  const command = KEY_COMMANDS[key] || KEY_COMMANDS[key.toLowerCase()];
+  if (!command) return null;
+  // Holding space keeps stepping; holding another key does not repeat it.
+  return () => { if (!event.repeat || command === 'step') send({ command }); };
+}
+
+window.addEventListener('keydown', (event) => {
+  if (event.ctrlKey || event.metaKey || event.altKey || typingInto(event.target)) return;
+  const action = keyAction(event);
+  if (!action) return;
   event.preventDefault();
-});
+  action();
+}, { capture: true });
+
+// A button pressed by space or enter would click again when the key goes up.
+window.addEventListener('keyup', (event) => {
+  if (event.key === ' ' && !typingInto(event.target)) event.preventDefault();
+}, { capture: true });
 
 // ---------------------------------------------------------------------------
 // Mouse: drag to orbit, right-drag or ctrl-drag to pan, wheel to zoom
@@ -1575,7 +1808,7 @@ function orbit(dx, dy) {
   camera.azimuth -= dx * 0.01;
   const limit = Math.PI / 2 - 0.01;
   camera.elevation = Math.max(-limit, Math.min(limit, camera.elevation + dy * 0.01));
-  camera.autoFrame = false;
+  takeCamera();
 }
 
 let mouse = null; // { mode: 'orbit' | 'pan', x, y } while a button is held
@@ -1683,6 +1916,38 @@ canvas.addEventListener('touchend', (event) => {
 // Start: fetch the status and the scene, then draw on every animation frame
 // of the browser (with WebGL, or the server's images without it).
 
+// ---------------------------------------------------------------------------
+// A scene of the user's own, where the backend can open one (a page that
+// runs the simulation itself, src/web/backend.js): its JSON, the OBJ and
+// the PNG it names, picked with "open…" or dropped on the page. A file
+// that cannot be read is refused in the command line's words, shown on the
+// overlay.
+
+async function openFiles(files) {
+  if (files.length === 0) return;
+  const { ok, answer } = await backend.openFiles(files);
+  state.status = ok ? answer : state.status;
+  state.refusal = ok ? null : `your scene: ${answer.error}`;
+  window.viewer.lastOpen = { ok, error: ok ? null : answer.error };
+  onStatus();
+}
+
+if (backend.openFiles) {
+  const openButton = document.getElementById('open');
+  const picker = document.getElementById('open-files');
+  openButton.hidden = false;
+  openButton.addEventListener('click', () => picker.click());
+  picker.addEventListener('change', () => {
+    openFiles(Array.from(picker.files));
+    picker.value = ''; // the same files can be picked again
+  });
+  window.addEventListener('dragover', (event) => event.preventDefault());
+  window.addEventListener('drop', (event) => {
+    event.preventDefault();
+    openFiles(Array.from(event.dataTransfer.files));
+  });
+}
+
 function everyAnimationFrame() {
   if (!state.loadingScene && state.scene) {
     pollFrame();
@@ -1707,10 +1972,13 @@ function drawKey() {
   const s = state.status;
   return [state.serial, camera.azimuth, camera.elevation, camera.distance, ...camera.target, ...camera.shift,
     canvas.clientWidth, canvas.clientHeight, window.devicePixelRatio, s && s.show_springs, gpu.texture !== null,
-    state.layout, state.dragTarget && state.dragTarget.join(), state.second !== null].join('|');
+    state.layout, state.dragTarget && state.dragTarget.join(), state.second !== null,
+    document.body.className, s && s.compare && s.compare.solver].join('|');
 }
 
 async function start() {
+  setLargePrint(window.innerWidth <= LARGE_PRINT_WIDTH);
+  document.body.classList.toggle('settings-open', !document.body.classList.contains('large'));
   await pollStatus();
   state.sceneSerial = state.status ? state.status.scene_serial : 0;
   await loadScene();
