@@ -410,21 +410,21 @@ fn steps_beside_one_thread(
     };
     let mut alone = Simulation::<Sparse>::from_scene(&scene, options).map_err(|e| failed(&e))?;
     drop(scene);
-    let mut step_error = None;
+    let (mut first_error, mut second_error) = (None, None);
     let ([one, many], _) = interleaved_medians(
         Repeats::Exactly(steps),
         || {
             if let Err(e) = alone.step() {
-                step_error.get_or_insert(e);
+                first_error.get_or_insert(e);
             }
         },
         || {
             if let Err(e) = simulation.step() {
-                step_error.get_or_insert(e);
+                second_error.get_or_insert(e);
             }
         },
     );
-    match step_error {
+    match first_error.or(second_error) {
         Some(e) => Err(failed(&e)),
         None => Ok([one, many]),
     }

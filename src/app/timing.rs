@@ -50,7 +50,7 @@ pub fn interleaved_medians(
     mut second: impl FnMut(),
 ) -> ([f64; 2], usize) {
     let mut times = [BoundedSample::new(), BoundedSample::new()];
-    let mut timed = |sample: &mut BoundedSample, work: &mut dyn FnMut()| {
+    let timed = |sample: &mut BoundedSample, work: &mut dyn FnMut()| {
         let t = Instant::now();
         work();
         sample.push(t.elapsed().as_secs_f64());

@@ -134,12 +134,14 @@ pub struct SparseCholesky {
     parallel: Option<Parallel>,
 }
 
-/// A pool of threads, and how the supernodal method shares its work among
-/// them (`None` for the simplicial method, which runs on one thread).
+/// A pool of threads, and how the supernodal method shares its
+/// factorization and its solves among them (the simplicial method runs on
+/// one thread and has none).
 #[derive(Debug, Clone)]
 struct Parallel {
     threads: Threads,
-    plans: Option<(ParallelFactor, ParallelSolve)>,
+    factor: ParallelFactor,
+    solve: ParallelSolve,
 }
 
 impl SparseCholesky {
@@ -242,7 +244,8 @@ impl SparseCholesky {
                 match &mut self.parallel {
                     Some(Parallel {
                         threads,
-                        plans: Some((plan, _)),
+                        factor: plan,
+                        ..
                     }) => factor_parallel(threads, input, &mut self.values, work, plan),
                     _ => factor_supernodal(&self.symbolic, a, loading, &mut self.values, work),
                 }
@@ -284,13 +287,7 @@ impl SparseCholesky {
             Workspace::Simplicial(work, permuted) => work.bytes() + permuted.bytes(),
             Workspace::Supernodal(work, loading) => work.bytes() + loading.bytes(),
         };
-        let plans = match &self.parallel {
-            Some(Parallel {
-                plans: Some((factor, solve)),
-                ..
-            }) => factor.bytes() + solve.bytes(),
-            _ => 0,
-        };
+        let plans = (self.parallel.as_ref()).map_or(0, |p| p.factor.bytes() + p.solve.bytes());
         self.symbolic.bytes()
             + std::mem::size_of_val(&self.values[..])
             + workspace
@@ -421,7 +418,8 @@ impl SparseCholesky {
         self.check_ready(n);
         let Some(Parallel {
             threads,
-            plans: Some((_, plan)),
+            solve: plan,
+            ..
         }) = &mut self.parallel
         else {
             return None;
@@ -466,13 +464,7 @@ impl SparseCholesky {
 
     /// The supernodal plan for the threads, if any.
     fn parallel_plan(&self) -> Option<&ParallelSolve> {
-        match &self.parallel {
-            Some(Parallel {
-                plans: Some((_, plan)),
-                ..
-            }) => Some(plan),
-            _ => None,
-        }
+        self.parallel.as_ref().map(|p| &p.solve)
     }
 
     /// The whole solve in one run of the team: each thread writes `P b`
@@ -490,7 +482,8 @@ impl SparseCholesky {
         let n = self.symbolic.n();
         let Some(Parallel {
             threads,
-            plans: Some((_, plan)),
+            solve: plan,
+            ..
         }) = &mut self.parallel
         else {
             unreachable!("solve_by_team runs with a team plan");
@@ -581,8 +574,8 @@ impl SparseCholesky {
 }
 
 impl Parallel {
-    /// A pool of `threads` threads and, for the supernodal method, the
-    /// plans for as many as the pool has; `None` for one thread.
+    /// A pool of `threads` threads and the supernodal method's plans for as
+    /// many as the pool has; `None` for one thread or the simplicial method.
     fn new(symbolic: &SymbolicCholesky, method: Method, threads: usize) -> Option<Self> {
         if threads <= 1 || method == Method::Simplicial {
             return None; // the textbook's method runs on one thread
@@ -592,10 +585,10 @@ impl Parallel {
         if count == 1 {
             return None; // no thread could be made
         }
-        let plans = Some((
-            ParallelFactor::new(symbolic, count),
-            ParallelSolve::new(symbolic, count),
-        ));
-        Some(Parallel { threads, plans })
+        Some(Parallel {
+            threads,
+            factor: ParallelFactor::new(symbolic, count),
+            solve: ParallelSolve::new(symbolic, count),
+        })
     }
 }

@@ -164,6 +164,8 @@ pub fn iterate(
             iterate_alone(springs, cholesky, problem, a_t_d, room, p, iterations)
         }
         Workspace::Team(blocks) => {
+            // the threads write only their own rows: those of this factor's team
+            assert!(work.fits(cholesky), "the springs' blocks are another team's");
             let (solve, threads, permutation) = cholesky
                 .team_solve()
                 .expect("the springs' blocks are made for a team");
