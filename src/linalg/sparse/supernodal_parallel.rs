@@ -801,4 +801,43 @@ mod tests {
         }
         assert_eq!(tried, [true; 3], "a kind of supernode was never tried");
     }
+
+    #[test]
+    fn thread_0_stopping_before_a_shared_supernode_never_leaves_it_waiting() {
+        // a pivot fails in a subtree or a top supernode thread 0 factors
+        // alone, with supernodes the team shares after it: the followers
+        // must leave at the barrier where thread 0 tells them, never
+        // before it (a follower that read the flag between two shared
+        // supernodes could leave thread 0 waiting there for ever; the race
+        // is rare, so the failure is repeated, on more threads than cores
+        // too, and every refactorization must end with the same error)
+        let (q, symbolic) = analysed("skirt.json");
+        let mut tried = 0;
+        for threads in [2, 3, 4, 8] {
+            let plan = ParallelFactor::new(&symbolic, threads);
+            let items = plan.schedule.items();
+            let shared_after = |i: usize| {
+                (items[i..].iter()).any(|later| matches!(later, Item::Top(t) if plan.together[*t]))
+            };
+            // a subtree or a supernode thread 0 factors alone, before one
+            // the team shares
+            let stops_before_shared = items.iter().enumerate().find_map(|(i, item)| match item {
+                Item::Task(t) if shared_after(i) => Some(plan.schedule.task(*t).start),
+                Item::Top(s) if !plan.together[*s] && shared_after(i) => Some(*s),
+                _ => None,
+            });
+            let Some(s) = stops_before_shared else { continue };
+            tried += 1;
+            let column = symbolic.supernodes().columns(s).start;
+            let bad = spoiled(&q, symbolic.permutation().perm()[column]);
+            let mut factor =
+                SparseCholesky::factor_with_threads(symbolic.clone(), &q, Method::Supernodal, threads)
+                    .unwrap();
+            let expected = SparseCholesky::factor(symbolic.clone(), &bad, Method::Supernodal).unwrap_err();
+            for _ in 0..200 {
+                assert_eq!(factor.refactor(&bad).unwrap_err(), expected, "{threads} threads");
+            }
+        }
+        assert!(tried > 0, "no thread count had such a supernode");
+    }
 }
