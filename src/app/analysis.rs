@@ -247,7 +247,11 @@ fn timed_factor_and_solve(
         || solve(&mut alone, rhs, &mut x_1),
         || solve(&mut cholesky, rhs, &mut x),
     );
-    let same_bits = x.iter().flatten().map(|v| v.to_bits()).eq(x_1.iter().flatten().map(|v| v.to_bits()));
+    let same_bits = x
+        .iter()
+        .flatten()
+        .map(|v| v.to_bits())
+        .eq(x_1.iter().flatten().map(|v| v.to_bits()));
     Ok(Solved {
         x,
         seconds: [numeric_s, solve_s],

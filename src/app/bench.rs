@@ -402,7 +402,10 @@ fn steps_beside_one_thread(
     simulation: &mut Simulation<Sparse>,
 ) -> Result<[f64; 2], AppError> {
     let failed = |e: &dyn std::fmt::Display| AppError::Failed(format!("{name}: {e}"));
-    eprintln!("{name}: {steps} steps on 1 thread and on {}, interleaved", simulation.threads());
+    eprintln!(
+        "{name}: {steps} steps on 1 thread and on {}, interleaved",
+        simulation.threads()
+    );
     let scene = procedural::grid(side).to_scene().map_err(|e| failed(&e))?;
     let options = SimulationOptions {
         threads: 1,

@@ -71,14 +71,20 @@ impl SpringBlocks {
     /// When a spring names a vertex beyond `new_index`, a row is in no
     /// block, or there are 2³² springs or more.
     pub fn new(springs: &[[usize; 2]], new_index: &[usize], rows: Vec<Vec<Range<usize>>>) -> Self {
-        assert!(u32::try_from(springs.len()).is_ok(), "32-bit spring numbers");
+        assert!(
+            u32::try_from(springs.len()).is_ok(),
+            "32-bit spring numbers"
+        );
         let mut owner = vec![usize::MAX; new_index.len()];
         for (b, ranges) in rows.iter().enumerate() {
             for range in ranges {
                 owner[range.clone()].fill(b);
             }
         }
-        assert!(owner.iter().all(|&b| b != usize::MAX), "every row in a block");
+        assert!(
+            owner.iter().all(|&b| b != usize::MAX),
+            "every row in a block"
+        );
         let mut lists = vec![Vec::new(); rows.len()];
         for (e, &[i, j]) in springs.iter().enumerate() {
             let (i, j) = (new_index[i], new_index[j]);

@@ -306,8 +306,19 @@ fn simulate_writes_the_same_frames_on_any_number_of_threads() {
     let frames = |threads: &str, kernels: &str| {
         let folder = temp_folder(&format!("threads-{threads}-{kernels}"));
         let args = [
-            "simulate", &flag, "--steps", "6", "--every", "6", "--threads", threads,
-            "--kernels", kernels, "--out", folder.to_str().unwrap(), "--json",
+            "simulate",
+            &flag,
+            "--steps",
+            "6",
+            "--every",
+            "6",
+            "--threads",
+            threads,
+            "--kernels",
+            kernels,
+            "--out",
+            folder.to_str().unwrap(),
+            "--json",
         ];
         let summary = json(&masssprings(&args));
         assert_eq!(summary["threads"].as_u64(), Some(threads.parse().unwrap()));
@@ -316,11 +327,23 @@ fn simulate_writes_the_same_frames_on_any_number_of_threads() {
     for kernels in ["native", "portable"] {
         let one = frames("1", kernels);
         for threads in ["2", "3", "4"] {
-            assert!(frames(threads, kernels) == one, "{threads} threads, {kernels} kernels");
+            assert!(
+                frames(threads, kernels) == one,
+                "{threads} threads, {kernels} kernels"
+            );
         }
     }
     // the textbook path runs on one thread, and says so
-    let args = ["simulate", &flag, "--steps", "1", "--textbook", "--threads", "3", "--json"];
+    let args = [
+        "simulate",
+        &flag,
+        "--steps",
+        "1",
+        "--textbook",
+        "--threads",
+        "3",
+        "--json",
+    ];
     assert_eq!(json(&masssprings(&args))["threads"], 1);
     let refused = masssprings(&["simulate", &flag, "--threads", "0"]);
     assert_eq!(refused.status.code(), Some(2), "{}", stderr(&refused));
@@ -335,7 +358,15 @@ fn analyze_on_threads_reports_the_speedup_over_one_thread_and_the_same_bits() {
     })
     .unwrap();
     let file = path.to_str().unwrap();
-    let args = ["analyze", file, "--json", "--repeats", "3", "--threads", "3"];
+    let args = [
+        "analyze",
+        file,
+        "--json",
+        "--repeats",
+        "3",
+        "--threads",
+        "3",
+    ];
     let report = json(&masssprings(&args));
     assert_eq!(report["threads"], 3, "{report}");
     let one = &report["one_thread"];
@@ -343,7 +374,15 @@ fn analyze_on_threads_reports_the_speedup_over_one_thread_and_the_same_bits() {
     for key in ["numeric_s", "solve_s", "numeric_speedup", "solve_speedup"] {
         assert!(one[key].as_f64().unwrap() > 0.0, "{key} in {report}");
     }
-    let alone = json(&masssprings(&["analyze", file, "--json", "--repeats", "1", "--threads", "1"]));
+    let alone = json(&masssprings(&[
+        "analyze",
+        file,
+        "--json",
+        "--repeats",
+        "1",
+        "--threads",
+        "1",
+    ]));
     assert_eq!(alone["threads"], 1);
     assert!(alone["one_thread"].is_null(), "{alone}");
 }
@@ -493,8 +532,16 @@ fn bench_reports_every_key_and_slopes_fitted_to_its_own_figures() {
     // on more than one thread, one thread's times beside them
     for size in sizes {
         let threads = size["threads"].as_u64().unwrap();
-        for key in ["numeric_one_thread_s", "solve_one_thread_s", "step_one_thread_s"] {
-            assert_eq!(size[key].as_f64().is_some_and(|t| t > 0.0), threads > 1, "{key} in {size}");
+        for key in [
+            "numeric_one_thread_s",
+            "solve_one_thread_s",
+            "step_one_thread_s",
+        ] {
+            assert_eq!(
+                size[key].as_f64().is_some_and(|t| t > 0.0),
+                threads > 1,
+                "{key} in {size}"
+            );
         }
     }
     let table = std::fs::read_to_string(&csv).unwrap();

@@ -20,7 +20,9 @@ const THREADS: [usize; 5] = [1, 2, 3, 4, 8];
 
 /// The `Q` of a scene of `data/`.
 fn data_q(name: &str) -> CscMatrix {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data").join(name);
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("data")
+        .join(name);
     scene_q(&load_scene(&path).unwrap(), DELTA_T)
 }
 
@@ -74,7 +76,10 @@ fn same_bits_on_any_threads(a: &CscMatrix, symbolic: &SymbolicCholesky, what: &s
             None => reference = Some(got),
             Some(expected) => {
                 for (k, (got, expected)) in got.iter().zip(expected).enumerate() {
-                    assert!(got == expected, "{what}: result {k} differs on {threads} threads");
+                    assert!(
+                        got == expected,
+                        "{what}: result {k} differs on {threads} threads"
+                    );
                 }
             }
         }

@@ -21,7 +21,10 @@ fn held_by_grid(side: usize, threads: usize) -> (Vec<(&'static str, usize)>, usi
     );
     let items = simulation.bytes();
     let total = items.iter().map(|(_, bytes)| bytes).sum();
-    eprintln!("grid-{side}, n = {}, {threads} threads:", scene.vertices.len());
+    eprintln!(
+        "grid-{side}, n = {}, {threads} threads:",
+        scene.vertices.len()
+    );
     for (what, bytes) in &items {
         eprintln!("  {:>12} {what}", bytes);
     }
@@ -66,8 +69,16 @@ fn a_team_of_threads_adds_little_to_a_simulation() {
     let (_, one) = held_by_grid(316, 1);
     let (_, two) = held_by_grid(316, 2);
     let (_, four) = held_by_grid(316, 4);
-    assert!(two - one <= 3_500_000, "two threads add {} bytes", two - one);
-    assert!(four - one <= 5_300_000, "four threads add {} bytes", four - one);
+    assert!(
+        two - one <= 3_500_000,
+        "two threads add {} bytes",
+        two - one
+    );
+    assert!(
+        four - one <= 5_300_000,
+        "four threads add {} bytes",
+        four - one
+    );
 }
 
 #[test]

@@ -8,7 +8,9 @@ use masssprings::sim::{Pins, Simulation, SimulationOptions, Sparse, StepMethod};
 
 /// A scene of `data/`.
 fn scene(name: &str) -> Scene {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data").join(name);
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("data")
+        .join(name);
     load_scene(&path).unwrap()
 }
 
@@ -19,18 +21,34 @@ fn trajectory(scene: &Scene, options: SimulationOptions, steps: usize) -> Vec<Ve
     (0..steps)
         .map(|_| {
             simulation.step().unwrap();
-            simulation.positions().iter().flatten().map(|v| v.to_bits()).collect()
+            simulation
+                .positions()
+                .iter()
+                .flatten()
+                .map(|v| v.to_bits())
+                .collect()
         })
         .collect()
 }
 
 /// The trajectory of `options` on 2, 3 and 4 threads is that on one.
 fn same_on_any_threads(scene: &Scene, options: SimulationOptions, steps: usize, what: &str) {
-    let one = trajectory(scene, SimulationOptions { threads: 1, ..options }, steps);
+    let one = trajectory(
+        scene,
+        SimulationOptions {
+            threads: 1,
+            ..options
+        },
+        steps,
+    );
     for threads in [2, 3, 4] {
         let many = trajectory(scene, SimulationOptions { threads, ..options }, steps);
         for (step, (a, b)) in one.iter().zip(&many).enumerate() {
-            assert!(a == b, "{what}: step {} differs on {threads} threads", step + 1);
+            assert!(
+                a == b,
+                "{what}: step {} differs on {threads} threads",
+                step + 1
+            );
         }
     }
 }

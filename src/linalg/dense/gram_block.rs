@@ -72,7 +72,16 @@ pub fn gram_block(
     rows_of_y: &mut [[f64; BLOCK_COLUMNS]],
 ) {
     assert!(rows >= width);
-    gram_block_rows(values, column_base, first, width, first, rows, block, rows_of_y);
+    gram_block_rows(
+        values,
+        column_base,
+        first,
+        width,
+        first,
+        rows,
+        block,
+        rows_of_y,
+    );
 }
 
 /// [`gram_block`] for the rows `x_first .. x_first + rows` of `X` against

@@ -278,7 +278,6 @@ impl SparseCholesky {
         }
     }
 
-
     /// Bytes held (array lengths, not capacities): the analysis, the
     /// values of `L`, the permuted `C`, the work arrays and the solve's
     /// buffer, and how `A` is read. The memory figures of `docs/performance.md`.

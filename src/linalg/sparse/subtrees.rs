@@ -144,7 +144,8 @@ impl Tree {
             .map(|s| etree[supernodes.columns(s).end - 1].map(|p| supernodes.of_column(p)))
             .collect();
         let mut children = vec![Vec::new(); count];
-        let (mut first, mut subtree): (Vec<usize>, Vec<f64>) = ((0..count).collect(), weight.to_vec());
+        let (mut first, mut subtree): (Vec<usize>, Vec<f64>) =
+            ((0..count).collect(), weight.to_vec());
         for s in 0..count {
             if let Some(p) = parent[s] {
                 children[p].push(s);

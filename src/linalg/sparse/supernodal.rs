@@ -216,7 +216,13 @@ pub fn factor_supernodal(
         a,
         loading,
     };
-    factor_range(&input, 0..count, &mut region, &mut lists, &mut work.scratch[0])
+    factor_range(
+        &input,
+        0..count,
+        &mut region,
+        &mut lists,
+        &mut work.scratch[0],
+    )
 }
 
 /// What every factorization reads: the analysis, `A`, and where `A`'s

@@ -76,7 +76,11 @@ impl ParallelFactor {
         let mut together = vec![false; weight.len()];
         for item in schedule.items() {
             if let &Item::Top(s) = item {
-                let panels = symbolic.supernodes().columns(s).len().div_ceil(BLOCK_COLUMNS);
+                let panels = symbolic
+                    .supernodes()
+                    .columns(s)
+                    .len()
+                    .div_ceil(BLOCK_COLUMNS);
                 // a barrier after loading, one after the updates, one a panel
                 together[s] = weight[s] >= WORK_PER_BARRIER * (2 + panels) as f64;
             }
@@ -162,7 +166,10 @@ pub(super) fn factor_parallel(
     parallel: &mut ParallelFactor,
 ) -> Result<(), FailedPivot> {
     assert_eq!(threads.count(), parallel.threads(), "the plan's threads");
-    assert!(work.scratch.len() >= threads.count(), "one scratch per thread");
+    assert!(
+        work.scratch.len() >= threads.count(),
+        "one scratch per thread"
+    );
     work.waiting.fill(None);
     let mut head = [None];
     let mut outcome = [None];
@@ -327,7 +334,9 @@ fn replay_outbox(shared: &Shared, t: usize) -> Result<(), FailedPivot> {
     for i in start..start + sent {
         let d = lists.outbox[i];
         let next = lists.next_row[d];
-        let target = symbolic.supernodes().of_column(block_rows(symbolic, d)[next] as usize);
+        let target = symbolic
+            .supernodes()
+            .of_column(block_rows(symbolic, d)[next] as usize);
         lists.push(d, next, target);
     }
     Ok(())
@@ -438,7 +447,11 @@ fn owned_positions(height: usize, width: usize, team: &Team) -> Range<usize> {
             })
             .unwrap_or(height)
     };
-    let start = if team.index() == 0 { 0 } else { boundary(team.index()) };
+    let start = if team.index() == 0 {
+        0
+    } else {
+        boundary(team.index())
+    };
     let end = if team.index() + 1 == team.size() {
         height
     } else {
@@ -503,14 +516,28 @@ fn update_rows(
         let x_first = first.max(a);
         let rows = b - x_first;
         let columns = &work.column_base[..d_columns.len()];
-        gram_block_rows(x, columns, first, width, x_first, rows, &mut work.block, &mut work.rows_of_y);
+        gram_block_rows(
+            x,
+            columns,
+            first,
+            width,
+            x_first,
+            rows,
+            &mut work.block,
+            &mut work.rows_of_y,
+        );
         for t in 0..width {
             let k = d_rows[first + t] as usize - symbolic.supernodes().columns(s).start;
             let from = x_first.max(first + t);
             if from < b {
                 let update = &work.block[t * rows + from - x_first..(t + 1) * rows];
                 let positions = &work.relative[from - a..b - a];
-                subtract_at_shared(&shared.values, column_base(symbolic, s, k), positions, update);
+                subtract_at_shared(
+                    &shared.values,
+                    column_base(symbolic, s, k),
+                    positions,
+                    update,
+                );
             }
         }
         first += width;
@@ -620,7 +647,16 @@ fn earlier_columns(
     let x = unsafe { shared.values.slice(start..end) };
     let count = rows.len();
     let bases = &work.relative[..first];
-    gram_block_rows(x, bases, first, width, rows.start, count, &mut work.block, &mut work.rows_of_y);
+    gram_block_rows(
+        x,
+        bases,
+        first,
+        width,
+        rows.start,
+        count,
+        &mut work.block,
+        &mut work.rows_of_y,
+    );
     count
 }
 
@@ -680,12 +716,21 @@ fn factor_triangle(
 
 /// Thread 0: the factored triangle of the panel `(first, width)` back in
 /// `L`.
-fn write_triangle(shared: &Shared, work: &Scratch, (first, width): (usize, usize), triangle: &Triangle) {
+fn write_triangle(
+    shared: &Shared,
+    work: &Scratch,
+    (first, width): (usize, usize),
+    triangle: &Triangle,
+) {
     for c in 0..width {
         let base = work.column_base[first + c];
         // SAFETY: no thread reads or writes the triangle of an earlier
         // panel (the next panels read the rows below it).
-        let column = unsafe { shared.values.slice_mut(base + first + c..base + first + width) };
+        let column = unsafe {
+            shared
+                .values
+                .slice_mut(base + first + c..base + first + width)
+        };
         column.copy_from_slice(&triangle[BLOCK_COLUMNS * c + c..BLOCK_COLUMNS * c + width]);
     }
 }
@@ -714,7 +759,9 @@ fn finish_rows(
             let (source, target) = unsafe {
                 (
                     shared.values.slice(base_j + rows.start..base_j + rows.end),
-                    shared.values.slice_mut(base_k + rows.start..base_k + rows.end),
+                    shared
+                        .values
+                        .slice_mut(base_k + rows.start..base_k + rows.end),
                 )
             };
             for (value, &x) in target.iter_mut().zip(source) {
@@ -723,7 +770,11 @@ fn finish_rows(
         }
         let inverse = 1.0 / triangle[BLOCK_COLUMNS * k + k];
         // SAFETY: as above.
-        let target = unsafe { shared.values.slice_mut(base_k + rows.start..base_k + rows.end) };
+        let target = unsafe {
+            shared
+                .values
+                .slice_mut(base_k + rows.start..base_k + rows.end)
+        };
         for value in target {
             *value *= inverse;
         }
@@ -738,7 +789,9 @@ mod tests {
 
     /// The `Q` of a scene of `data/` and the simulation's analysis of it.
     fn analysed(name: &str) -> (CscMatrix, SymbolicCholesky) {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data").join(name);
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("data")
+            .join(name);
         let scene = crate::mesh::load_scene(&path).unwrap();
         let q = crate::sim::precomputation::scene_q(&scene, crate::sim::DELTA_T);
         let symbolic = SymbolicCholesky::analyze(&q, Ordering::Amd)
@@ -749,7 +802,10 @@ mod tests {
 
     /// The first column of a supernode of each kind the plan has: in a
     /// subtree, in the top alone, in the top together.
-    fn columns_of_each_kind(symbolic: &SymbolicCholesky, plan: &ParallelFactor) -> [Option<usize>; 3] {
+    fn columns_of_each_kind(
+        symbolic: &SymbolicCholesky,
+        plan: &ParallelFactor,
+    ) -> [Option<usize>; 3] {
         let first = |s: usize| symbolic.supernodes().columns(s).start;
         let items = plan.schedule.items();
         let task = items.iter().find_map(|i| match i {
@@ -769,7 +825,12 @@ mod tests {
     fn spoiled(a: &CscMatrix, vertex: usize) -> CscMatrix {
         let mut bad = a.clone();
         let slot = bad.col_ptr()[vertex]
-            + bad.column(vertex).0.iter().position(|&i| i == vertex).unwrap();
+            + bad
+                .column(vertex)
+                .0
+                .iter()
+                .position(|&i| i == vertex)
+                .unwrap();
         bad.values_mut()[slot] = -1e12;
         bad
     }
@@ -781,14 +842,21 @@ mod tests {
             let (q, symbolic) = analysed(name);
             for threads in [2, 3, 4] {
                 let plan = ParallelFactor::new(&symbolic, threads);
-                for (kind, column) in columns_of_each_kind(&symbolic, &plan).into_iter().enumerate() {
+                for (kind, column) in columns_of_each_kind(&symbolic, &plan)
+                    .into_iter()
+                    .enumerate()
+                {
                     let Some(column) = column else { continue };
                     tried[kind] = true;
                     let vertex = symbolic.permutation().perm()[column];
                     let bad = spoiled(&q, vertex);
                     let one = SparseCholesky::factor(symbolic.clone(), &bad, Method::Supernodal);
-                    let many =
-                        SparseCholesky::factor_with_threads(symbolic.clone(), &bad, Method::Supernodal, threads);
+                    let many = SparseCholesky::factor_with_threads(
+                        symbolic.clone(),
+                        &bad,
+                        Method::Supernodal,
+                        threads,
+                    );
                     // the columns before it are untouched: it fails there
                     let (one, many) = (one.unwrap_err(), many.unwrap_err());
                     assert!(
@@ -826,16 +894,27 @@ mod tests {
                 Item::Top(s) if !plan.together[*s] && shared_after(i) => Some(*s),
                 _ => None,
             });
-            let Some(s) = stops_before_shared else { continue };
+            let Some(s) = stops_before_shared else {
+                continue;
+            };
             tried += 1;
             let column = symbolic.supernodes().columns(s).start;
             let bad = spoiled(&q, symbolic.permutation().perm()[column]);
-            let mut factor =
-                SparseCholesky::factor_with_threads(symbolic.clone(), &q, Method::Supernodal, threads)
-                    .unwrap();
-            let expected = SparseCholesky::factor(symbolic.clone(), &bad, Method::Supernodal).unwrap_err();
+            let mut factor = SparseCholesky::factor_with_threads(
+                symbolic.clone(),
+                &q,
+                Method::Supernodal,
+                threads,
+            )
+            .unwrap();
+            let expected =
+                SparseCholesky::factor(symbolic.clone(), &bad, Method::Supernodal).unwrap_err();
             for _ in 0..200 {
-                assert_eq!(factor.refactor(&bad).unwrap_err(), expected, "{threads} threads");
+                assert_eq!(
+                    factor.refactor(&bad).unwrap_err(),
+                    expected,
+                    "{threads} threads"
+                );
             }
         }
         assert!(tried > 0, "no thread count had such a supernode");

@@ -282,7 +282,12 @@ fn forward_panel<const W: usize, const P: usize, const FUSED: bool, X: Unknowns<
 /// The updates of the last `tail` rows below one panel, from the panel's
 /// values in `x`.
 #[inline(always)]
-fn forward_panel_tail<const W: usize, const P: usize, const FUSED: bool, X: Unknowns<W> + ?Sized>(
+fn forward_panel_tail<
+    const W: usize,
+    const P: usize,
+    const FUSED: bool,
+    X: Unknowns<W> + ?Sized,
+>(
     l: &SupernodalView,
     node: Supernode,
     offset: usize,

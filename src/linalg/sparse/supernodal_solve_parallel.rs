@@ -69,7 +69,9 @@ impl ParallelSolve {
     pub(super) fn new(symbolic: &SymbolicCholesky, threads: usize) -> Self {
         let (supernodes, col_ptr) = (symbolic.supernodes(), symbolic.col_ptr());
         let weight: Vec<f64> = (0..supernodes.len())
-            .map(|s| (col_ptr[supernodes.columns(s).end] - col_ptr[supernodes.columns(s).start]) as f64)
+            .map(|s| {
+                (col_ptr[supernodes.columns(s).end] - col_ptr[supernodes.columns(s).start]) as f64
+            })
             .collect();
         let schedule = SubtreeSchedule::new(symbolic, threads, &weight, 1.0);
         ParallelSolve {
@@ -89,7 +91,11 @@ impl ParallelSolve {
         use std::mem::size_of_val;
         self.schedule.bytes()
             + size_of_val(&self.top_rows[..])
-            + self.owned.iter().map(|o| size_of_val(&o[..])).sum::<usize>()
+            + self
+                .owned
+                .iter()
+                .map(|o| size_of_val(&o[..]))
+                .sum::<usize>()
     }
 }
 
@@ -113,7 +119,8 @@ fn rows_in_the_top(symbolic: &SymbolicCholesky, schedule: &SubtreeSchedule) -> V
 /// thread 0; adjacent ranges joined.
 fn owned_rows(symbolic: &SymbolicCholesky, schedule: &SubtreeSchedule) -> Vec<Vec<Range<usize>>> {
     let supernodes = symbolic.supernodes();
-    let columns = |s: Range<usize>| supernodes.columns(s.start).start..supernodes.columns(s.end - 1).end;
+    let columns =
+        |s: Range<usize>| supernodes.columns(s.start).start..supernodes.columns(s.end - 1).end;
     let mut owned = vec![Vec::new(); schedule.threads()];
     for t in 0..schedule.threads() {
         for &task in schedule.tasks_of(t) {

@@ -165,7 +165,10 @@ pub fn iterate(
         }
         Workspace::Team(blocks) => {
             // the threads write only their own rows: those of this factor's team
-            assert!(work.fits(cholesky), "the springs' blocks are another team's");
+            assert!(
+                work.fits(cholesky),
+                "the springs' blocks are another team's"
+            );
             let (solve, threads, permutation) = cholesky
                 .team_solve()
                 .expect("the springs' blocks are made for a team");

@@ -79,7 +79,10 @@ fn take_threads(args: &mut Vec<String>) -> usize {
     let Some(at) = args.iter().position(|a| a == "--threads") else {
         return 1;
     };
-    let value = args.get(at + 1).and_then(|v| v.parse().ok()).filter(|&n: &usize| n >= 1);
+    let value = args
+        .get(at + 1)
+        .and_then(|v| v.parse().ok())
+        .filter(|&n: &usize| n >= 1);
     let Some(threads) = value else {
         eprintln!("faer_peer: --threads takes a whole number of at least 1");
         std::process::exit(2);
