@@ -207,6 +207,7 @@ pub(super) fn factor_parallel(
 }
 
 /// This thread's scratch buffers.
+#[allow(clippy::mut_from_ref)] // each thread its own, by its number
 fn scratch<'s>(shared: &'s Shared, team: &Team) -> &'s mut Scratch {
     let i = team.index();
     // SAFETY: thread `i` alone uses scratch `i`, for the whole run.
