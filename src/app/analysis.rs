@@ -116,19 +116,14 @@ pub fn analyze(
     how: HowFactored,
     repeats: Repeats,
 ) -> Result<Analysis, String> {
-    let HowFactored {
-        ordering,
-        method,
-        relaxation,
-        threads,
-    } = how;
+    let (ordering, method) = (how.ordering, how.method);
     let failed = |e: LinalgError| e.to_string();
     let perm = ordering.permutation(lower).map_err(failed)?;
     let (ordering_s, ordering_runs) = median_seconds(repeats, || {
         ordering.permutation(lower).expect("ordered once already");
     });
     let (symbolic, symbolic_s, symbolic_runs) =
-        timed_symbolic(lower, &perm, method, &relaxation, repeats).map_err(failed)?;
+        timed_symbolic(lower, &perm, method, &how.relaxation, repeats).map_err(failed)?;
     let nnz_l_stored = symbolic.nnz_l();
     let nnz_l = nnz_l_stored - symbolic.explicit_zeros();
     let flops = symbolic.flops();
@@ -142,7 +137,8 @@ pub fn analyze(
         runs: [numeric_runs, solve_runs],
         threads,
         one_thread,
-    } = timed_factor_and_solve(lower, symbolic, method, threads, rhs, repeats).map_err(failed)?;
+    } = timed_factor_and_solve(lower, symbolic, method, how.threads, rhs, repeats)
+        .map_err(failed)?;
     let (residual, backward_error) = (
         relative_residual(lower, &x, rhs),
         backward_error(lower, &x, rhs),

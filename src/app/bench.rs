@@ -334,13 +334,7 @@ fn measure_one(side: usize, steps: usize, threads: usize) -> Result<SizeReport, 
     let (mut simulation, precompute_s, step_s) = timed_simulation(&name, side, steps, threads)?;
     let peak_bytes = peak_resident_bytes();
     let threads = simulation.threads();
-    let (step_s, step_one_thread_s) = match threads {
-        1 => (step_s, None),
-        _ => {
-            let [one, many] = steps_beside_one_thread(&name, side, steps, &mut simulation)?;
-            (many, Some(one))
-        }
-    };
+    let (step_s, step_one_thread_s) = step_times(&name, side, step_s, &mut simulation, steps)?;
     eprintln!("{name}: local step, Aᵀd");
     let (local_step_s, atd_s, springs_pass_s) = time_spring_passes(&simulation);
     let system = simulation.system().expect(FAST_PATH);
@@ -390,6 +384,23 @@ fn measure_one(side: usize, steps: usize, threads: usize) -> Result<SizeReport, 
         solve_one_thread_s: a.one_thread.map(|one| one.solve_s),
         step_one_thread_s,
     })
+}
+
+/// The median step on `simulation`'s threads (`step_s` when it has one)
+/// and, when it has more, on one thread beside it: `(its threads', one
+/// thread's)`.
+fn step_times(
+    name: &str,
+    side: usize,
+    step_s: f64,
+    simulation: &mut Simulation<Sparse>,
+    steps: usize,
+) -> Result<(f64, Option<f64>), AppError> {
+    if simulation.threads() == 1 {
+        return Ok((step_s, None));
+    }
+    let [one, many] = steps_beside_one_thread(name, side, steps, simulation)?;
+    Ok((many, Some(one)))
 }
 
 /// The median step of a fresh one-thread simulation of the same grid and

@@ -493,11 +493,8 @@ fn update_rows(
 ) {
     let symbolic = shared.input.symbolic;
     let d_rows = block_rows(symbolic, d);
-    // d's rows that land in the owned positions (they land in order)
-    let position = |row: &u32| work.position_in_block[*row as usize];
-    let below = &d_rows[targets.start..];
-    let a = targets.start + below.partition_point(|row| position(row) < owned.start);
-    let b = targets.start + below.partition_point(|row| position(row) < owned.end);
+    let Range { start: a, end: b } = rows_landing_in(work, &d_rows[targets.start..], owned);
+    let (a, b) = (targets.start + a, targets.start + b);
     if a == b {
         return;
     }
@@ -543,6 +540,15 @@ fn update_rows(
         }
         first += width;
     }
+}
+
+/// The positions in `below` (a descendant's rows from its first target
+/// on) of the rows that land in the owned positions `owned` of the
+/// supernode placed in `work` (they land in order).
+fn rows_landing_in(work: &Scratch, below: &[u32], owned: Range<usize>) -> Range<usize> {
+    let position = |row: &u32| work.position_in_block[*row as usize];
+    below.partition_point(|row| position(row) < owned.start)
+        ..below.partition_point(|row| position(row) < owned.end)
 }
 
 /// `values[base + positions[r]] −= update[r]`, as
