@@ -30,15 +30,17 @@ pub unsafe fn add_owned_springs<const L: usize>(
 ) {
     const { assert!(L == 3 || L == 4, "rows of x, y, z, padded or not") };
     assert!(block.springs.len() == block.numbers.len() && block.owns.len() == block.numbers.len());
-    let mut done = 0;
     #[cfg(target_arch = "x86_64")]
     if crate::linalg::kernels::avx2() {
         // SAFETY: the CPU supports the features the function is compiled
         // for; the rows as the caller promises.
-        done = unsafe { avx2::groups_of_four(block, r, p, out) };
+        let done = unsafe { avx2::groups_of_four(block, r, p, out) };
+        // SAFETY: the caller's promise.
+        unsafe { spring_blocks::add_owned_springs(block, r, p, out, done) };
+        return;
     }
     // SAFETY: the caller's promise.
-    unsafe { spring_blocks::add_owned_springs(block, r, p, out, done) };
+    unsafe { spring_blocks::add_owned_springs(block, r, p, out, 0) };
 }
 
 #[cfg(target_arch = "x86_64")]
