@@ -75,7 +75,7 @@ pub fn trace(scene: &Scene, options: TraceOptions) -> Result<Vec<Value>, AppErro
         solve_sparse(&pre, &b, &mut x, &mut p); // p = Q⁻¹ b
         values.extend([&d, &b, &p].map(|rows| points(rows)));
     }
-    debug_assert_eq!(values.len(), quantities(options.iterations).len());
+    assert_eq!(values.len(), quantities(options.iterations).len());
     Ok(values)
 }
 

@@ -59,7 +59,7 @@ pub fn trace(
         step.iterate();
         values.extend([step.d(), step.b(), step.p()].map(points));
     }
-    debug_assert_eq!(values.len(), quantities(options.iterations).len());
+    assert_eq!(values.len(), quantities(options.iterations).len());
     Ok(values)
 }
 

@@ -371,7 +371,7 @@ impl DenseMatrix {
 
     /// The matrix of `f(a_ij, b_ij)`, for two matrices of the same shape.
     fn zip_with(&self, other: &DenseMatrix, f: impl Fn(f64, f64) -> f64) -> DenseMatrix {
-        debug_assert_eq!(self.shape(), other.shape());
+        assert_eq!(self.shape(), other.shape());
         DenseMatrix {
             nrows: self.nrows,
             ncols: self.ncols,

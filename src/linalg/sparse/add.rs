@@ -42,7 +42,7 @@ impl CscMatrix {
             merge_columns(a, alpha, b, beta, &mut row_idx, &mut values);
             col_ptr.push(row_idx.len());
         }
-        Ok(CscMatrix::from_parts_unchecked(
+        Ok(CscMatrix::from_valid_parts(
             self.nrows(),
             self.ncols(),
             col_ptr,

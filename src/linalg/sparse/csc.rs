@@ -98,16 +98,18 @@ impl CscMatrix {
         })
     }
 
-    /// Builds a matrix from arrays the caller has produced correctly; the
-    /// invariants are checked in debug builds only.
-    pub(crate) fn from_parts_unchecked(
+    /// Builds a matrix from arrays this crate has produced itself, so a
+    /// broken invariant is a bug here, not bad input: it panics rather than
+    /// returning an error (one pass over the arrays, small beside building
+    /// them).
+    pub(crate) fn from_valid_parts(
         nrows: usize,
         ncols: usize,
         col_ptr: Vec<usize>,
         row_idx: Vec<usize>,
         values: Vec<f64>,
     ) -> Self {
-        debug_assert_eq!(
+        assert_eq!(
             check_structure(nrows, ncols, &col_ptr, &row_idx, &values),
             Ok(())
         );
@@ -122,7 +124,7 @@ impl CscMatrix {
 
     /// The `nrows × ncols` matrix with no stored entries.
     pub fn zeros(nrows: usize, ncols: usize) -> Self {
-        Self::from_parts_unchecked(nrows, ncols, vec![0; ncols + 1], Vec::new(), Vec::new())
+        Self::from_valid_parts(nrows, ncols, vec![0; ncols + 1], Vec::new(), Vec::new())
     }
 
     /// The `n × n` identity matrix.
@@ -135,7 +137,7 @@ impl CscMatrix {
     /// the values).
     pub fn from_diagonal(diagonal: &[f64]) -> Self {
         let n = diagonal.len();
-        Self::from_parts_unchecked(n, n, (0..=n).collect(), (0..n).collect(), diagonal.to_vec())
+        Self::from_valid_parts(n, n, (0..=n).collect(), (0..n).collect(), diagonal.to_vec())
     }
 
     /// Number of rows.
@@ -230,7 +232,7 @@ impl CscMatrix {
             }
             col_ptr.push(row_idx.len());
         }
-        Self::from_parts_unchecked(self.nrows, self.ncols, col_ptr, row_idx, values)
+        Self::from_valid_parts(self.nrows, self.ncols, col_ptr, row_idx, values)
     }
 
     /// Does `other` store exactly the same positions?

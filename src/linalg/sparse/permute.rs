@@ -48,7 +48,7 @@ impl PermutedTriangle {
         let source_entry: Vec<usize> = order.iter().map(|&e| sources[e]).collect();
         let values = source_entry.iter().map(|&s| a.values()[s]).collect();
         Ok(PermutedTriangle {
-            matrix: CscMatrix::from_parts_unchecked(n, n, col_ptr, row_idx, values),
+            matrix: CscMatrix::from_valid_parts(n, n, col_ptr, row_idx, values),
             source_entry,
             source_pattern: pattern_fingerprint(a),
         })

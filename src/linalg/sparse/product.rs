@@ -52,7 +52,7 @@ impl CscMatrix {
             values.extend(row_idx[start..].iter().map(|&i| accumulator[i]));
             col_ptr.push(row_idx.len());
         }
-        Ok(CscMatrix::from_parts_unchecked(
+        Ok(CscMatrix::from_valid_parts(
             self.nrows(),
             other.ncols(),
             col_ptr,

@@ -87,7 +87,7 @@ pub fn supernode_rows(
             }
         }
     }
-    debug_assert!((0..nodes).all(|s| next[s] == start[s + 1]));
+    assert!((0..nodes).all(|s| next[s] == start[s + 1]));
     SupernodeRows { start, rows }
 }
 

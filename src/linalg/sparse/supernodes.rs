@@ -52,10 +52,8 @@ impl Supernodes {
     /// The partition whose supernode `s` is `start[s] .. start[s + 1]`
     /// (`start` increasing from 0 to `n`, or empty when `n = 0`).
     pub(crate) fn from_starts(start: Vec<usize>, n: usize) -> Self {
-        debug_assert!(start.windows(2).all(|w| w[0] < w[1]));
-        debug_assert!(
-            start.first().is_none_or(|&s| s == 0) && start.last().is_none_or(|&s| s == n)
-        );
+        assert!(start.windows(2).all(|w| w[0] < w[1]));
+        assert!(start.first().is_none_or(|&s| s == 0) && start.last().is_none_or(|&s| s == n));
         let mut of_column = vec![0; n];
         for s in 0..start.len().saturating_sub(1) {
             of_column[start[s]..start[s + 1]].fill(s);

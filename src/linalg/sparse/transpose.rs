@@ -29,6 +29,6 @@ impl CscMatrix {
                 next[i] += 1;
             }
         }
-        CscMatrix::from_parts_unchecked(self.ncols(), self.nrows(), col_ptr, row_idx, values)
+        CscMatrix::from_valid_parts(self.ncols(), self.nrows(), col_ptr, row_idx, values)
     }
 }

@@ -197,5 +197,5 @@ fn sum_repeated_rows(
     }
     rows.truncate(write);
     values.truncate(write);
-    CscMatrix::from_parts_unchecked(nrows, ncols, col_ptr, rows, values)
+    CscMatrix::from_valid_parts(nrows, ncols, col_ptr, rows, values)
 }

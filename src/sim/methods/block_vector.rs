@@ -22,7 +22,7 @@ pub fn dot(x: &[[f64; 3]], y: &[[f64; 3]]) -> f64 {
 
 /// The loop of [`dot`], one number at a time.
 pub fn dot_lanes(x: &[[f64; 3]], y: &[[f64; 3]]) -> f64 {
-    debug_assert_eq!(x.len(), y.len());
+    assert_eq!(x.len(), y.len());
     let (x, y) = (x.as_flattened(), y.as_flattened());
     let mut sums = [0.0; 4];
     let (x_quads, y_quads) = (x.chunks_exact(4), y.chunks_exact(4));
@@ -58,7 +58,7 @@ pub fn add_scaled(y: &mut [[f64; 3]], alpha: f64, x: &[[f64; 3]]) {
 
 /// The loop of [`add_scaled`], one number at a time.
 pub fn add_scaled_lanes(y: &mut [[f64; 3]], alpha: f64, x: &[[f64; 3]]) {
-    debug_assert_eq!(x.len(), y.len());
+    assert_eq!(x.len(), y.len());
     for (a, b) in y.as_flattened_mut().iter_mut().zip(x.as_flattened()) {
         *a += alpha * b;
     }
@@ -66,7 +66,7 @@ pub fn add_scaled_lanes(y: &mut [[f64; 3]], alpha: f64, x: &[[f64; 3]]) {
 
 /// `out ← x − y`.
 pub fn subtract(x: &[[f64; 3]], y: &[[f64; 3]], out: &mut [[f64; 3]]) {
-    debug_assert!(x.len() == y.len() && y.len() == out.len());
+    assert!(x.len() == y.len() && y.len() == out.len());
     for ((o, a), b) in out.iter_mut().zip(x).zip(y) {
         *o = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
     }
@@ -74,7 +74,7 @@ pub fn subtract(x: &[[f64; 3]], y: &[[f64; 3]], out: &mut [[f64; 3]]) {
 
 /// `out ← x + α d`.
 pub fn moved(x: &[[f64; 3]], alpha: f64, d: &[[f64; 3]], out: &mut [[f64; 3]]) {
-    debug_assert!(x.len() == d.len() && d.len() == out.len());
+    assert!(x.len() == d.len() && d.len() == out.len());
     for ((o, a), b) in out.iter_mut().zip(x).zip(d) {
         *o = [
             a[0] + alpha * b[0],
