@@ -10,10 +10,9 @@
 //!
 //! The pool is made once (with a simulation, or a factorization) so that
 //! no step spawns a thread, and [`Threads::run`] allocates nothing: a step
-//! stays free of allocations. Between two runs the threads wait, first
-//! spinning for a few tens of microseconds (a step asks for the next run
-//! within that time, and waking a sleeping thread costs more than the work
-//! of a small solve), then asleep ([`signal`]).
+//! stays free of allocations. Between two runs, and at a barrier, the
+//! threads wait, first spinning for up to a millisecond (yielding their
+//! core after the first microseconds), then asleep ([`signal`]).
 //!
 //! The results never depend on the number of threads: the callers split
 //! their work so that every sum is formed in the same order as on one
