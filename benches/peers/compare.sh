@@ -16,7 +16,9 @@
 # of `masssprings bench` (32, 100, 316); LARGE=1 adds grid-1000 (minutes),
 # SIDES="..." replaces the list. Set NO_FAER=1 to skip faer. Ours uses
 # the simulation's supernodes (small ones merged) unless SUPERNODES=
-# fundamental|relaxed says otherwise.
+# fundamental|relaxed says otherwise. Ours and faer run on one thread, and
+# again on THREADS (default 2) threads: ours with `--threads`, faer with
+# `Par::rayon(THREADS)`; THREADS=1 skips the second runs.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
@@ -62,20 +64,30 @@ done
 # --- interleaved rounds -----------------------------------------------------
 out="$work/results.jsonl"
 supernodes="${SUPERNODES:-small}"
+threads="${THREADS:-2}"
 : > "$out"
 for round in $(seq "$rounds"); do
     for scene in $scenes; do
         base="${scene%.json}"
         name="$(basename "$base")"
         echo "round $round/$rounds: $name" >&2
-        echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"ours\",\"data\":$("$ours" analyze "$base.mtx" --supernodes "$supernodes" --json)}" >>"$out"
+        echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"ours\",\"data\":$("$ours" analyze "$base.mtx" --supernodes "$supernodes" --threads 1 --json)}" >>"$out"
+        if [ "$threads" != 1 ]; then
+            echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"ours-threads\",\"data\":$("$ours" analyze "$base.mtx" --supernodes "$supernodes" --threads "$threads" --json)}" >>"$out"
+        fi
         echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"cholmod\",\"data\":$("$here/cholmod_peer" "$base.mtx" 11 --json)}" >>"$out"
         if [ "${NO_FAER:-0}" != 1 ]; then
             echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"faer\",\"data\":$("$faer" "$base.mtx" 11 --json)}" >>"$out"
+            if [ "$threads" != 1 ]; then
+                echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"faer-threads\",\"data\":$("$faer" "$base.mtx" 11 --json --threads "$threads")}" >>"$out"
+            fi
         fi
         steps=30
         [ "$name" = grid-1000 ] && steps=3
-        echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"ours-step\",\"data\":$("$ours" simulate "$scene" --steps "$steps" --supernodes "$supernodes" --json)}" >>"$out"
+        echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"ours-step\",\"data\":$("$ours" simulate "$scene" --steps "$steps" --supernodes "$supernodes" --threads 1 --json)}" >>"$out"
+        if [ "$threads" != 1 ]; then
+            echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"ours-step-threads\",\"data\":$("$ours" simulate "$scene" --steps "$steps" --supernodes "$supernodes" --threads "$threads" --json)}" >>"$out"
+        fi
         csv="$("$eigen" bench "$scene" 120 | grep '^CSV,')"
         echo "{\"round\":$round,\"matrix\":\"$name\",\"tool\":\"eigen\",\"data\":{\"csv\":\"$csv\"}}" >>"$out"
     done

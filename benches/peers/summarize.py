@@ -4,7 +4,9 @@
 Each line of the input is one measurement: {"round", "matrix", "tool",
 "data"}, where tool is ours (masssprings analyze --json), cholmod
 (cholmod_peer --json), faer (faer_peer --json), ours-step (masssprings simulate --json) or eigen
-(eigen-ref bench, its CSV line). Prints Markdown tables.
+(eigen-ref bench, its CSV line); ours-threads, faer-threads and
+ours-step-threads are the same on several threads (compare.sh's THREADS).
+Prints Markdown tables.
 """
 import json
 import statistics
@@ -85,11 +87,34 @@ def main():
     if any(tool == "faer" for (_, tool, _) in values):
         symbolic_table(m, order)
 
+    if any(tool == "ours-threads" for (_, tool, _) in values):
+        threads_table(m, order)
+
     print("\n| scene | step ours (50 iterations) | Eigen (the assignment's solver) | ratio |")
     print("|---|---|---|---|")
     for x in order:
         ours, ei = m(x, "ours-step", "step_median_s"), m(x, "eigen", "step_s")
         print(f"| {x} | {ms(ours)} | {ms(ei)} | {ours / ei:.2f} |")
+
+
+def threads_table(m, order):
+    """Ours on several threads over ours on one (the same bits), and beside
+    faer on as many threads."""
+    threads = next((m(x, "ours-threads", "threads") for x in order), float("nan"))
+    header = ["matrix", "numeric 1t", f"numeric {threads:.0f}t", "speedup (target ≥ 1.6)",
+              f"faer supernodal {threads:.0f}t", "ours / faer (target ≤ 0.9)",
+              "solve 1t", f"solve {threads:.0f}t", "speedup",
+              "step 1t", f"step {threads:.0f}t", "speedup (grid-316 ≥ 1.5, skirt ≥ 1.3, flag ≥ 1)"]
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for x in order:
+        n1, nt = m(x, "ours", "numeric_s"), m(x, "ours-threads", "numeric_s")
+        faer_t = m(x, "faer-threads", "supernodal_numeric_s")
+        s1, st = m(x, "ours", "solve_s"), m(x, "ours-threads", "solve_s")
+        p1, pt = m(x, "ours-step", "step_median_s"), m(x, "ours-step-threads", "step_median_s")
+        cells = [x, ms(n1), ms(nt), f"{n1 / nt:.2f}", ms(faer_t), f"{nt / faer_t:.2f}",
+                 ms(s1), ms(st), f"{s1 / st:.2f}", ms(p1), ms(pt), f"{p1 / pt:.2f}"]
+        lines.append("| " + " | ".join(cells) + " |")
+    print("\n" + "\n".join(lines))
 
 
 def symbolic_table(m, order):

@@ -1,8 +1,13 @@
 //! The sparse Cholesky pipeline on one matrix, timed step by step and its
 //! solution checked: what `analyze` prints for a Matrix Market file and
 //! `bench` for each grid it generates.
+//!
+//! On more than one thread the numeric factorization and the solve are
+//! timed on those threads and on one, in interleaved rounds, and the two
+//! solutions compared bit for bit: the speedup, and the proof that it
+//! changed nothing.
 
-use super::timing::{median_seconds, Repeats};
+use super::timing::{interleaved_medians, median_seconds, Repeats};
 use masssprings::linalg::sparse::{
     CscMatrix, Method, Ordering, Permutation, Relaxation, SparseCholesky, SymbolicCholesky,
 };
@@ -32,10 +37,28 @@ pub struct Analysis {
     pub method: &'static str,
     /// Runs behind each median: ordering, symbolic, numeric, solve.
     pub runs: [usize; 4],
+    /// The threads the numeric factorization and the solve ran on (1 for
+    /// the simplicial method, which has no other).
+    pub threads: usize,
+    /// The same on one thread, when `threads` is more than one.
+    pub one_thread: Option<OneThread>,
     /// The supernodes by width (columns), and their share of the stored
     /// entries of `L`: narrow ones read a gathered row of `x` per entry,
     /// which bounds the solve's bandwidth (`docs/performance.md`).
     pub supernodes_by_width: Vec<WidthClass>,
+}
+
+/// The numeric factorization and the solve on one thread, timed in rounds
+/// interleaved with those on [`Analysis::threads`].
+#[derive(Debug, serde::Serialize, serde::Deserialize, Clone, Copy)]
+pub struct OneThread {
+    pub numeric_s: f64,
+    pub solve_s: f64,
+    /// One thread's time over the threads' time.
+    pub numeric_speedup: f64,
+    pub solve_speedup: f64,
+    /// Are the two solutions the same to the bit? (They must be.)
+    pub same_bits: bool,
 }
 
 /// The supernodes of `widest` columns or fewer (`None`: any number) and
@@ -75,23 +98,32 @@ fn supernodes_by_width(symbolic: &SymbolicCholesky) -> Vec<WidthClass> {
     classes
 }
 
+/// How `analyze` factors: the ordering, the method, the supernodes and
+/// the threads.
+#[derive(Debug, Clone, Copy)]
+pub struct HowFactored {
+    pub ordering: Ordering,
+    pub method: Method,
+    pub relaxation: Relaxation,
+    pub threads: usize,
+}
+
 /// Times each step of the pipeline on the lower triangle `lower` and
 /// checks the solution.
 pub fn analyze(
     lower: &CscMatrix,
     rhs: &[[f64; 3]],
-    ordering: Ordering,
-    method: Method,
-    relaxation: Relaxation,
+    how: HowFactored,
     repeats: Repeats,
 ) -> Result<Analysis, String> {
+    let (ordering, method) = (how.ordering, how.method);
     let failed = |e: LinalgError| e.to_string();
     let perm = ordering.permutation(lower).map_err(failed)?;
     let (ordering_s, ordering_runs) = median_seconds(repeats, || {
         ordering.permutation(lower).expect("ordered once already");
     });
     let (symbolic, symbolic_s, symbolic_runs) =
-        timed_symbolic(lower, &perm, method, &relaxation, repeats).map_err(failed)?;
+        timed_symbolic(lower, &perm, method, &how.relaxation, repeats).map_err(failed)?;
     let nnz_l_stored = symbolic.nnz_l();
     let nnz_l = nnz_l_stored - symbolic.explicit_zeros();
     let flops = symbolic.flops();
@@ -103,7 +135,10 @@ pub fn analyze(
         x,
         seconds: [numeric_s, solve_s],
         runs: [numeric_runs, solve_runs],
-    } = timed_factor_and_solve(lower, symbolic, method, rhs, repeats).map_err(failed)?;
+        threads,
+        one_thread,
+    } = timed_factor_and_solve(lower, symbolic, method, how.threads, rhs, repeats)
+        .map_err(failed)?;
     let (residual, backward_error) = (
         relative_residual(lower, &x, rhs),
         backward_error(lower, &x, rhs),
@@ -127,6 +162,8 @@ pub fn analyze(
             Method::Simplicial => "simplicial",
         },
         runs: [ordering_runs, symbolic_runs, numeric_runs, solve_runs],
+        threads,
+        one_thread,
         supernodes_by_width: by_width,
     })
 }
@@ -156,35 +193,80 @@ fn timed_symbolic(
 }
 
 /// The solution of a timed solve, and the median seconds and the runs of
-/// the numeric factorization and of the solve.
+/// the numeric factorization and of the solve, on how many threads, and
+/// on one.
 struct Solved {
     x: Vec<[f64; 3]>,
     seconds: [f64; 2],
     runs: [usize; 2],
+    threads: usize,
+    one_thread: Option<OneThread>,
 }
 
-/// The numeric factorization and the 3-column solve of `rhs`, timed.
+/// The numeric factorization and the 3-column solve of `rhs` on `threads`
+/// threads, timed (and on one, interleaved, when the factor has more).
 fn timed_factor_and_solve(
     lower: &CscMatrix,
     symbolic: SymbolicCholesky,
     method: Method,
+    threads: usize,
     rhs: &[[f64; 3]],
     repeats: Repeats,
 ) -> Result<Solved, LinalgError> {
-    let mut cholesky = SparseCholesky::factor(symbolic, lower, method)?;
-    let (numeric_s, numeric_runs) = median_seconds(repeats, || {
-        cholesky.refactor(lower).expect("factored once already");
-    });
-    let mut x = rhs.to_vec();
-    let (solve_s, solve_runs) = median_seconds(repeats, || {
-        x.copy_from_slice(rhs);
-        cholesky.solve_points_in_place(&mut x);
-    });
+    let mut cholesky =
+        SparseCholesky::factor_with_threads(symbolic.clone(), lower, method, threads)?;
+    let threads = cholesky.threads();
+    if threads == 1 {
+        drop(symbolic);
+        let (numeric_s, numeric_runs) = median_seconds(repeats, || {
+            cholesky.refactor(lower).expect("factored once already");
+        });
+        let mut x = rhs.to_vec();
+        let (solve_s, solve_runs) = median_seconds(repeats, || solve(&mut cholesky, rhs, &mut x));
+        return Ok(Solved {
+            x,
+            seconds: [numeric_s, solve_s],
+            runs: [numeric_runs, solve_runs],
+            threads,
+            one_thread: None,
+        });
+    }
+    let mut alone = SparseCholesky::factor(symbolic, lower, method)?;
+    let ([numeric_1, numeric_s], numeric_runs) = interleaved_medians(
+        repeats,
+        || alone.refactor(lower).expect("factored once already"),
+        || cholesky.refactor(lower).expect("factored once already"),
+    );
+    let (mut x, mut x_1) = (rhs.to_vec(), rhs.to_vec());
+    let ([solve_1, solve_s], solve_runs) = interleaved_medians(
+        repeats,
+        || solve(&mut alone, rhs, &mut x_1),
+        || solve(&mut cholesky, rhs, &mut x),
+    );
+    let same_bits = x
+        .iter()
+        .flatten()
+        .map(|v| v.to_bits())
+        .eq(x_1.iter().flatten().map(|v| v.to_bits()));
     Ok(Solved {
         x,
         seconds: [numeric_s, solve_s],
         runs: [numeric_runs, solve_runs],
+        threads,
+        one_thread: Some(OneThread {
+            numeric_s: numeric_1,
+            solve_s: solve_1,
+            numeric_speedup: numeric_1 / numeric_s,
+            solve_speedup: solve_1 / solve_s,
+            same_bits,
+        }),
     })
+}
+
+/// `x ← A⁻¹ b` with the factor, `x` first set to `rhs`.
+fn solve(cholesky: &mut SparseCholesky, rhs: &[[f64; 3]], x: &mut [[f64; 3]]) {
+    x.copy_from_slice(rhs);
+    cholesky.solve_points_in_place(x);
 }
 
 /// A solution with an infinite or NaN entry, or a residual that is not a

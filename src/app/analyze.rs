@@ -1,7 +1,7 @@
 //! `masssprings analyze MATRIX.mtx`: the sparse Cholesky pipeline on one
 //! matrix, timed step by step.
 
-use super::analysis::{analyze, Analysis};
+use super::analysis::{analyze, Analysis, HowFactored};
 use super::error::AppError;
 use super::flags::{whole, FactorFlags, JsonFlag};
 use super::matrix_input::read_symmetric_lower;
@@ -19,8 +19,11 @@ factorization and a 3-column solve, its relative residual and its backward
 error (the relative residual can be large for an accurate solve of a matrix
 with huge entries, such as the pins' w = 1e10; the backward error cannot),
 and for the supernodal factorization the supernodes by width with their
-share of L. The right-hand side is MATRIX.b.mtx (an n×3 array) when it
-exists.")]
+share of L. On more than one thread (--threads, default: the cores
+available) the numeric factorization and the solve are also timed on one,
+in interleaved rounds: the speedup, and whether the two solutions are the
+same to the bit (they are). The right-hand side is MATRIX.b.mtx (an n×3
+array) when it exists.")]
 pub struct AnalyzeArgs {
     /// A symmetric positive definite Matrix Market matrix.
     #[arg(value_name = "MATRIX.mtx")]
@@ -52,8 +55,13 @@ pub fn run(args: AnalyzeArgs) -> Result<(), AppError> {
     let repeats = args.repeats.map_or(Repeats::Adaptive, Repeats::Exactly);
     let lower = read_symmetric_lower(&path)?;
     let rhs = read_or_make_rhs(&path, lower.ncols())?;
-    let (ordering, method) = (args.factor.ordering.ordering, args.factor.factorization);
-    let analysis = analyze(&lower, &rhs, ordering, method, relaxation, repeats)
+    let how = HowFactored {
+        ordering: args.factor.ordering.ordering,
+        method: args.factor.factorization,
+        relaxation,
+        threads: args.factor.threads.count(),
+    };
+    let analysis = analyze(&lower, &rhs, how, repeats)
         .map_err(|e| AppError::Failed(format!("{}: {e}", path.display())))?;
     if args.json.json {
         println!(
@@ -84,6 +92,20 @@ fn read_or_make_rhs(path: &Path, n: usize) -> Result<Vec<[f64; 3]>, AppError> {
     }
 }
 
+/// The threads, and with more than one the speedups over one thread.
+fn threads_line(a: &Analysis) -> String {
+    match &a.one_thread {
+        None => a.threads.to_string(),
+        Some(one) => format!(
+            "{}  (over 1 thread: numeric {:.2}×, solve {:.2}×; same bits: {})",
+            a.threads,
+            one.numeric_speedup,
+            one.solve_speedup,
+            if one.same_bits { "yes" } else { "NO" }
+        ),
+    }
+}
+
 fn print_table(path: &Path, a: &Analysis) {
     let rows = [
         ("matrix", path.display().to_string()),
@@ -106,6 +128,7 @@ fn print_table(path: &Path, a: &Analysis) {
         ("symbolic", format!("{:.6} s", a.symbolic_s)),
         ("numeric", format!("{:.6} s  ({})", a.numeric_s, a.method)),
         ("solve (3 columns)", format!("{:.6} s", a.solve_s)),
+        ("threads", threads_line(a)),
         ("relative residual", format!("{:.3e}", a.residual)),
         ("backward error", format!("{:.3e}", a.backward_error)),
     ];

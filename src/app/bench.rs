@@ -34,18 +34,25 @@
 //! of 4, which the supernodal factor keeps once per supernode) over
 //! its time.
 //!
+//! On more than one thread (`--threads N`, default the cores available)
+//! the simulation, the factorization and the solve run on `N` threads, and
+//! each child also times the numeric factorization, the solve and the
+//! step on one thread, in rounds interleaved with those on `N`: the report
+//! gives both and the speedups. The results are the same bits on any
+//! number of threads, so the two simulations step alike.
+//!
 //! Output: a table, or with `--json` one object `{triad_gbps, steps,
 //! sizes: [...], slopes: {...}}`; `--csv OUT` writes the sizes as CSV;
 //! `--plot OUT.png` draws the times of the phases and the peak memory
 //! against `n` on log-log axes ([`plot`](super::draw::plot)), each
 //! series labelled with its fitted exponent. Progress goes to stderr.
 
-use super::analysis::analyze;
+use super::analysis::{analyze, HowFactored};
 use super::draw::plot::{Figure, Panel, Scale, Series};
 use super::error::AppError;
-use super::flags::{whole, JsonFlag};
+use super::flags::{whole, JsonFlag, ThreadsFlag};
 use super::limits::check_grid;
-use super::timing::{median_seconds, Repeats};
+use super::timing::{interleaved_medians, median_seconds, Repeats};
 use masssprings::files::{write_file, FilePlan};
 use masssprings::linalg::benchmark_right_hand_side;
 use masssprings::linalg::sparse::{Method, Ordering, Relaxation, Triangle};
@@ -115,6 +122,13 @@ struct SizeReport {
     residual: f64,
     /// Its normwise backward error (`analyze`'s).
     backward_error: f64,
+    /// The threads the simulation, the factorization and the solve ran on.
+    threads: usize,
+    /// On more than one thread: the numeric factorization, the solve and
+    /// the step on one, timed in rounds interleaved with those above.
+    numeric_one_thread_s: Option<f64>,
+    solve_one_thread_s: Option<f64>,
+    step_one_thread_s: Option<f64>,
 }
 
 /// The fitted exponents, `null` with fewer than two sizes.
@@ -144,8 +158,11 @@ Scaling benchmark on the grid-N cloths (built in memory), each size in a
 fresh process: n, nnz(Q), nnz(L), flops, median times of ordering,
 symbolic analysis, numeric factorization, a 3-column solve and a full
 step, peak memory (VmHWM), the solve's bandwidth beside a measured triad
-bandwidth, and the log-log slope of each cost. Default sizes 32,100,316
-(about a minute); 1000, 2000, 3162 on request. Shows what it is measuring
+bandwidth, and the log-log slope of each cost. On more than one thread
+(--threads, default: the cores available) the numeric factorization, the
+solve and the step are also timed on one thread, in interleaved rounds,
+and the speedups reported. Default sizes 32,100,316 (about a minute);
+1000, 2000, 3162 on request. Shows what it is measuring
 on standard error, with --json too.")]
 pub struct BenchArgs {
     /// Grid sides, each at least 2 (the default takes about a minute on a 2-core machine; 1000, one million vertices, 2000 and 3162 on request).
@@ -162,17 +179,19 @@ pub struct BenchArgs {
     plot: Option<PathBuf>,
     #[command(flatten)]
     json: JsonFlag,
+    #[command(flatten)]
+    threads: ThreadsFlag,
     /// Internal: measure grid-N in this process (what each child runs).
     #[arg(long, hide = true, value_name = "N", value_parser = whole(2, usize::MAX))]
     one: Option<usize>,
 }
 
 pub fn run(args: BenchArgs) -> Result<(), AppError> {
-    let steps = args.steps;
+    let (steps, threads) = (args.steps, args.threads.count());
     // the hidden `--one N`: measure one size here, for the parent process
     if let Some(side) = args.one {
         check_grid(side)?;
-        let report = measure_one(side, steps)?;
+        let report = measure_one(side, steps, threads)?;
         println!(
             "{}",
             serde_json::to_string(&report).expect("plain numbers serialise")
@@ -196,7 +215,7 @@ pub fn run(args: BenchArgs) -> Result<(), AppError> {
     let triad_gbps = triad_gbps();
     let mut sizes = Vec::with_capacity(sides.len());
     for &side in &sides {
-        sizes.push(measure_in_child(side, steps)?);
+        sizes.push(measure_in_child(side, steps, threads)?);
     }
     let report = BenchReport {
         triad_gbps,
@@ -276,7 +295,7 @@ fn draw_plot(path: &std::path::Path, report: &BenchReport) -> Result<(), AppErro
 
 /// Runs `bench --one SIDE` in a fresh process of this program and reads
 /// its one-line JSON report.
-fn measure_in_child(side: usize, steps: usize) -> Result<SizeReport, AppError> {
+fn measure_in_child(side: usize, steps: usize, threads: usize) -> Result<SizeReport, AppError> {
     let program = std::env::current_exe()
         .map_err(|e| AppError::Failed(format!("cannot find this program to rerun it: {e}")))?;
     let output = Command::new(program)
@@ -286,6 +305,8 @@ fn measure_in_child(side: usize, steps: usize) -> Result<SizeReport, AppError> {
             &side.to_string(),
             "--steps",
             &steps.to_string(),
+            "--threads",
+            &threads.to_string(),
         ])
         .stdin(Stdio::null())
         .stderr(Stdio::inherit())
@@ -307,11 +328,13 @@ fn measure_in_child(side: usize, steps: usize) -> Result<SizeReport, AppError> {
 
 /// Measures one size in this process (the child's side of
 /// [`measure_in_child`]).
-fn measure_one(side: usize, steps: usize) -> Result<SizeReport, AppError> {
+fn measure_one(side: usize, steps: usize, threads: usize) -> Result<SizeReport, AppError> {
     let name = format!("grid-{side}");
     let failed = |e: &dyn std::fmt::Display| AppError::Failed(format!("{name}: {e}"));
-    let (simulation, precompute_s, step_s) = timed_simulation(&name, side, steps)?;
+    let (mut simulation, precompute_s, step_s) = timed_simulation(&name, side, steps, threads)?;
     let peak_bytes = peak_resident_bytes();
+    let threads = simulation.threads();
+    let (step_s, step_one_thread_s) = step_times(&name, side, step_s, &mut simulation, steps)?;
     eprintln!("{name}: local step, Aᵀd");
     let (local_step_s, atd_s, springs_pass_s) = time_spring_passes(&simulation);
     let system = simulation.system().expect(FAST_PATH);
@@ -323,15 +346,13 @@ fn measure_one(side: usize, steps: usize) -> Result<SizeReport, AppError> {
     drop(simulation);
     eprintln!("{name}: ordering, symbolic, numeric, solve");
     let rhs = benchmark_right_hand_side(lower.ncols());
-    let a = analyze(
-        &lower,
-        &rhs,
-        Ordering::Amd,
-        Method::Supernodal,
-        Relaxation::NONE, // as the simulation factors
-        Repeats::Adaptive,
-    )
-    .map_err(|e| failed(&e))?;
+    let how = HowFactored {
+        ordering: Ordering::Amd,
+        method: Method::Supernodal,
+        relaxation: Relaxation::NONE, // as the simulation factors
+        threads,
+    };
+    let a = analyze(&lower, &rhs, how, Repeats::Adaptive).map_err(|e| failed(&e))?;
     let iteration_s = step_s / ITERATIONS as f64;
     Ok(SizeReport {
         side,
@@ -358,7 +379,69 @@ fn measure_one(side: usize, steps: usize) -> Result<SizeReport, AppError> {
         solve_gbps: solve_bytes(a.nnz_l_stored, rows_kept) / a.solve_s / 1e9,
         residual: a.residual,
         backward_error: a.backward_error,
+        threads,
+        numeric_one_thread_s: a.one_thread.map(|one| one.numeric_s),
+        solve_one_thread_s: a.one_thread.map(|one| one.solve_s),
+        step_one_thread_s,
     })
+}
+
+/// The median step on `simulation`'s threads (`step_s` when it has one)
+/// and, when it has more, on one thread beside it: `(its threads', one
+/// thread's)`.
+fn step_times(
+    name: &str,
+    side: usize,
+    step_s: f64,
+    simulation: &mut Simulation<Sparse>,
+    steps: usize,
+) -> Result<(f64, Option<f64>), AppError> {
+    if simulation.threads() == 1 {
+        return Ok((step_s, None));
+    }
+    let [one, many] = steps_beside_one_thread(name, side, steps, simulation)?;
+    Ok((many, Some(one)))
+}
+
+/// The median step of a fresh one-thread simulation of the same grid and
+/// of `simulation`, in `steps` interleaved rounds: `[one thread, its
+/// threads]`.
+fn steps_beside_one_thread(
+    name: &str,
+    side: usize,
+    steps: usize,
+    simulation: &mut Simulation<Sparse>,
+) -> Result<[f64; 2], AppError> {
+    let failed = |e: &dyn std::fmt::Display| AppError::Failed(format!("{name}: {e}"));
+    eprintln!(
+        "{name}: {steps} steps on 1 thread and on {}, interleaved",
+        simulation.threads()
+    );
+    let scene = procedural::grid(side).to_scene().map_err(|e| failed(&e))?;
+    let options = SimulationOptions {
+        threads: 1,
+        ..SimulationOptions::default()
+    };
+    let mut alone = Simulation::<Sparse>::from_scene(&scene, options).map_err(|e| failed(&e))?;
+    drop(scene);
+    let (mut first_error, mut second_error) = (None, None);
+    let ([one, many], _) = interleaved_medians(
+        Repeats::Exactly(steps),
+        || {
+            if let Err(e) = alone.step() {
+                first_error.get_or_insert(e);
+            }
+        },
+        || {
+            if let Err(e) = simulation.step() {
+                second_error.get_or_insert(e);
+            }
+        },
+    );
+    match first_error.or(second_error) {
+        Some(e) => Err(failed(&e)),
+        None => Ok([one, many]),
+    }
 }
 
 /// The grid `side`×`side` precomputed and stepped `steps` times: the
@@ -367,14 +450,19 @@ fn timed_simulation(
     name: &str,
     side: usize,
     steps: usize,
+    threads: usize,
 ) -> Result<(Simulation<Sparse>, f64, f64), AppError> {
     let failed = |e: &dyn std::fmt::Display| AppError::Failed(format!("{name}: {e}"));
     eprintln!("{name}: scene");
     let scene = procedural::grid(side).to_scene().map_err(|e| failed(&e))?;
     eprintln!("{name}: precomputation (n = {})", scene.vertices.len());
     let started = Instant::now();
-    let mut simulation = Simulation::<Sparse>::from_scene(&scene, SimulationOptions::default())
-        .map_err(|e| failed(&e))?;
+    let options = SimulationOptions {
+        threads,
+        ..SimulationOptions::default()
+    };
+    let mut simulation =
+        Simulation::<Sparse>::from_scene(&scene, options).map_err(|e| failed(&e))?;
     let precompute_s = started.elapsed().as_secs_f64();
     drop(scene);
     eprintln!("{name}: {steps} steps");
@@ -481,12 +569,14 @@ fn write_csv(out: &mut dyn Write, sizes: &[SizeReport]) -> std::io::Result<()> {
         "side,n,nnz_q,nnz_l,nnz_l_stored,flops,ordering_s,symbolic_s,numeric_s,solve_s,step_s,\
          local_step_s,atd_s,springs_pass_s,solve_share,local_step_share,atd_share,\
          springs_pass_share,\
-         precompute_s,peak_bytes,bytes_per_vertex,solve_gbps,residual,backward_error"
+         precompute_s,peak_bytes,bytes_per_vertex,solve_gbps,residual,backward_error,\
+         threads,numeric_one_thread_s,solve_one_thread_s,step_one_thread_s"
     )?;
+    let maybe = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
     for s in sizes {
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             s.side,
             s.n,
             s.nnz_q,
@@ -510,7 +600,11 @@ fn write_csv(out: &mut dyn Write, sizes: &[SizeReport]) -> std::io::Result<()> {
             s.bytes_per_vertex,
             s.solve_gbps,
             s.residual,
-            s.backward_error
+            s.backward_error,
+            s.threads,
+            maybe(s.numeric_one_thread_s),
+            maybe(s.solve_one_thread_s),
+            maybe(s.step_one_thread_s)
         )?;
     }
     Ok(())
@@ -567,6 +661,38 @@ fn print_table(report: &BenchReport) {
         report.steps, report.triad_gbps
     );
     print_iteration_shares(report);
+    print_speedups(report);
+}
+
+/// The threads, and with more than one the times on one thread beside
+/// theirs and the speedups (one thread's time over theirs).
+fn print_speedups(report: &BenchReport) {
+    let Some(threads) = report.sizes.first().map(|s| s.threads) else {
+        return;
+    };
+    if report.sizes.iter().all(|s| s.step_one_thread_s.is_none()) {
+        println!("\nthreads: {threads}");
+        return;
+    }
+    println!(
+        "\n{:>9} {:>7} {:>26} {:>26} {:>26}",
+        "grid", "threads", "numeric ms: 1t, Nt (×)", "solve ms: 1t, Nt (×)", "step ms: 1t, Nt (×)"
+    );
+    let cell = |one: Option<f64>, many: f64| match one {
+        Some(one) => format!("{:.3}, {:.3} ({:.2}×)", 1e3 * one, 1e3 * many, one / many),
+        None => "-".to_string(),
+    };
+    for s in &report.sizes {
+        println!(
+            "{:>9} {:>7} {:>26} {:>26} {:>26}",
+            format!("grid-{}", s.side),
+            s.threads,
+            cell(s.numeric_one_thread_s, s.numeric_s),
+            cell(s.solve_one_thread_s, s.solve_s),
+            cell(s.step_one_thread_s, s.step_s),
+        );
+    }
+    println!("(one thread and N in interleaved rounds; the same bits on both)");
 }
 
 /// One iteration (`step / 50`) and the shares of its solve and its pass

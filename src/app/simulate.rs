@@ -73,6 +73,9 @@ struct Summary {
     /// Which code ran the steps: `fast` or `textbook` (the handout's
     /// functions as written).
     path: &'static str,
+    /// The threads the steps ran on (1 on the textbook path, with --dense
+    /// or the simplicial factorization).
+    threads: usize,
     /// The kernels that ran (`native` or `portable`: `--kernels`).
     kernels: &'static str,
     /// The step the run continued from (`--resume`), if any.
@@ -275,7 +278,8 @@ fn simulate<B: LinearAlgebra>(
     let written = (frames, material.as_deref());
     let tally = run_steps(&mut simulation, &scene, run, first, written)?;
     let times = [precompute_s, started.elapsed().as_secs_f64()];
-    let summary = summarize(tally, &options, B::NAME, [n, springs, run.steps], times);
+    let shape = [n, springs, run.steps, simulation.threads()];
+    let summary = summarize(tally, &options, B::NAME, shape, times);
     Ok(Summary {
         resumed_from,
         ..summary
@@ -364,7 +368,7 @@ fn summarize(
     mut tally: Tally,
     options: &SimulationOptions,
     backend: &'static str,
-    [n, springs, steps]: [usize; 3],
+    [n, springs, steps, threads]: [usize; 4],
     [precompute_s, total_s]: [f64; 2],
 ) -> Summary {
     let step = &options.step;
@@ -387,6 +391,7 @@ fn summarize(
         stops: tally.stops,
         relative_gradient_median: Some(tally.gradients.median()).filter(|m| !m.is_nan()),
         path: if options.textbook { "textbook" } else { "fast" },
+        threads,
         kernels: options.kernels.name(),
         resumed_from: None,
     }
@@ -633,5 +638,6 @@ fn print_summary(scene_path: &Path, s: &Summary) {
         print_iterations(s);
     }
     println!("path             {}", s.path);
+    println!("threads          {}", s.threads);
     println!("total            {}", duration(s.total_s));
 }

@@ -39,6 +39,31 @@ pub fn median_seconds(repeats: Repeats, mut work: impl FnMut()) -> (f64, usize) 
     (times.median(), runs)
 }
 
+/// The median times, in seconds, of two pieces of work timed in
+/// interleaved rounds (`first`, then `second`, again and again), and the
+/// number of rounds: a neighbour that slows the machine for a while slows
+/// both alike, so their ratio holds (the thread counts `analyze` and
+/// `bench` compare). Rounds as [`median_seconds`] counts runs.
+pub fn interleaved_medians(
+    repeats: Repeats,
+    mut first: impl FnMut(),
+    mut second: impl FnMut(),
+) -> ([f64; 2], usize) {
+    let mut times = [BoundedSample::new(), BoundedSample::new()];
+    let timed = |sample: &mut BoundedSample, work: &mut dyn FnMut()| {
+        let t = Instant::now();
+        work();
+        sample.push(t.elapsed().as_secs_f64());
+    };
+    let (_, rounds) = median_seconds(repeats, || {
+        let [a, b] = &mut times;
+        timed(a, &mut first);
+        timed(b, &mut second);
+    });
+    let [mut a, mut b] = times;
+    ([a.median(), b.median()], rounds)
+}
+
 /// The median of `values` (sorted in place).
 pub fn median(values: &mut [f64]) -> f64 {
     values.sort_by(f64::total_cmp);

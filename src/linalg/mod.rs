@@ -9,6 +9,8 @@
 //! * [`kernels`]: the native kernels (AVX2, FMA) or the portable loops.
 //! * [`cancel`]: a flag that stops the long dense operations from another
 //!   thread.
+//! * [`threads`]: a pool of threads kept for a whole simulation, its
+//!   barrier, and arrays its threads share.
 //!
 //! The pipeline from triplets to a solve is walked through in
 //! `docs/sparse-cholesky.md`. Reading and writing its matrices as Matrix
@@ -22,6 +24,7 @@ pub mod error;
 pub mod huge_pages;
 pub mod kernels;
 pub mod sparse;
+pub mod threads;
 
 pub use cancel::Cancel;
 pub use error::LinalgError;

@@ -25,9 +25,9 @@ use crate::linalg::sparse::{
 use crate::linalg::{Cancel, LinalgError};
 
 /// How the sparse backend factors `Q`: the fill-reducing ordering, the
-/// numeric method and, for the supernodal one, which supernodes (the dense
-/// backend has one way and ignores it).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// numeric method, for the supernodal one which supernodes, and on how
+/// many threads (the dense backend has one way and ignores it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SparseFactorization {
     /// AMD (default) or the natural order.
     pub ordering: Ordering,
@@ -36,6 +36,21 @@ pub struct SparseFactorization {
     /// The supernodal method's supernodes: by default those of at most
     /// three columns merged (`Relaxation::SMALL`).
     pub supernodes: SupernodeMerging,
+    /// Threads of the supernodal factorization and solves, kept with the
+    /// factor (default 1; the same bits on any number,
+    /// [`SparseCholesky::factor_with_threads`]).
+    pub threads: usize,
+}
+
+impl Default for SparseFactorization {
+    fn default() -> Self {
+        SparseFactorization {
+            ordering: Ordering::default(),
+            method: Method::default(),
+            supernodes: SupernodeMerging::default(),
+            threads: 1,
+        }
+    }
 }
 
 /// Matrix operations the mass-spring solver needs.
@@ -128,7 +143,7 @@ pub trait LinearAlgebra {
     /// backend makes each row where its solve reads it.
     fn solve_points_from(
         factorization: &mut Self::Factorization,
-        b_row: impl Fn(usize) -> [f64; 3],
+        b_row: impl Fn(usize) -> [f64; 3] + Sync,
         x: &mut [[f64; 3]],
     ) {
         for (i, row) in x.iter_mut().enumerate() {
@@ -143,6 +158,12 @@ pub trait LinearAlgebra {
     /// backend, whose factor has no ordering.
     fn as_sparse_cholesky(_factorization: &mut Self::Factorization) -> Option<&mut SparseCholesky> {
         None
+    }
+
+    /// The threads a factorization factors and solves with (1 for the
+    /// dense one).
+    fn threads(_factorization: &Self::Factorization) -> usize {
+        1
     }
 
     /// Bytes a matrix holds (its arrays' lengths), for the memory figures.
@@ -285,7 +306,7 @@ impl LinearAlgebra for Sparse {
             Method::Supernodal => symbolic.relaxed(&how.supernodes.relaxation()),
             Method::Simplicial => symbolic,
         };
-        SparseCholesky::factor(symbolic, q, how.method)
+        SparseCholesky::factor_with_threads(symbolic, q, how.method, how.threads)
     }
 
     fn refactor(factorization: &mut SparseCholesky, q: &CscMatrix) -> Result<(), LinalgError> {
@@ -298,7 +319,7 @@ impl LinearAlgebra for Sparse {
 
     fn solve_points_from(
         factorization: &mut SparseCholesky,
-        b_row: impl Fn(usize) -> [f64; 3],
+        b_row: impl Fn(usize) -> [f64; 3] + Sync,
         x: &mut [[f64; 3]],
     ) {
         factorization.solve_points_from(b_row, x)
@@ -306,6 +327,10 @@ impl LinearAlgebra for Sparse {
 
     fn as_sparse_cholesky(factorization: &mut SparseCholesky) -> Option<&mut SparseCholesky> {
         Some(factorization)
+    }
+
+    fn threads(factorization: &SparseCholesky) -> usize {
+        factorization.threads()
     }
 
     fn matrix_bytes(a: &CscMatrix) -> usize {

@@ -10,6 +10,7 @@
 //! | [`backend`] | dense or sparse matrices, one interface |
 //! | [`signed_incidence`], [`forces`] | the handout's `A`; gravity and wind |
 //! | [`local_step`] | `dᵢⱼ = rᵢⱼ (pᵢ − pⱼ)/‖pᵢ − pⱼ‖`, one spring at a time ([`simd`]: four) |
+//! | [`spring_blocks`] | the same with `Aᵀd`, shared among threads by blocks of rows |
 //! | [`spring_pass`], [`energy`], [`hessian`] | the energy a step minimises, its gradient and Hessian |
 //! | [`precomputation`], [`exact_pins`] | `r`, `M`, `A`, `C`, `Q` and its factor, constant: the fast path's `MassSpringSystem::new` |
 //! | [`textbook`] | `fast_mass_springs_precomputation/step_{dense,sparse}` as the handout writes them |
@@ -39,6 +40,7 @@ pub mod precomputation;
 pub mod signed_incidence;
 pub mod simd;
 pub mod simulation;
+pub mod spring_blocks;
 pub mod spring_pass;
 pub mod step;
 pub mod textbook;

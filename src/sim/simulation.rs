@@ -18,6 +18,7 @@ use super::precomputation::{MassSpringSystem, DELTA_T};
 use super::step::{StepReport, StepState};
 use crate::linalg::kernels::{self, Kernels};
 use crate::linalg::sparse::{Method, Ordering, SupernodeMerging};
+use crate::linalg::threads;
 use crate::linalg::Cancel;
 use crate::mesh::Scene;
 use std::fmt;
@@ -51,6 +52,12 @@ pub struct SimulationOptions {
     /// instead of the fast path: plain iterations, penalty pins, the
     /// simplicial factor; `step` then only gives the iteration count.
     pub textbook: bool,
+    /// Threads of the fast path's factorization, solves and plain
+    /// iterations, kept for the whole simulation (default: the cores
+    /// available, [`threads::available`]). The positions are the same bits
+    /// on any number; `1` runs the single-threaded code. The textbook path
+    /// and the dense backend run on one thread whatever this says.
+    pub threads: usize,
     /// The native kernels (AVX2, FMA where the CPU has them) or the
     /// portable loops, which compute what a WebAssembly build computes, to
     /// the bit ([`kernels`](crate::linalg::kernels)): the precomputation
@@ -192,6 +199,7 @@ impl Default for SimulationOptions {
             factorization: Method::default(),
             supernodes: SupernodeMerging::default(),
             textbook: false,
+            threads: threads::available(),
             kernels: Kernels::Native,
         }
     }
@@ -447,6 +455,16 @@ impl<B: LinearAlgebra> Simulation<B> {
         match &self.engine {
             Engine::Fast { system, .. } => Some(system),
             Engine::Textbook { .. } => None,
+        }
+    }
+
+    /// The threads the steps run on: those of the fast path's sparse
+    /// supernodal factorization ([`SimulationOptions::threads`]); 1 on the
+    /// textbook path, with the dense backend or the simplicial method.
+    pub fn threads(&self) -> usize {
+        match &self.engine {
+            Engine::Fast { system, .. } => B::threads(&system.prefactorization),
+            Engine::Textbook { .. } => 1,
         }
     }
 
@@ -790,6 +808,7 @@ fn new_engine<B: LinearAlgebra>(
         ordering: options.ordering,
         method: options.factorization,
         supernodes: options.supernodes,
+        threads: options.threads.max(1),
     };
     let mut engine = Engine::fast(network, how, options.pins)?;
     if let Engine::Fast { system, .. } = &mut engine {

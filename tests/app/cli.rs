@@ -301,6 +301,93 @@ fn simulate_runs_the_portable_kernels_on_request_and_says_which_ran() {
 }
 
 #[test]
+fn simulate_writes_the_same_frames_on_any_number_of_threads() {
+    let flag = data("flag.json");
+    let frames = |threads: &str, kernels: &str| {
+        let folder = temp_folder(&format!("threads-{threads}-{kernels}"));
+        let args = [
+            "simulate",
+            &flag,
+            "--steps",
+            "6",
+            "--every",
+            "6",
+            "--threads",
+            threads,
+            "--kernels",
+            kernels,
+            "--out",
+            folder.to_str().unwrap(),
+            "--json",
+        ];
+        let summary = json(&masssprings(&args));
+        assert_eq!(summary["threads"].as_u64(), Some(threads.parse().unwrap()));
+        std::fs::read(folder.join("frame-000006.obj")).unwrap()
+    };
+    for kernels in ["native", "portable"] {
+        let one = frames("1", kernels);
+        for threads in ["2", "3", "4"] {
+            assert!(
+                frames(threads, kernels) == one,
+                "{threads} threads, {kernels} kernels"
+            );
+        }
+    }
+    // the textbook path runs on one thread, and says so
+    let args = [
+        "simulate",
+        &flag,
+        "--steps",
+        "1",
+        "--textbook",
+        "--threads",
+        "3",
+        "--json",
+    ];
+    assert_eq!(json(&masssprings(&args))["threads"], 1);
+    let refused = masssprings(&["simulate", &flag, "--threads", "0"]);
+    assert_eq!(refused.status.code(), Some(2), "{}", stderr(&refused));
+}
+
+#[test]
+fn analyze_on_threads_reports_the_speedup_over_one_thread_and_the_same_bits() {
+    let folder = temp_folder("analyze-threads");
+    let path = folder.join("grid-40.mtx");
+    write_file(&path, |out| {
+        write_coordinate(out, &grid_matrix(40), Symmetry::Symmetric, "grid-40")
+    })
+    .unwrap();
+    let file = path.to_str().unwrap();
+    let args = [
+        "analyze",
+        file,
+        "--json",
+        "--repeats",
+        "3",
+        "--threads",
+        "3",
+    ];
+    let report = json(&masssprings(&args));
+    assert_eq!(report["threads"], 3, "{report}");
+    let one = &report["one_thread"];
+    assert_eq!(one["same_bits"], true, "{report}");
+    for key in ["numeric_s", "solve_s", "numeric_speedup", "solve_speedup"] {
+        assert!(one[key].as_f64().unwrap() > 0.0, "{key} in {report}");
+    }
+    let alone = json(&masssprings(&[
+        "analyze",
+        file,
+        "--json",
+        "--repeats",
+        "1",
+        "--threads",
+        "1",
+    ]));
+    assert_eq!(alone["threads"], 1);
+    assert!(alone["one_thread"].is_null(), "{alone}");
+}
+
+#[test]
 fn simulate_dense_and_sparse_both_run() {
     for backend in [&["--dense"][..], &[][..]] {
         let mut args = vec![
@@ -397,6 +484,8 @@ fn bench_reports_every_key_and_slopes_fitted_to_its_own_figures() {
         csv.to_str().unwrap(),
         "--plot",
         plot.to_str().unwrap(),
+        "--threads",
+        "2",
     ]));
     let png = std::fs::read(&plot).unwrap();
     assert!(png.starts_with(b"\x89PNG"), "not a PNG");
@@ -439,6 +528,21 @@ fn bench_reports_every_key_and_slopes_fitted_to_its_own_figures() {
             (printed - fitted).abs() <= 1e-9 * (1.0 + fitted.abs()),
             "{key}: printed {printed}, fitted from the printed sizes {fitted}"
         );
+    }
+    // on more than one thread, one thread's times beside them
+    for size in sizes {
+        let threads = size["threads"].as_u64().unwrap();
+        for key in [
+            "numeric_one_thread_s",
+            "solve_one_thread_s",
+            "step_one_thread_s",
+        ] {
+            assert_eq!(
+                size[key].as_f64().is_some_and(|t| t > 0.0),
+                threads > 1,
+                "{key} in {size}"
+            );
+        }
     }
     let table = std::fs::read_to_string(&csv).unwrap();
     assert_eq!(table.lines().count(), 4, "{table}");

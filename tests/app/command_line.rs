@@ -74,6 +74,11 @@ fn the_help_lists_the_flags_each_command_accepts() {
     assert!(render.contains("-o, --out <OUT>"), "{render}");
     let view = stdout(&masssprings(&["view", "--help"]));
     assert!(view.contains("--port <P>"), "{view}");
+    // every command that factors, solves or steps takes --threads
+    for command in ["simulate", "render", "view", "converge", "analyze", "bench"] {
+        let help = stdout(&masssprings(&[command, "--help"]));
+        assert!(help.contains("--threads <N>"), "{command}: {help}");
+    }
     // internal flags stay out of the help
     let bench = stdout(&masssprings(&["bench", "--help"]));
     assert!(!bench.contains("--one"), "{bench}");

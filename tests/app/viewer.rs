@@ -1008,7 +1008,10 @@ fn a_command_during_a_long_step_is_answered_at_once_and_applied_after_it() {
     let after = wait_for(&viewer, Duration::from_secs(5), |s| {
         s["busy"].is_null() && s["wind"] == true
     });
-    assert_eq!(after["steps"], 0, "the cancelled step is not counted: {after}");
+    assert_eq!(
+        after["steps"], 0,
+        "the cancelled step is not counted: {after}"
+    );
 }
 
 #[test]

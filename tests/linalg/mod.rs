@@ -6,4 +6,5 @@ mod kernels;
 mod matrix_market;
 mod sparse_cholesky;
 mod sparse_ops;
+mod threads;
 mod triplets;

@@ -438,14 +438,22 @@ fn plain_in_the_factor_order_gives_the_textbook_loop_bits() {
 
 /// `factor_order::iterate` against the textbook loop written out here:
 /// local step into `Aᵀd`, `b = k Aᵀd + y + w CᵀC V`, solve with `Q`'s
-/// factor, in the vertices' order; the same bits after 50 iterations.
+/// factor, in the vertices' order; the same bits after 50 iterations, on
+/// one thread and on a team of three (the springs in blocks).
 #[test]
 fn factor_order_iterate_gives_the_bits_of_the_loop_as_written() {
     use masssprings::sim::local_step::project_springs_into_transpose;
     use masssprings::sim::methods::factor_order::{iterate, PlainProblem, Workspace};
-    for (name, method) in [("flag", Method::Supernodal), ("skirt", Method::Simplicial)] {
+    let cases = [
+        ("flag", Method::Supernodal, 1),
+        ("flag", Method::Supernodal, 3),
+        ("skirt", Method::Simplicial, 1),
+        ("skirt", Method::Supernodal, 3),
+    ];
+    for (name, method, threads) in cases {
         let options = SimulationOptions {
             factorization: method,
+            threads,
             ..SimulationOptions::default()
         };
         let scene = Trajectory::bundled(name, false).scene();
@@ -469,8 +477,10 @@ fn factor_order_iterate_gives_the_bits_of_the_loop_as_written() {
             }
             factor.solve_points_in_place(&mut expected);
         }
-        let permutation = system.prefactorization.symbolic().permutation();
-        let work = Workspace::new(&system.springs, permutation.inverse());
+        let factor = &system.prefactorization;
+        let permutation = factor.symbolic().permutation();
+        let work = Workspace::new(&system.springs, permutation.inverse(), factor);
+        assert_eq!(matches!(work, Workspace::Team(_)), threads > 1, "{name}");
         let problem = PlainProblem {
             r: &system.r,
             k: system.k,

@@ -5,11 +5,15 @@ use masssprings::mesh::procedural;
 use masssprings::sim::simulation::SimulationOptions;
 use masssprings::sim::{Simulation, Sparse};
 
-/// The grid-`side` cloth, precomputed and stepped once: its items and total.
-fn held_by_grid(side: usize) -> (Vec<(&'static str, usize)>, usize) {
+/// The grid-`side` cloth, precomputed on `threads` threads and stepped
+/// once: its items and total.
+fn held_by_grid(side: usize, threads: usize) -> (Vec<(&'static str, usize)>, usize) {
     let scene = procedural::grid(side).to_scene().unwrap();
-    let mut simulation =
-        Simulation::<Sparse>::from_scene(&scene, SimulationOptions::default()).unwrap();
+    let options = SimulationOptions {
+        threads,
+        ..SimulationOptions::default()
+    };
+    let mut simulation = Simulation::<Sparse>::from_scene(&scene, options).unwrap();
     simulation.step().unwrap();
     assert!(
         !simulation.system().unwrap().holds_q(),
@@ -17,7 +21,10 @@ fn held_by_grid(side: usize) -> (Vec<(&'static str, usize)>, usize) {
     );
     let items = simulation.bytes();
     let total = items.iter().map(|(_, bytes)| bytes).sum();
-    eprintln!("grid-{side}, n = {}:", scene.vertices.len());
+    eprintln!(
+        "grid-{side}, n = {}, {threads} threads:",
+        scene.vertices.len()
+    );
     for (what, bytes) in &items {
         eprintln!("  {:>12} {what}", bytes);
     }
@@ -39,7 +46,7 @@ fn grid_316_simulation_stays_within_its_memory_budget() {
     // spring, 9.5 MB) was kept beside Aᵀd, and 94.4 MB before the
     // factor-order loop.
     const BUDGET: usize = 100_900_000;
-    let (items, total) = held_by_grid(316);
+    let (items, total) = held_by_grid(316, 1);
     let q = items
         .iter()
         .find(|(what, _)| what.starts_with("Q"))
@@ -52,8 +59,31 @@ fn grid_316_simulation_stays_within_its_memory_budget() {
 }
 
 #[test]
+fn a_team_of_threads_adds_little_to_a_simulation() {
+    // grid-316: each thread beyond the first has the factorization's
+    // scratch buffers (a row map of n entries, 0.8 MB, and a block); the
+    // cut of the tree for the factorization and the solve; the plain loop
+    // keeps its springs in the threads' blocks with each spring's number
+    // and ends (5 bytes more a spring, 2.0 MB), the springs between two
+    // blocks twice. Two threads: 3.35 MB more than one; four: 5.07 MB.
+    let (_, one) = held_by_grid(316, 1);
+    let (_, two) = held_by_grid(316, 2);
+    let (_, four) = held_by_grid(316, 4);
+    assert!(
+        two - one <= 3_500_000,
+        "two threads add {} bytes",
+        two - one
+    );
+    assert!(
+        four - one <= 5_300_000,
+        "four threads add {} bytes",
+        four - one
+    );
+}
+
+#[test]
 #[ignore = "a million vertices: about 20 s and 1.2 GB; run with --ignored"]
 fn grid_1000_simulation_holds_less_than_1_2_gb() {
-    let (_, total) = held_by_grid(1000);
+    let (_, total) = held_by_grid(1000, 1);
     assert!(total <= 1_200_000_000, "grid-1000 holds {total} bytes");
 }

@@ -9,3 +9,4 @@ mod mistakes;
 mod no_allocation;
 mod parameters;
 mod textbook;
+mod threads;

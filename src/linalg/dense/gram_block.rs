@@ -71,7 +71,43 @@ pub fn gram_block(
     block: &mut [f64],
     rows_of_y: &mut [[f64; BLOCK_COLUMNS]],
 ) {
-    let (ys, block) = prepare(values, column_base, first, width, rows, block, rows_of_y);
+    assert!(rows >= width);
+    gram_block_rows(
+        values,
+        column_base,
+        first,
+        width,
+        first,
+        rows,
+        block,
+        rows_of_y,
+    );
+}
+
+/// [`gram_block`] for the rows `x_first .. x_first + rows` of `X` against
+/// its rows `y_first .. y_first + width`: `block[t * rows + r] = Σ_k
+/// X(x_first + r, k) · X(y_first + t, k)`. Each entry is the same sum as
+/// `gram_block` makes for it, to the bit, whichever rows are asked for with
+/// it: the threads of the parallel factorization each compute their own
+/// rows of one block.
+///
+/// # Panics
+/// When `width > 4`, `block` holds fewer than `4 · rows` values,
+/// `rows_of_y` is shorter than `column_base`, or a column of `X` does not
+/// reach the rows asked for.
+#[allow(clippy::too_many_arguments)] // gram_block's, and where its rows start
+pub fn gram_block_rows(
+    values: &[f64],
+    column_base: &[usize],
+    y_first: usize,
+    width: usize,
+    x_first: usize,
+    rows: usize,
+    block: &mut [f64],
+    rows_of_y: &mut [[f64; BLOCK_COLUMNS]],
+) {
+    let (ys, block) = prepare(values, column_base, y_first, width, rows, block, rows_of_y);
+    let first = x_first;
     #[cfg(target_arch = "x86_64")]
     if crate::linalg::kernels::avx512_fma() {
         // SAFETY: the CPU supports the features the function is compiled for.
@@ -101,6 +137,7 @@ pub fn gram_block_portable(
     block: &mut [f64],
     rows_of_y: &mut [[f64; BLOCK_COLUMNS]],
 ) {
+    assert!(rows >= width);
     let (ys, block) = prepare(values, column_base, first, width, rows, block, rows_of_y);
     plain_sums(values, column_base, first, rows, ys, block);
 }
@@ -117,7 +154,7 @@ fn prepare<'y, 'b>(
     block: &'b mut [f64],
     rows_of_y: &'y mut [[f64; BLOCK_COLUMNS]],
 ) -> (&'y [[f64; BLOCK_COLUMNS]], &'b mut [f64]) {
-    assert!(width <= BLOCK_COLUMNS && rows >= width && block.len() >= BLOCK_COLUMNS * rows);
+    assert!(width <= BLOCK_COLUMNS && block.len() >= BLOCK_COLUMNS * rows);
     assert!(rows_of_y.len() >= column_base.len());
     for (y, &base) in rows_of_y.iter_mut().zip(column_base) {
         *y = [0.0; BLOCK_COLUMNS];

@@ -17,19 +17,30 @@
 //! The solves follow the method: column by column
 //! ([`triangular_solve`]) or supernode by supernode ([`supernodal_solve`]).
 //!
+//! Threads: [`SparseCholesky::factor_with_threads`] keeps a pool of
+//! threads ([`Threads`]) with the factorization; the supernodal method then
+//! factors and solves by subtrees of the elimination tree on all of them
+//! ([`supernodal_parallel`](super::supernodal_parallel),
+//! [`supernodal_solve_parallel`](super::supernodal_solve_parallel)), to the
+//! same bits as on one thread. The simplicial method, the textbook's, runs
+//! on one thread whatever the pool.
+//!
 //! Source: Davis 2006, ch. 4 and §8.1 (`cs_cholsol`).
 
 use super::csc::{CscMatrix, Triangle};
 use super::factor_loading::FactorLoading;
 use super::permutation::Permutation;
 use super::permute::PermutedTriangle;
-use super::supernodal::{factor_supernodal, SupernodalWorkspace};
+use super::supernodal::{factor_supernodal, Input, SupernodalWorkspace};
+use super::supernodal_parallel::{factor_parallel, ParallelFactor};
 use super::supernodal_solve;
+use super::supernodal_solve_parallel::{ParallelSolve, TeamSolve};
 use super::symbolic::SymbolicCholesky;
 use super::triangular_solve::{self, FactorView};
 use super::up_looking::{factor_up_looking, FailedPivot, UpLookingWorkspace};
 use crate::linalg::error::LinalgError;
 use crate::linalg::huge_pages::advise_huge_pages;
+use crate::linalg::threads::{SharedSlice, Team, Threads};
 
 /// How the numeric factorization is computed (both give the same `L` up to
 /// rounding).
@@ -118,6 +129,19 @@ pub struct SparseCholesky {
     solve_buffer: Vec<f64>,
     /// False after a failed refactorization: the values are not a factor.
     factored: bool,
+    /// The threads, when there are more than one, and the supernodal
+    /// method's plans for them.
+    parallel: Option<Parallel>,
+}
+
+/// A pool of threads, and how the supernodal method shares its
+/// factorization and its solves among them (the simplicial method runs on
+/// one thread and has none).
+#[derive(Debug, Clone)]
+struct Parallel {
+    threads: Threads,
+    factor: ParallelFactor,
+    solve: ParallelSolve,
 }
 
 impl SparseCholesky {
@@ -139,6 +163,24 @@ impl SparseCholesky {
         a: &CscMatrix,
         method: Method,
     ) -> Result<Self, LinalgError> {
+        Self::factor_with_threads(symbolic, a, method, 1)
+    }
+
+    /// [`SparseCholesky::factor`] with a pool of `threads` threads kept for
+    /// every refactorization and solve: the supernodal method factors and
+    /// solves on all of them, to the same bits as on one
+    /// ([`crate::linalg::threads`]); `1` spawns none and runs the
+    /// single-threaded code, and so does the simplicial method, the
+    /// textbook's.
+    ///
+    /// # Errors
+    /// As [`SparseCholesky::factor`].
+    pub fn factor_with_threads(
+        symbolic: SymbolicCholesky,
+        a: &CscMatrix,
+        method: Method,
+        threads: usize,
+    ) -> Result<Self, LinalgError> {
         if method == Method::Simplicial && symbolic.explicit_zeros() > 0 {
             return Err(LinalgError::InvalidStructure(
                 "the simplicial method needs the exact pattern of L, not a relaxed one".into(),
@@ -150,13 +192,15 @@ impl SparseCholesky {
             Method::Supernodal => symbolic.store_rows_per_supernode(), // all its blocks and solves read
             Method::Simplicial => symbolic.store_rows_per_column(), // its rows and substitutions read these
         }
+        let parallel = Parallel::new(&symbolic, method, threads);
+        let count = parallel.as_ref().map_or(1, |p| p.threads.count());
         let workspace = match method {
             Method::Simplicial => Workspace::Simplicial(
                 UpLookingWorkspace::new(n),
                 PermutedTriangle::new(a, symbolic.permutation(), Triangle::Upper)?,
             ),
             Method::Supernodal => Workspace::Supernodal(
-                SupernodalWorkspace::new(&symbolic),
+                SupernodalWorkspace::for_threads(&symbolic, count),
                 FactorLoading::new(a, &symbolic)?,
             ),
         };
@@ -166,6 +210,7 @@ impl SparseCholesky {
             workspace,
             solve_buffer: vec![0.0; 4 * n],
             factored: false,
+            parallel,
         };
         // the arrays every solve streams and gathers from (src/linalg/huge_pages.rs)
         advise_huge_pages(&mut cholesky.values);
@@ -191,7 +236,19 @@ impl SparseCholesky {
                 if !loading.fits(a) {
                     return Err(LinalgError::PatternMismatch);
                 }
-                factor_supernodal(&self.symbolic, a, loading, &mut self.values, work)
+                let input = Input {
+                    symbolic: &self.symbolic,
+                    a,
+                    loading,
+                };
+                match &mut self.parallel {
+                    Some(Parallel {
+                        threads,
+                        factor: plan,
+                        ..
+                    }) => factor_parallel(threads, input, &mut self.values, work, plan),
+                    _ => factor_supernodal(&self.symbolic, a, loading, &mut self.values, work),
+                }
             }
         };
         outcome.map_err(|failed| self.not_positive_definite(failed))?;
@@ -204,6 +261,23 @@ impl SparseCholesky {
         &self.symbolic
     }
 
+    /// The number of threads it factors and solves with (1 for the
+    /// simplicial method, whatever it was asked for).
+    pub fn threads(&self) -> usize {
+        self.parallel.as_ref().map_or(1, |p| p.threads.count())
+    }
+
+    /// Factors and solves from now on with `threads` threads (a new pool;
+    /// `1`: none). The values of `L` stay: the same bits either way.
+    pub fn set_threads(&mut self, threads: usize) {
+        let method = self.method();
+        self.parallel = Parallel::new(&self.symbolic, method, threads);
+        let count = self.threads();
+        if let Workspace::Supernodal(work, _) = &mut self.workspace {
+            *work = SupernodalWorkspace::for_threads(&self.symbolic, count);
+        }
+    }
+
     /// Bytes held (array lengths, not capacities): the analysis, the
     /// values of `L`, the permuted `C`, the work arrays and the solve's
     /// buffer, and how `A` is read. The memory figures of `docs/performance.md`.
@@ -212,10 +286,12 @@ impl SparseCholesky {
             Workspace::Simplicial(work, permuted) => work.bytes() + permuted.bytes(),
             Workspace::Supernodal(work, loading) => work.bytes() + loading.bytes(),
         };
+        let plans = (self.parallel.as_ref()).map_or(0, |p| p.factor.bytes() + p.solve.bytes());
         self.symbolic.bytes()
             + std::mem::size_of_val(&self.values[..])
             + workspace
             + std::mem::size_of_val(&self.solve_buffer[..])
+            + plans
     }
 
     /// The method in use.
@@ -288,8 +364,16 @@ impl SparseCholesky {
     ///
     /// # Panics
     /// When `x.len() != n`, or after a failed refactorization.
-    pub fn solve_points_from(&mut self, b_row: impl Fn(usize) -> [f64; 3], x: &mut [[f64; 3]]) {
+    pub fn solve_points_from(
+        &mut self,
+        b_row: impl Fn(usize) -> [f64; 3] + Sync,
+        x: &mut [[f64; 3]],
+    ) {
         self.check_ready(x.len());
+        if self.parallel_plan().is_some() {
+            self.solve_by_team::<3, 4>(&b_row, &SharedSlice::new(x));
+            return;
+        }
         self.fill_buffer::<3, 4>(b_row);
         self.sweep::<4>();
         self.drain_buffer::<3, 4>(x);
@@ -312,6 +396,38 @@ impl SparseCholesky {
         (self.symbolic.permutation(), buffer)
     }
 
+    /// The rows of the factor (the buffer's rows) that thread `thread` of
+    /// the team owns in its solves ([`TeamSolve::owned_rows`]); `None`
+    /// without a team (one thread, or the simplicial method).
+    pub fn rows_of_thread(&self, thread: usize) -> Option<&[std::ops::Range<usize>]> {
+        self.parallel_plan().map(|plan| plan.owned_rows(thread))
+    }
+
+    /// The solve of the buffer of [`SparseCholesky::buffer_in_factor_order`]
+    /// by a team, with the pool that runs it and the permutation, for a
+    /// caller that shares its own work among the same threads and keeps
+    /// each thread on the rows it owns (the plain iteration,
+    /// `sim::methods::factor_order`); `None` with one thread or the
+    /// simplicial method.
+    ///
+    /// # Panics
+    /// After a failed refactorization.
+    pub fn team_solve(&mut self) -> Option<(TeamSolve<'_, 4>, &Threads, &Permutation)> {
+        let n = self.symbolic.n();
+        self.check_ready(n);
+        let Some(Parallel {
+            threads,
+            solve: plan,
+            ..
+        }) = &mut self.parallel
+        else {
+            return None;
+        };
+        let (buffer, _) = self.solve_buffer[..4 * n].as_chunks_mut::<4>();
+        let solve = TeamSolve::new(&self.symbolic, &self.values, plan, buffer);
+        Some((solve, threads, self.symbolic.permutation()))
+    }
+
     /// `x ← L⁻ᵀ L⁻¹ x` for the block `x` in the buffer of
     /// [`SparseCholesky::buffer_in_factor_order`]: the solve with
     /// `P A Pᵀ`, the permuted matrix, with no copy into or out of it. The
@@ -320,6 +436,10 @@ impl SparseCholesky {
     /// # Panics
     /// After a failed refactorization.
     pub fn solve_buffer_in_place(&mut self) {
+        if let Some((solve, threads, _)) = self.team_solve() {
+            threads.run(&|team: &Team| solve.sweep(team));
+            return;
+        }
         self.check_ready(self.symbolic.n());
         self.sweep::<4>();
     }
@@ -328,9 +448,66 @@ impl SparseCholesky {
     /// buffer whose rows are padded to `LANES ≥ W` values.
     fn solve_block<const W: usize, const LANES: usize>(&mut self, b: &mut [[f64; W]]) {
         self.check_ready(b.len());
+        if self.parallel_plan().is_some() {
+            let b = SharedSlice::new(b);
+            // SAFETY: each thread reads the rows of `b` it writes back, and
+            // no other (`solve_by_team`).
+            let b_row = |i: usize| unsafe { b.get(i) };
+            self.solve_by_team::<W, LANES>(&b_row, &b);
+            return;
+        }
         self.fill_buffer::<W, LANES>(|i| b[i]);
         self.sweep::<LANES>();
         self.drain_buffer::<W, LANES>(b);
+    }
+
+    /// The supernodal plan for the threads, if any.
+    fn parallel_plan(&self) -> Option<&ParallelSolve> {
+        self.parallel.as_ref().map(|p| &p.solve)
+    }
+
+    /// The whole solve in one run of the team: each thread writes `P b`
+    /// into the rows of the buffer it owns, sweeps, and puts its rows of
+    /// the solution into `x` (`x[perm[r]]` for its rows `r`: each row of
+    /// `b` and of `x` is read and written by one thread).
+    ///
+    /// # Panics
+    /// Without a team plan.
+    fn solve_by_team<const W: usize, const LANES: usize>(
+        &mut self,
+        b_row: &(dyn Fn(usize) -> [f64; W] + Sync),
+        x: &SharedSlice<[f64; W]>,
+    ) {
+        let n = self.symbolic.n();
+        let Some(Parallel {
+            threads,
+            solve: plan,
+            ..
+        }) = &mut self.parallel
+        else {
+            unreachable!("solve_by_team runs with a team plan");
+        };
+        let (buffer, _) = self.solve_buffer[..LANES * n].as_chunks_mut::<LANES>();
+        let perm = self.symbolic.permutation().perm();
+        let solve = TeamSolve::new(&self.symbolic, &self.values, plan, buffer);
+        threads.run(&|team: &Team| {
+            let (rows, owned) = (solve.rows(), solve.owned_rows(team.index()));
+            for r in owned.iter().flat_map(|range| range.clone()) {
+                let mut row = [0.0; LANES];
+                row[..W].copy_from_slice(&b_row(perm[r]));
+                // SAFETY: row `r` of the buffer is this thread's.
+                unsafe { rows.set(r, row) };
+            }
+            solve.sweep(team);
+            for r in owned.iter().flat_map(|range| range.clone()) {
+                // SAFETY: row `r` of the buffer is this thread's, and so is
+                // row `perm[r]` of `x` (`perm` is one-to-one).
+                unsafe {
+                    let row = rows.get(r);
+                    x.set(perm[r], std::array::from_fn(|c| row[c]));
+                }
+            }
+        });
     }
 
     /// Panics unless the values are a factor and `rows` is its order.
@@ -392,5 +569,25 @@ impl SparseCholesky {
             column: self.symbolic.permutation().perm()[column],
             pivot,
         }
+    }
+}
+
+impl Parallel {
+    /// A pool of `threads` threads and the supernodal method's plans for as
+    /// many as the pool has; `None` for one thread or the simplicial method.
+    fn new(symbolic: &SymbolicCholesky, method: Method, threads: usize) -> Option<Self> {
+        if threads <= 1 || method == Method::Simplicial {
+            return None; // the textbook's method runs on one thread
+        }
+        let threads = Threads::new(threads);
+        let count = threads.count();
+        if count == 1 {
+            return None; // no thread could be made
+        }
+        Some(Parallel {
+            threads,
+            factor: ParallelFactor::new(symbolic, count),
+            solve: ParallelSolve::new(symbolic, count),
+        })
     }
 }

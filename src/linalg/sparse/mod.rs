@@ -24,8 +24,11 @@
 //! | numeric factorization, row by row | [`up_looking`] |
 //! | where `A`'s entries go in `L` | [`factor_loading`] |
 //! | numeric factorization, supernodal | [`supernodal`] |
+//! | the elimination tree cut among threads | [`subtrees`] |
+//! | the same factorization on several threads | [`supernodal_parallel`] |
 //! | forward and back substitution | [`triangular_solve`] |
 //! | the same, by supernodes | [`supernodal_solve`] |
+//! | the same, on several threads | [`supernodal_solve_parallel`] |
 //! | all of it together | [`cholesky`] |
 
 pub mod add;
@@ -44,8 +47,11 @@ pub mod permute;
 pub mod postorder;
 pub mod product;
 pub mod row_pattern;
+pub mod subtrees;
 pub mod supernodal;
+pub mod supernodal_parallel;
 pub mod supernodal_solve;
+pub mod supernodal_solve_parallel;
 pub mod supernode_rows;
 pub mod supernodes;
 pub mod symbolic;

@@ -42,63 +42,148 @@ use super::symbolic::SymbolicCholesky;
 use super::up_looking::FailedPivot;
 use crate::linalg::dense::gram_block::{gram_block, BLOCK_COLUMNS};
 
-/// Work arrays of the supernodal factorization, sized once per analysis.
+/// Work arrays of the supernodal factorization, sized once per analysis:
+/// the lists of waiting supernodes, and one [`Scratch`] per thread.
 #[derive(Debug, Clone)]
 pub struct SupernodalWorkspace {
-    /// `position_in_block[row]`: where `row` sits in the current supernode's rows.
-    position_in_block: Vec<usize>,
     /// `waiting[s]`: first of the supernodes whose next update goes to `s`.
-    waiting: Vec<Option<usize>>,
+    pub(super) waiting: Vec<Option<usize>>,
     /// `next_waiting[d]`: the supernode after `d` in the same list.
-    next_waiting: Vec<Option<usize>>,
+    pub(super) next_waiting: Vec<Option<usize>>,
     /// `next_row[d]`: position in `d`'s rows where its next update starts.
-    next_row: Vec<usize>,
+    pub(super) next_row: Vec<usize>,
+    /// The buffers of each thread (one without threads).
+    pub(super) scratch: Vec<Scratch>,
+}
+
+/// The buffers one thread uses for one supernode at a time.
+#[derive(Debug, Clone)]
+pub(super) struct Scratch {
+    /// `position_in_block[row]`: where `row` sits in the current supernode's rows.
+    pub(super) position_in_block: Vec<usize>,
     /// Start of each source column, for the kernel (longest supernode).
-    column_base: Vec<usize>,
+    pub(super) column_base: Vec<usize>,
     /// One block of four columns of an update (longest row list × 4).
-    block: Vec<f64>,
+    pub(super) block: Vec<f64>,
     /// The kernel's copy of the four target rows of each source column.
-    rows_of_y: Vec<[f64; BLOCK_COLUMNS]>,
+    pub(super) rows_of_y: Vec<[f64; BLOCK_COLUMNS]>,
     /// Positions in the target supernode of a descendant's rows.
-    relative: Vec<usize>,
+    pub(super) relative: Vec<usize>,
 }
 
 impl SupernodalWorkspace {
-    /// Work arrays for the factor analysed in `symbolic`.
+    /// Work arrays for the factor analysed in `symbolic`, for one thread.
     pub fn new(symbolic: &SymbolicCholesky) -> Self {
+        Self::for_threads(symbolic, 1)
+    }
+
+    /// Work arrays for the factor analysed in `symbolic`, with buffers for
+    /// `threads` threads.
+    pub fn for_threads(symbolic: &SymbolicCholesky, threads: usize) -> Self {
+        let count = symbolic.supernodes().len();
+        let scratch = Scratch::new(symbolic);
+        SupernodalWorkspace {
+            waiting: vec![None; count],
+            next_waiting: vec![None; count],
+            next_row: vec![0; count],
+            scratch: vec![scratch; threads.max(1)],
+        }
+    }
+
+    /// Bytes held (array lengths).
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.next_row.len() * size_of::<usize>()
+            + (self.waiting.len() + self.next_waiting.len()) * size_of::<Option<usize>>()
+            + self.scratch.iter().map(Scratch::bytes).sum::<usize>()
+    }
+}
+
+impl Scratch {
+    /// Buffers sized for the widest and tallest supernodes of `symbolic`.
+    fn new(symbolic: &SymbolicCholesky) -> Self {
         let supernodes = symbolic.supernodes();
-        let count = supernodes.len();
-        let (widest, tallest) = (0..count)
+        let (widest, tallest) = (0..supernodes.len())
             .map(|s| {
                 let columns = supernodes.columns(s);
                 (columns.len(), symbolic.column_counts()[columns.start])
             })
             .fold((0, 0), |(w, m), (cw, cm)| (w.max(cw), m.max(cm)));
-        SupernodalWorkspace {
+        Scratch {
             position_in_block: vec![0; symbolic.n()],
-            waiting: vec![None; count],
-            next_waiting: vec![None; count],
-            next_row: vec![0; count],
             column_base: vec![0; widest],
             block: vec![0.0; BLOCK_COLUMNS * tallest],
             rows_of_y: vec![[0.0; BLOCK_COLUMNS]; widest],
             relative: vec![0; tallest],
         }
     }
-}
 
-impl SupernodalWorkspace {
-    /// Bytes held (array lengths).
-    pub fn bytes(&self) -> usize {
+    fn bytes(&self) -> usize {
         use std::mem::size_of;
-        (self.position_in_block.len()
-            + self.next_row.len()
-            + self.column_base.len()
-            + self.relative.len())
+        (self.position_in_block.len() + self.column_base.len() + self.relative.len())
             * size_of::<usize>()
-            + (self.waiting.len() + self.next_waiting.len()) * size_of::<Option<usize>>()
             + std::mem::size_of_val(&self.block[..])
             + std::mem::size_of_val(&self.rows_of_y[..])
+    }
+
+    /// `position_in_block[row]` for the rows of supernode `s`.
+    pub(super) fn place_rows_of(&mut self, symbolic: &SymbolicCholesky, s: usize) {
+        for (position, &row) in block_rows(symbolic, s).iter().enumerate() {
+            self.position_in_block[row as usize] = position;
+        }
+    }
+}
+
+/// The values of `L` one run writes: all of them, or the columns of a
+/// range of supernodes (`values[0]` is entry `first` of `L`'s values).
+pub(super) struct Region<'v> {
+    pub(super) values: &'v mut [f64],
+    pub(super) first: usize,
+}
+
+/// The waiting lists of the supernodes `first .. end` (all of them, or
+/// one thread's subtree): `waiting`, `next_waiting` and `next_row` hold
+/// theirs. A supernode whose next target lies beyond `end` is put in
+/// `outbox` instead, in order, to be put in its list later.
+pub(super) struct Lists<'l> {
+    pub(super) first: usize,
+    pub(super) end: usize,
+    pub(super) waiting: &'l mut [Option<usize>],
+    pub(super) next_waiting: &'l mut [Option<usize>],
+    pub(super) next_row: &'l mut [usize],
+    pub(super) outbox: &'l mut [usize],
+    /// Supernodes put in `outbox`.
+    pub(super) sent: usize,
+}
+
+impl Lists<'_> {
+    /// Takes the list of supernodes waiting for `s`.
+    fn take(&mut self, s: usize) -> Option<usize> {
+        self.waiting[s - self.first].take()
+    }
+
+    /// The supernode after `d` in its list.
+    fn after(&self, d: usize) -> Option<usize> {
+        self.next_waiting[d - self.first]
+    }
+
+    /// Where `d`'s next update starts in its rows.
+    fn next_row(&self, d: usize) -> usize {
+        self.next_row[d - self.first]
+    }
+
+    /// Puts `d`, whose next update starts at its row position `next`, in
+    /// the list of `target` (or in the outbox, when `target` is not one of
+    /// these supernodes).
+    pub(super) fn push(&mut self, d: usize, next: usize, target: usize) {
+        self.next_row[d - self.first] = next;
+        if target < self.end {
+            self.next_waiting[d - self.first] = self.waiting[target - self.first];
+            self.waiting[target - self.first] = Some(d);
+        } else {
+            self.outbox[self.sent] = d;
+            self.sent += 1;
+        }
     }
 }
 
@@ -115,42 +200,83 @@ pub fn factor_supernodal(
     work: &mut SupernodalWorkspace,
 ) -> Result<(), FailedPivot> {
     work.waiting.fill(None);
-    for s in 0..symbolic.supernodes().len() {
-        let rows = block_rows(symbolic, s);
-        for (position, &row) in rows.iter().enumerate() {
-            work.position_in_block[row as usize] = position;
-        }
-        load_block(symbolic, a, loading, s, values);
-        apply_waiting_updates(symbolic, s, values, work);
-        factor_block(symbolic, s, values, work)?;
+    let count = symbolic.supernodes().len();
+    let mut lists = Lists {
+        first: 0,
+        end: count,
+        waiting: &mut work.waiting,
+        next_waiting: &mut work.next_waiting,
+        next_row: &mut work.next_row,
+        outbox: &mut [],
+        sent: 0,
+    };
+    let mut region = Region { values, first: 0 };
+    let input = Input {
+        symbolic,
+        a,
+        loading,
+    };
+    factor_range(
+        &input,
+        0..count,
+        &mut region,
+        &mut lists,
+        &mut work.scratch[0],
+    )
+}
+
+/// What every factorization reads: the analysis, `A`, and where `A`'s
+/// entries go in `L`.
+#[derive(Clone, Copy)]
+pub(super) struct Input<'a> {
+    pub(super) symbolic: &'a SymbolicCholesky,
+    pub(super) a: &'a CscMatrix,
+    pub(super) loading: &'a FactorLoading,
+}
+
+/// The supernodes `supernodes` in order, each loaded, updated by those
+/// waiting for it, factored, and put in the list of its first target.
+///
+/// # Errors
+/// The first column whose pivot is not positive and finite.
+pub(super) fn factor_range(
+    input: &Input,
+    supernodes: std::ops::Range<usize>,
+    values: &mut Region,
+    lists: &mut Lists,
+    scratch: &mut Scratch,
+) -> Result<(), FailedPivot> {
+    let symbolic = input.symbolic;
+    for s in supernodes {
+        scratch.place_rows_of(symbolic, s);
+        load_block(input, s, values);
+        apply_waiting_updates(symbolic, s, values, lists, scratch);
+        factor_block(symbolic, s, values, scratch)?;
         let width = symbolic.supernodes().columns(s).len();
-        wait_for_next_target(symbolic, s, width, work);
+        wait_for_next_target(symbolic, s, width, lists);
     }
     Ok(())
 }
 
 /// The rows of supernode `s`: the pattern of its first column.
-fn block_rows(symbolic: &SymbolicCholesky, s: usize) -> &[u32] {
+pub(super) fn block_rows(symbolic: &SymbolicCholesky, s: usize) -> &[u32] {
     symbolic.supernode_rows(s)
 }
 
 /// Where row position 0 of column `k` of the block would be stored, so that
-/// position `p ≥ k` is at `base + p`.
-fn column_base(symbolic: &SymbolicCholesky, s: usize, k: usize) -> usize {
+/// position `p ≥ k` is at `base + p` (an index into all of `L`'s values).
+pub(super) fn column_base(symbolic: &SymbolicCholesky, s: usize, k: usize) -> usize {
     symbolic.col_ptr()[symbolic.supernodes().columns(s).start + k] - k
 }
 
 /// Step 1: the block's columns get `C(:, j)`, zeros elsewhere.
-fn load_block(
-    symbolic: &SymbolicCholesky,
-    a: &CscMatrix,
-    loading: &FactorLoading,
-    s: usize,
-    values: &mut [f64],
-) {
-    let col_ptr = symbolic.col_ptr();
-    for j in symbolic.supernodes().columns(s) {
-        loading.load_column(a, j, &mut values[col_ptr[j]..col_ptr[j + 1]]);
+pub(super) fn load_block(input: &Input, s: usize, values: &mut Region) {
+    let col_ptr = input.symbolic.col_ptr();
+    for j in input.symbolic.supernodes().columns(s) {
+        let column = col_ptr[j] - values.first..col_ptr[j + 1] - values.first;
+        input
+            .loading
+            .load_column(input.a, j, &mut values.values[column]);
     }
 }
 
@@ -159,19 +285,30 @@ fn load_block(
 fn apply_waiting_updates(
     symbolic: &SymbolicCholesky,
     s: usize,
-    values: &mut [f64],
-    work: &mut SupernodalWorkspace,
+    values: &mut Region,
+    lists: &mut Lists,
+    scratch: &mut Scratch,
 ) {
-    let end_column = symbolic.supernodes().columns(s).end;
-    let mut waiting = work.waiting[s].take();
+    let mut waiting = lists.take(s);
     while let Some(d) = waiting {
-        waiting = work.next_waiting[d];
-        let rows = block_rows(symbolic, d);
-        let first = work.next_row[d];
-        let past_s = first + rows[first..].partition_point(|&r| (r as usize) < end_column);
-        update_from_descendant(symbolic, s, d, first..past_s, values, work);
-        wait_for_next_target(symbolic, d, past_s, work);
+        waiting = lists.after(d);
+        let targets = targets_in(symbolic, s, d, lists.next_row(d));
+        update_from_descendant(symbolic, s, d, targets.clone(), values, scratch);
+        wait_for_next_target(symbolic, d, targets.end, lists);
     }
+}
+
+/// The row positions of descendant `d`, from `first` on, that fall in the
+/// columns of `s`.
+pub(super) fn targets_in(
+    symbolic: &SymbolicCholesky,
+    s: usize,
+    d: usize,
+    first: usize,
+) -> std::ops::Range<usize> {
+    let end_column = symbolic.supernodes().columns(s).end;
+    let rows = block_rows(symbolic, d);
+    first..first + rows[first..].partition_point(|&r| (r as usize) < end_column)
 }
 
 /// `S −= X Yᵀ` for descendant `d`, whose row positions `targets` fall in
@@ -181,13 +318,13 @@ fn update_from_descendant(
     s: usize,
     d: usize,
     targets: std::ops::Range<usize>,
-    values: &mut [f64],
-    work: &mut SupernodalWorkspace,
+    values: &mut Region,
+    work: &mut Scratch,
 ) {
     let d_rows = block_rows(symbolic, d);
     let d_width = symbolic.supernodes().columns(d).len();
     for k in 0..d_width {
-        work.column_base[k] = column_base(symbolic, d, k);
+        work.column_base[k] = column_base(symbolic, d, k) - values.first;
     }
     let s_first_column = symbolic.supernodes().columns(s).start;
     // where each of d's rows from the first target down sits in s
@@ -200,7 +337,7 @@ fn update_from_descendant(
         let width = (targets.end - first).min(BLOCK_COLUMNS);
         let rows = d_rows.len() - first;
         gram_block(
-            values,
+            values.values,
             &work.column_base[..d_width],
             first,
             width,
@@ -211,10 +348,10 @@ fn update_from_descendant(
         let relative = &work.relative[first - targets.start..];
         for t in 0..width {
             let k = d_rows[first + t] as usize - s_first_column; // column in s
-            let base = column_base(symbolic, s, k);
+            let base = column_base(symbolic, s, k) - values.first;
             let update = &work.block[t * rows + t..(t + 1) * rows];
             let positions = &relative[t..rows];
-            subtract_at(&mut values[base..], positions, update);
+            subtract_at(&mut values.values[base..], positions, update);
         }
         first += width;
     }
@@ -223,7 +360,7 @@ fn update_from_descendant(
 /// `target[positions[r]] −= update[r]`; a run of consecutive positions (the
 /// common case: a descendant's rows often sit together in the target) is a
 /// plain slice subtraction, which the compiler vectorizes.
-fn subtract_at(target: &mut [f64], positions: &[usize], update: &[f64]) {
+pub(super) fn subtract_at(target: &mut [f64], positions: &[usize], update: &[f64]) {
     let (Some(&start), Some(&end)) = (positions.first(), positions.last()) else {
         return;
     };
@@ -242,14 +379,15 @@ fn subtract_at(target: &mut [f64], positions: &[usize], update: &[f64]) {
 fn factor_block(
     symbolic: &SymbolicCholesky,
     s: usize,
-    values: &mut [f64],
-    work: &mut SupernodalWorkspace,
+    values: &mut Region,
+    work: &mut Scratch,
 ) -> Result<(), FailedPivot> {
     let columns = symbolic.supernodes().columns(s);
     let height = block_rows(symbolic, s).len();
     for k in 0..columns.len() {
-        work.column_base[k] = column_base(symbolic, s, k);
+        work.column_base[k] = column_base(symbolic, s, k) - values.first;
     }
+    let values = &mut *values.values;
     let mut first = 0;
     while first < columns.len() {
         let width = (columns.len() - first).min(BLOCK_COLUMNS);
@@ -283,7 +421,9 @@ fn factor_block(
 /// Unblocked Cholesky of the panel of columns `first .. first + width` (the
 /// earlier columns already subtracted): for each column, subtract the
 /// panel's previous columns, then divide by the square root of the pivot.
-fn factor_panel(
+/// Rows `first .. height` of the panel's columns; `height = first + width`
+/// factors the panel's own triangle only.
+pub(super) fn factor_panel(
     column_base: &[usize],
     first: usize,
     width: usize,
@@ -314,17 +454,15 @@ fn factor_panel(
 
 /// Puts supernode `d` in the list of the supernode holding its row at
 /// position `next` (if it has rows left).
-fn wait_for_next_target(
+pub(super) fn wait_for_next_target(
     symbolic: &SymbolicCholesky,
     d: usize,
     next: usize,
-    work: &mut SupernodalWorkspace,
+    lists: &mut Lists,
 ) {
     let rows = block_rows(symbolic, d);
     if next < rows.len() {
         let target = symbolic.supernodes().of_column(rows[next] as usize);
-        work.next_row[d] = next;
-        work.next_waiting[d] = work.waiting[target];
-        work.waiting[target] = Some(d);
+        lists.push(d, next, target);
     }
 }

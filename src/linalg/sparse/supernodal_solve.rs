@@ -41,14 +41,35 @@ use super::symbolic::SymbolicCholesky;
 /// The factor as the supernodal sweeps read it: the column pointers of its
 /// values, each supernode's rows (kept once per supernode), the values.
 #[derive(Clone, Copy)]
-struct SupernodalView<'a> {
-    symbolic: &'a SymbolicCholesky,
-    col_ptr: &'a [usize],
-    values: &'a [f64],
+pub(super) struct SupernodalView<'a> {
+    pub(super) symbolic: &'a SymbolicCholesky,
+    pub(super) col_ptr: &'a [usize],
+    pub(super) values: &'a [f64],
+}
+
+/// How a sweep reaches the rows of `x`: a slice (one thread), or the rows
+/// a team shares ([`supernodal_solve_parallel`](super::supernodal_solve_parallel)).
+pub(super) trait Unknowns<const W: usize> {
+    /// Row `i`.
+    fn row(&self, i: usize) -> [f64; W];
+    /// Row `i`, to change.
+    fn row_mut(&mut self, i: usize) -> &mut [f64; W];
+}
+
+impl<const W: usize> Unknowns<W> for [[f64; W]] {
+    #[inline(always)]
+    fn row(&self, i: usize) -> [f64; W] {
+        self[i]
+    }
+
+    #[inline(always)]
+    fn row_mut(&mut self, i: usize) -> &mut [f64; W] {
+        &mut self[i]
+    }
 }
 
 /// Columns swept together.
-const PANEL: usize = 4;
+pub(super) const PANEL: usize = 4;
 
 /// Solves `L Lᵀ x = b` in place, supernode by supernode, for the factor
 /// analysed in `symbolic` with values `values`.
@@ -140,34 +161,101 @@ fn multiply_add<const FUSED: bool>(a: f64, b: f64, c: f64) -> f64 {
 /// `L y = b`: supernodes in order, panels in order.
 #[inline(always)]
 fn forward<const W: usize, const FUSED: bool>(l: SupernodalView, x: &mut [[f64; W]]) {
-    let supernodes = l.symbolic.supernodes();
-    for s in 0..supernodes.len() {
-        let columns = supernodes.columns(s);
-        let node = Supernode {
-            first: columns.start,
-            rows: l.symbolic.supernode_rows(s),
-        };
-        let mut offset = 0;
-        while offset < columns.len() {
-            let width = (columns.len() - offset).min(PANEL);
-            match width {
-                1 => forward_panel::<W, 1, FUSED>(&l, node, offset, x),
-                2 => forward_panel::<W, 2, FUSED>(&l, node, offset, x),
-                3 => forward_panel::<W, 3, FUSED>(&l, node, offset, x),
-                _ => forward_panel::<W, 4, FUSED>(&l, node, offset, x),
-            }
-            offset += width;
+    for s in 0..l.symbolic.supernodes().len() {
+        forward_supernode::<W, FUSED, _>(&l, s, x, 0);
+    }
+}
+
+/// The forward sweep over supernode `s`, panel by panel, leaving out the
+/// updates of its last `later` rows: those [`forward_supernode_tail`]
+/// makes later (a thread's subtree leaves its rows in the top to the
+/// thread that sweeps the top, `supernodal_solve_parallel.rs`).
+#[inline(always)]
+pub(super) fn forward_supernode<const W: usize, const FUSED: bool, X: Unknowns<W> + ?Sized>(
+    l: &SupernodalView,
+    s: usize,
+    x: &mut X,
+    later: usize,
+) {
+    for (node, offset, width) in Panels::of(l, s) {
+        match width {
+            1 => forward_panel::<W, 1, FUSED, X>(l, node, offset, x, later),
+            2 => forward_panel::<W, 2, FUSED, X>(l, node, offset, x, later),
+            3 => forward_panel::<W, 3, FUSED, X>(l, node, offset, x, later),
+            _ => forward_panel::<W, 4, FUSED, X>(l, node, offset, x, later),
         }
     }
 }
 
-/// Forward sweep over one panel of `P` columns.
+/// The updates [`forward_supernode`] left out, of the last `tail` rows of
+/// supernode `s`, from its columns' values in `x` (final: the forward
+/// sweep changes a column's row only before its panel), panel by panel:
+/// the same sums, subtracted in the same order.
 #[inline(always)]
-fn forward_panel<const W: usize, const P: usize, const FUSED: bool>(
+pub(super) fn forward_supernode_tail<const W: usize, const FUSED: bool, X: Unknowns<W> + ?Sized>(
+    l: &SupernodalView,
+    s: usize,
+    x: &mut X,
+    tail: usize,
+) {
+    for (node, offset, width) in Panels::of(l, s) {
+        match width {
+            1 => forward_panel_tail::<W, 1, FUSED, X>(l, node, offset, x, tail),
+            2 => forward_panel_tail::<W, 2, FUSED, X>(l, node, offset, x, tail),
+            3 => forward_panel_tail::<W, 3, FUSED, X>(l, node, offset, x, tail),
+            _ => forward_panel_tail::<W, 4, FUSED, X>(l, node, offset, x, tail),
+        }
+    }
+}
+
+/// The panels of a supernode, in order: `(supernode, offset, width)`.
+/// (An iterator, not a function taking a closure: a closure need not be
+/// inlined into the AVX2 sweeps, and compiled apart from them it would
+/// make every fused multiply-add a call.)
+struct Panels<'a> {
+    node: Supernode<'a>,
+    offset: usize,
+    width: usize,
+}
+
+impl<'a> Panels<'a> {
+    #[inline(always)]
+    fn of(l: &SupernodalView<'a>, s: usize) -> Self {
+        let columns = l.symbolic.supernodes().columns(s);
+        Panels {
+            node: Supernode {
+                first: columns.start,
+                rows: l.symbolic.supernode_rows(s),
+            },
+            offset: 0,
+            width: columns.len(),
+        }
+    }
+}
+
+impl<'a> Iterator for Panels<'a> {
+    type Item = (Supernode<'a>, usize, usize);
+
+    #[inline(always)]
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.offset >= self.width {
+            return None;
+        }
+        let (offset, width) = (self.offset, (self.width - self.offset).min(PANEL));
+        self.offset += width;
+        Some((self.node, offset, width))
+    }
+}
+
+/// Forward sweep over one panel of `P` columns, but for the updates of the
+/// last `later` rows.
+#[inline(always)]
+fn forward_panel<const W: usize, const P: usize, const FUSED: bool, X: Unknowns<W> + ?Sized>(
     l: &SupernodalView,
     node: Supernode,
     offset: usize,
-    x: &mut [[f64; W]],
+    x: &mut X,
+    later: usize,
 ) {
     let panel = Panel::<P>::new(l, node, offset);
     let values = l.values;
@@ -175,12 +263,12 @@ fn forward_panel<const W: usize, const P: usize, const FUSED: bool>(
     let mut x_panel = [[0.0; W]; P];
     for c in 0..P {
         let diagonal = values[panel.base[c] + offset + c];
-        let xc = x[panel.first + c].map(|v| v / diagonal);
-        x[panel.first + c] = xc;
+        let xc = x.row(panel.first + c).map(|v| v / diagonal);
+        *x.row_mut(panel.first + c) = xc;
         x_panel[c] = xc;
         for r in c + 1..P {
             let l_rc = values[panel.base[c] + offset + r];
-            let xr = &mut x[panel.first + r];
+            let xr = x.row_mut(panel.first + r);
             for lane in 0..W {
                 xr[lane] -= l_rc * xc[lane];
             }
@@ -188,46 +276,102 @@ fn forward_panel<const W: usize, const P: usize, const FUSED: bool>(
     }
     // every row below the panel: x_i ← x_i − Σ_c L_ic x_c
     let (rows, columns) = panel.below(values);
-    for (q, &row) in rows.iter().enumerate() {
-        let mut update = [0.0; W];
-        for c in 0..P {
-            let l_ic = columns[c][q];
-            for lane in 0..W {
-                update[lane] = multiply_add::<FUSED>(l_ic, x_panel[c][lane], update[lane]);
-            }
-        }
-        let xi = &mut x[row as usize];
+    subtract_updates::<W, P, FUSED, X>(&columns, rows, 0..rows.len() - later, &x_panel, x);
+}
+
+/// The updates of the last `tail` rows below one panel, from the panel's
+/// values in `x`.
+#[inline(always)]
+fn forward_panel_tail<
+    const W: usize,
+    const P: usize,
+    const FUSED: bool,
+    X: Unknowns<W> + ?Sized,
+>(
+    l: &SupernodalView,
+    node: Supernode,
+    offset: usize,
+    x: &mut X,
+    tail: usize,
+) {
+    let panel = Panel::<P>::new(l, node, offset);
+    let x_panel: [[f64; W]; P] = std::array::from_fn(|c| x.row(panel.first + c));
+    let (rows, columns) = panel.below(l.values);
+    let from = rows.len() - tail;
+    subtract_updates::<W, P, FUSED, X>(&columns, rows, from..rows.len(), &x_panel, x);
+}
+
+/// `x_i ← x_i − Σ_c L_ic x_c` for the rows below a panel at positions
+/// `positions`, in order.
+#[inline(always)]
+fn subtract_updates<const W: usize, const P: usize, const FUSED: bool, X: Unknowns<W> + ?Sized>(
+    columns: &[&[f64]; P],
+    rows: &[u32],
+    positions: std::ops::Range<usize>,
+    x_panel: &[[f64; W]; P],
+    x: &mut X,
+) {
+    for q in positions {
+        let update = panel_update::<W, P, FUSED>(columns, q, x_panel);
+        let xi = x.row_mut(rows[q] as usize);
         for lane in 0..W {
             xi[lane] -= update[lane];
         }
     }
 }
 
+/// `Σ_c L_ic x_c` over the panel's columns, for the row at position `q`
+/// below the panel.
+#[inline(always)]
+fn panel_update<const W: usize, const P: usize, const FUSED: bool>(
+    columns: &[&[f64]; P],
+    q: usize,
+    x_panel: &[[f64; W]; P],
+) -> [f64; W] {
+    let mut update = [0.0; W];
+    for c in 0..P {
+        let l_ic = columns[c][q];
+        for lane in 0..W {
+            update[lane] = multiply_add::<FUSED>(l_ic, x_panel[c][lane], update[lane]);
+        }
+    }
+    update
+}
+
 /// `Lᵀ x = y`: supernodes in reverse order, panels in reverse order.
 #[inline(always)]
 fn backward<const W: usize, const FUSED: bool>(l: SupernodalView, x: &mut [[f64; W]]) {
-    let supernodes = l.symbolic.supernodes();
-    for s in (0..supernodes.len()).rev() {
-        let columns = supernodes.columns(s);
-        let node = Supernode {
-            first: columns.start,
-            rows: l.symbolic.supernode_rows(s),
-        };
-        // the same panels as the forward sweep, last one first
-        let mut offset = (columns.len() - 1) / PANEL * PANEL;
-        loop {
-            // partial sums per column: four for a single column, two otherwise
-            match (columns.len() - offset).min(PANEL) {
-                1 => backward_panel::<W, 1, 4, FUSED>(&l, node, offset, x),
-                2 => backward_panel::<W, 2, 2, FUSED>(&l, node, offset, x),
-                3 => backward_panel::<W, 3, 2, FUSED>(&l, node, offset, x),
-                _ => backward_panel::<W, 4, 2, FUSED>(&l, node, offset, x),
-            }
-            if offset == 0 {
-                break;
-            }
-            offset -= PANEL;
+    for s in (0..l.symbolic.supernodes().len()).rev() {
+        backward_supernode::<W, FUSED, _>(&l, s, x);
+    }
+}
+
+/// The back sweep over supernode `s`, its panels last one first.
+#[inline(always)]
+pub(super) fn backward_supernode<const W: usize, const FUSED: bool, X: Unknowns<W> + ?Sized>(
+    l: &SupernodalView,
+    s: usize,
+    x: &mut X,
+) {
+    let columns = l.symbolic.supernodes().columns(s);
+    let node = Supernode {
+        first: columns.start,
+        rows: l.symbolic.supernode_rows(s),
+    };
+    // the same panels as the forward sweep, last one first
+    let mut offset = (columns.len() - 1) / PANEL * PANEL;
+    loop {
+        // partial sums per column: four for a single column, two otherwise
+        match (columns.len() - offset).min(PANEL) {
+            1 => backward_panel::<W, 1, 4, FUSED, X>(l, node, offset, x),
+            2 => backward_panel::<W, 2, 2, FUSED, X>(l, node, offset, x),
+            3 => backward_panel::<W, 3, 2, FUSED, X>(l, node, offset, x),
+            _ => backward_panel::<W, 4, 2, FUSED, X>(l, node, offset, x),
         }
+        if offset == 0 {
+            break;
+        }
+        offset -= PANEL;
     }
 }
 
@@ -235,11 +379,17 @@ fn backward<const W: usize, const FUSED: bool>(l: SupernodalView, x: &mut [[f64;
 /// rows below split into `S` partial sums (rows `q ≡ k mod S` go to sum
 /// `k`), added together at the end.
 #[inline(always)]
-fn backward_panel<const W: usize, const P: usize, const S: usize, const FUSED: bool>(
+fn backward_panel<
+    const W: usize,
+    const P: usize,
+    const S: usize,
+    const FUSED: bool,
+    X: Unknowns<W> + ?Sized,
+>(
     l: &SupernodalView,
     node: Supernode,
     offset: usize,
-    x: &mut [[f64; W]],
+    x: &mut X,
 ) {
     let panel = Panel::<P>::new(l, node, offset);
     let values = l.values;
@@ -249,12 +399,12 @@ fn backward_panel<const W: usize, const P: usize, const S: usize, const FUSED: b
     let mut q = 0;
     while q + S <= rows.len() {
         for (k, sums) in partial.iter_mut().enumerate() {
-            add_row::<W, P, FUSED>(sums, &columns, q + k, x[rows[q + k] as usize]);
+            add_row::<W, P, FUSED>(sums, &columns, q + k, x.row(rows[q + k] as usize));
         }
         q += S;
     }
     for (k, sums) in partial.iter_mut().enumerate().take(rows.len() - q) {
-        add_row::<W, P, FUSED>(sums, &columns, q + k, x[rows[q + k] as usize]);
+        add_row::<W, P, FUSED>(sums, &columns, q + k, x.row(rows[q + k] as usize));
     }
     let sums: [[f64; W]; P] = std::array::from_fn(|c| {
         std::array::from_fn(|lane| partial.iter().map(|sums| sums[c][lane]).sum())
@@ -264,13 +414,13 @@ fn backward_panel<const W: usize, const P: usize, const S: usize, const FUSED: b
         let mut sum = sums[c];
         for r in c + 1..P {
             let l_rc = values[panel.base[c] + offset + r];
-            let xr = x[panel.first + r];
+            let xr = x.row(panel.first + r);
             for lane in 0..W {
                 sum[lane] += l_rc * xr[lane];
             }
         }
         let diagonal = values[panel.base[c] + offset + c];
-        let xc = &mut x[panel.first + c];
+        let xc = x.row_mut(panel.first + c);
         *xc = std::array::from_fn(|lane| (xc[lane] - sum[lane]) / diagonal);
     }
 }

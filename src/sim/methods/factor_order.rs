@@ -51,40 +51,82 @@
 //! these (this version: 3–4% faster than the textbook loop on the flag
 //! and the skirt).
 //!
+//! On several threads ([`SparseCholesky::team_solve`]) the whole loop is one
+//! run of the team: each thread owns the rows of its part of the factor
+//! and makes, on them alone, the copies in and out, its part of the local
+//! step and `Aᵀd` ([`spring_blocks`](crate::sim::spring_blocks): every row
+//! the same additions in the same order) and `b`, then sweeps with the
+//! others; a barrier after the local step (the next phase overwrites the
+//! positions it read) and one after the solve (the next local step reads
+//! the neighbours' rows). The same bits again, on any number of threads.
+//!
 //! Source: the permuted solve of Davis, *Direct Methods for Sparse Linear
 //! Systems* (2006), §8.1 (`x = Pᵀ (L⁻ᵀ (L⁻¹ (P b)))`), with the
 //! permutations moved out of the loop.
 
+use crate::linalg::sparse::supernodal_solve_parallel::TeamSolve;
 use crate::linalg::sparse::SparseCholesky;
+use crate::linalg::threads::{SharedSlice, Team};
 use crate::sim::simd::local_step::project_springs_into_transpose;
+use crate::sim::simd::spring_blocks::add_owned_springs;
+use crate::sim::spring_blocks::SpringBlocks;
+use std::ops::Range;
 
 /// The springs renumbered into the factor's order, made once per
 /// system (the factor's ordering never changes: a refactorization keeps
-/// its analysis).
+/// its analysis): in one list, or in the blocks of a team of threads.
 #[derive(Debug, Clone)]
-pub struct Workspace {
+pub enum Workspace {
     /// `(pinv[i], pinv[j])` for every spring `(i, j)`, in the springs' order.
-    springs: Vec<[usize; 2]>,
+    One { springs: Vec<[usize; 2]> },
+    /// The springs of each thread's rows ([`SpringBlocks`]).
+    Team(SpringBlocks),
 }
 
 impl Workspace {
-    /// `springs` renumbered by `new_index` (`new_index[old] = new`).
+    /// `springs` renumbered by `new_index` (`new_index[old] = new`), for
+    /// `cholesky`'s threads: one list, or one block per thread.
     ///
     /// # Panics
     /// When a spring names a vertex beyond `new_index`.
-    pub fn new(springs: &[[usize; 2]], new_index: &[usize]) -> Self {
-        Workspace {
-            springs: springs
-                .iter()
-                .map(|&[i, j]| [new_index[i], new_index[j]])
-                .collect(),
+    pub fn new(springs: &[[usize; 2]], new_index: &[usize], cholesky: &SparseCholesky) -> Self {
+        match thread_rows(cholesky) {
+            Some(rows) => Workspace::Team(SpringBlocks::new(springs, new_index, rows)),
+            None => Workspace::One {
+                springs: springs
+                    .iter()
+                    .map(|&[i, j]| [new_index[i], new_index[j]])
+                    .collect(),
+            },
+        }
+    }
+
+    /// Is it made for `cholesky`'s threads and their rows? (Allocates
+    /// nothing: a step asks.)
+    pub fn fits(&self, cholesky: &SparseCholesky) -> bool {
+        match self {
+            Workspace::One { .. } => cholesky.rows_of_thread(0).is_none(),
+            Workspace::Team(blocks) => {
+                cholesky.threads() == blocks.len()
+                    && (0..blocks.len()).all(|b| cholesky.rows_of_thread(b) == Some(blocks.rows(b)))
+            }
         }
     }
 
     /// Bytes held (arrays' lengths).
     pub fn bytes(&self) -> usize {
-        std::mem::size_of_val(&self.springs[..])
+        match self {
+            Workspace::One { springs } => std::mem::size_of_val(&springs[..]),
+            Workspace::Team(blocks) => blocks.bytes(),
+        }
     }
+}
+
+/// The rows each thread of `cholesky`'s team owns, if it has a team.
+fn thread_rows(cholesky: &SparseCholesky) -> Option<Vec<Vec<Range<usize>>>> {
+    (0..cholesky.threads())
+        .map(|t| cholesky.rows_of_thread(t).map(<[_]>::to_vec))
+        .collect()
 }
 
 /// The step's data the loop reads, in the vertices' order.
@@ -103,8 +145,8 @@ pub struct PlainProblem<'a> {
 /// `a_t_d` is room for `P Aᵀd` and `room` for `P y`.
 ///
 /// # Panics
-/// When a slice does not have one row per vertex (or per spring), or after
-/// a failed refactorization.
+/// When a slice does not have one row per vertex (or per spring), after
+/// a failed refactorization, or when `work` was made for other threads.
 pub fn iterate(
     work: &Workspace,
     cholesky: &mut SparseCholesky,
@@ -115,15 +157,50 @@ pub fn iterate(
     iterations: usize,
 ) {
     debug_assert!(free_rows_are_zero(problem.pin_rhs, problem.pinned));
+    let n = p.len();
+    assert!(problem.y.len() == n && a_t_d.len() == n && room.len() == n);
+    match work {
+        Workspace::One { springs } => {
+            iterate_alone(springs, cholesky, problem, a_t_d, room, p, iterations)
+        }
+        Workspace::Team(blocks) => {
+            // the threads write only their own rows: those of this factor's team
+            assert!(
+                work.fits(cholesky),
+                "the springs' blocks are another team's"
+            );
+            let (solve, threads, permutation) = cholesky
+                .team_solve()
+                .expect("the springs' blocks are made for a team");
+            let step = TeamStep {
+                blocks,
+                solve,
+                perm: permutation.perm(),
+                inverse: permutation.inverse(),
+                problem,
+                a_t_d: SharedSlice::new(a_t_d),
+                y: SharedSlice::new(room),
+                p: SharedSlice::new(p),
+            };
+            threads.run(&|team: &Team| step.iterate(team, iterations));
+        }
+    }
+}
+
+/// The loop on one thread.
+fn iterate_alone(
+    springs: &[[usize; 2]],
+    cholesky: &mut SparseCholesky,
+    problem: &PlainProblem<'_>,
+    a_t_d: &mut [[f64; 3]],
+    room: &mut [[f64; 3]],
+    p: &mut [[f64; 3]],
+    iterations: usize,
+) {
     let (permutation, x) = cholesky.buffer_in_factor_order();
     let perm = permutation.perm();
-    let n = perm.len();
-    assert!(p.len() == n && problem.y.len() == n && a_t_d.len() == n && room.len() == n);
-    assert_eq!(
-        work.springs.len(),
-        problem.r.len(),
-        "one rest length per spring"
-    );
+    assert_eq!(p.len(), perm.len());
+    assert_eq!(springs.len(), problem.r.len(), "one rest length per spring");
     let y = room;
     for ((row, y_row), &old) in x.iter_mut().zip(y.iter_mut()).zip(perm) {
         *row = pad(p[old]);
@@ -131,13 +208,93 @@ pub fn iterate(
     }
     for _ in 0..iterations {
         let (permutation, x) = cholesky.buffer_in_factor_order();
-        project_springs_into_transpose(&work.springs, problem.r, x, a_t_d);
+        project_springs_into_transpose(springs, problem.r, x, a_t_d);
         right_hand_side(problem, y, a_t_d, permutation.inverse(), x);
         cholesky.solve_buffer_in_place();
     }
     let (permutation, x) = cholesky.buffer_in_factor_order();
     for (row, &old) in x.iter().zip(permutation.perm()) {
         p[old] = [row[0], row[1], row[2]];
+    }
+}
+
+/// What the team shares during a step's loop.
+struct TeamStep<'a> {
+    blocks: &'a SpringBlocks,
+    solve: TeamSolve<'a, 4>,
+    perm: &'a [usize],
+    inverse: &'a [usize],
+    problem: &'a PlainProblem<'a>,
+    a_t_d: SharedSlice<'a, [f64; 3]>,
+    y: SharedSlice<'a, [f64; 3]>,
+    p: SharedSlice<'a, [f64; 3]>,
+}
+
+impl TeamStep<'_> {
+    /// One thread's part of the loop: its rows in, every iteration's local
+    /// step, `b` and sweeps, its rows out.
+    fn iterate(&self, team: &Team, iterations: usize) {
+        let rows = self.blocks.rows(team.index());
+        let x = self.solve.rows();
+        for r in rows.iter().flat_map(|range| range.clone()) {
+            let old = self.perm[r];
+            // SAFETY: row `r` of the buffer and of `P y`, and row `old` of
+            // `p` (`perm` is one-to-one), are this thread's.
+            unsafe {
+                x.set(r, pad(self.p.get(old)));
+                self.y.set(r, self.problem.y[old]);
+            }
+        }
+        team.barrier(); // the local step reads the neighbours' rows
+        for _ in 0..iterations {
+            self.local_step(team);
+            team.barrier(); // its positions are read: b may take their place
+            self.right_hand_side(team);
+            self.solve.sweep(team);
+            team.barrier(); // every row solved: the next local step reads them
+        }
+        for r in rows.iter().flat_map(|range| range.clone()) {
+            // SAFETY: as above.
+            unsafe {
+                let row = x.get(r);
+                self.p.set(self.perm[r], [row[0], row[1], row[2]]);
+            }
+        }
+    }
+
+    /// `P Aᵀd` on this thread's rows: zeroed, then its block's springs.
+    fn local_step(&self, team: &Team) {
+        let b = team.index();
+        for range in self.blocks.rows(b) {
+            // SAFETY: this thread's rows of `P Aᵀd`.
+            unsafe { self.a_t_d.slice_mut(range.clone()) }.fill([0.0; 3]);
+        }
+        // SAFETY: the buffer holds positions until the barrier that follows,
+        // and nobody writes it meanwhile; the whole buffer is read.
+        let x = unsafe { self.solve.rows().slice(0..self.solve.rows().len()) };
+        // SAFETY: the block writes its own rows of `P Aᵀd` only.
+        unsafe { add_owned_springs(self.blocks.block(b), self.problem.r, x, &self.a_t_d) };
+    }
+
+    /// `b` on this thread's rows, as [`right_hand_side`] makes it.
+    fn right_hand_side(&self, team: &Team) {
+        let (rows, x) = (self.blocks.rows(team.index()), self.solve.rows());
+        let row = |r: usize, pin: [f64; 3]| -> [f64; 4] {
+            // SAFETY: row `r` of `P Aᵀd` and `P y` is this thread's.
+            let (a, y) = unsafe { (self.a_t_d.get(r), self.y.get(r)) };
+            b_row(self.problem.k, a, y, pin)
+        };
+        for r in rows.iter().flat_map(|range| range.clone()) {
+            // SAFETY: row `r` of the buffer is this thread's.
+            unsafe { x.set(r, row(r, [0.0; 3])) };
+        }
+        for &old in self.problem.pinned {
+            let new = self.inverse[old];
+            if rows.iter().any(|range| range.contains(&new)) {
+                // SAFETY: as above.
+                unsafe { x.set(new, row(new, self.problem.pin_rhs[old])) };
+            }
+        }
     }
 }
 
@@ -151,17 +308,20 @@ fn right_hand_side(
     x: &mut [[f64; 4]],
 ) {
     let k = problem.k;
-    let row = |a: [f64; 3], y: [f64; 3], pin: [f64; 3]| -> [f64; 4] {
-        let [x, y, z] = std::array::from_fn(|c| k * a[c] + y[c] + pin[c]);
-        [x, y, z, 0.0]
-    };
     for ((out, &a), &y) in x.iter_mut().zip(a_t_d).zip(y) {
-        *out = row(a, y, [0.0; 3]);
+        *out = b_row(k, a, y, [0.0; 3]);
     }
     for &old in problem.pinned {
         let new = inverse[old];
-        x[new] = row(a_t_d[new], y[new], problem.pin_rhs[old]);
+        x[new] = b_row(k, a_t_d[new], y[new], problem.pin_rhs[old]);
     }
+}
+
+/// One row of `b`, `(k a + y) + pin`, padded with 0.
+#[inline(always)]
+fn b_row(k: f64, a: [f64; 3], y: [f64; 3], pin: [f64; 3]) -> [f64; 4] {
+    let [x, y, z] = std::array::from_fn(|c| k * a[c] + y[c] + pin[c]);
+    [x, y, z, 0.0]
 }
 
 /// Is every row of `w CᵀC V` outside `pinned` exactly `+0.0`? (Checked in

@@ -169,21 +169,28 @@ pub fn prepare<B: LinearAlgebra>(
     Ok(())
 }
 
-/// `plain`'s springs in the factor's order, made once, when its loop can
-/// run there: the sparse backend, penalty pins, no stopping rule (an
-/// observer, known only later, sends it back to the textbook loop).
+/// `plain`'s springs in the factor's order (in blocks, one per thread,
+/// when the factorization has threads), made once, when its loop can run
+/// there: the sparse backend, penalty pins, no stopping rule (an observer,
+/// known only later, sends it back to the textbook loop).
 fn prepare_plain<B: LinearAlgebra>(
     workspaces: &mut MethodWorkspaces,
     problem: Problem<'_, B>,
     control: &StepControl,
 ) {
     let in_factor_order = !problem.exact_pins && !control.has_stopping_rule();
-    if !in_factor_order || workspaces.factor_order.is_some() {
+    if !in_factor_order {
         return;
     }
     if let Some(cholesky) = B::as_sparse_cholesky(problem.factorization) {
+        // made once (again only if the factorization's threads changed)
+        if let Some(work) = &workspaces.factor_order {
+            if work.fits(cholesky) {
+                return;
+            }
+        }
         let new_index = cholesky.symbolic().permutation().inverse();
-        let work = factor_order::Workspace::new(problem.springs, new_index);
+        let work = factor_order::Workspace::new(problem.springs, new_index, cholesky);
         workspaces.factor_order = Some(work);
     }
 }

@@ -146,20 +146,8 @@ pub(crate) mod avx2 {
     /// `spring_vectors`.
     macro_rules! add_group_rows {
         ($s:expr, $d:expr, $out:expr, $skip_self:expr) => {{
-            let (s, [dx, dy, dz], out): (&[[usize; 2]], [__m256d; 3], &mut [[f64; 3]]) =
-                ($s, $d, $out);
-            // (x, y) of each spring as one 128-bit half: [dx₀ dy₀ dx₂ dy₂],
-            // [dx₁ dy₁ dx₃ dy₃]; z as numbers
-            let (even, odd) = (_mm256_unpacklo_pd(dx, dy), _mm256_unpackhi_pd(dx, dy));
-            let xy = [
-                _mm256_castpd256_pd128(even),
-                _mm256_castpd256_pd128(odd),
-                _mm256_extractf128_pd::<1>(even),
-                _mm256_extractf128_pd::<1>(odd),
-            ];
-            let mut z = [0.0; 4];
-            // SAFETY: z holds four f64.
-            unsafe { _mm256_storeu_pd(z.as_mut_ptr(), dz) };
+            let (s, out): (&[[usize; 2]], &mut [[f64; 3]]) = ($s, $out);
+            let (xy, z) = $crate::sim::simd::local_step::avx2::group_rows!($d);
             for k in 0..4 {
                 let [i, j] = s[k];
                 if !$skip_self || i != j {
@@ -170,6 +158,28 @@ pub(crate) mod avx2 {
         }};
     }
     pub(crate) use add_group_rows;
+
+    /// The four springs' `dₑ` (one register per coordinate) as rows: `(x,
+    /// y)` of each spring as one 128-bit half, `z` as numbers. A macro for
+    /// the reason given at `spring_vectors`.
+    macro_rules! group_rows {
+        ($d:expr) => {{
+            let [dx, dy, dz]: [__m256d; 3] = $d;
+            // [dx₀ dy₀ dx₂ dy₂], [dx₁ dy₁ dx₃ dy₃]
+            let (even, odd) = (_mm256_unpacklo_pd(dx, dy), _mm256_unpackhi_pd(dx, dy));
+            let xy: [__m128d; 4] = [
+                _mm256_castpd256_pd128(even),
+                _mm256_castpd256_pd128(odd),
+                _mm256_extractf128_pd::<1>(even),
+                _mm256_extractf128_pd::<1>(odd),
+            ];
+            let mut z = [0.0; 4];
+            // SAFETY: z holds four f64.
+            unsafe { _mm256_storeu_pd(z.as_mut_ptr(), dz) };
+            (xy, z)
+        }};
+    }
+    pub(crate) use group_rows;
 
     /// `row += (xy, z)`, or `row −= (xy, z)`: x and y in one 128-bit
     /// operation, the same additions as coordinate by coordinate.

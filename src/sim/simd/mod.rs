@@ -11,6 +11,7 @@
 //! | here | the formula |
 //! |---|---|
 //! | [`local_step`] | [`sim::local_step`](super::local_step) |
+//! | [`spring_blocks`] | [`sim::spring_blocks`](super::spring_blocks) |
 //! | [`spring_pass`] | [`sim::spring_pass`](super::spring_pass) |
 //! | [`energy`] | [`sim::energy`](super::energy) (the vertices' sums) |
 //! | [`block_vector`] | [`sim::methods::block_vector`](super::methods::block_vector) |
@@ -18,4 +19,5 @@
 pub mod block_vector;
 pub mod energy;
 pub mod local_step;
+pub mod spring_blocks;
 pub mod spring_pass;

@@ -1,13 +1,15 @@
 //! faer's sparse Cholesky timed on one matrix: the faer column of
 //! `benches/peers/compare.sh` (`docs/performance.md`).
 //!
-//!     faer_peer MATRIX.mtx [REPEATS] [--json]
+//!     faer_peer MATRIX.mtx [REPEATS] [--json] [--threads N]
 //!
 //! `MATRIX.mtx` is a symmetric Matrix Market coordinate file (one triangle
 //! stored); `MATRIX.b.mtx`, when it exists, is the n×3 right-hand side
 //! (else a fixed synthetic block, the one `masssprings analyze` uses). For
 //! each of faer's two LLᵀ methods (supernodal and simplicial, forced with
-//! `SupernodalThreshold`), single-threaded (`Par::Seq`), 32-bit indices:
+//! `SupernodalThreshold`), single-threaded (`Par::Seq`) or with `--threads
+//! N` on faer's own parallel code (`Par::rayon(N)`, a rayon pool of N
+//! threads), 32-bit indices:
 //! the symbolic analysis (AMD ordering included), a numeric refactorization
 //! into the same storage, and a solve of the n×3 block in place with its
 //! workspace reused. Each time is the median of `REPEATS` runs (default
@@ -27,11 +29,16 @@ use faer::{Conj, Side};
 use std::time::Instant;
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
     let json = args.iter().any(|a| a == "--json");
+    let threads = take_threads(&mut args);
+    let par = match threads {
+        1 => Par::Seq,
+        n => Par::rayon(n),
+    };
     let positional: Vec<&String> = args.iter().filter(|a| !a.starts_with("--")).collect();
     let Some(path) = positional.first() else {
-        eprintln!("usage: faer_peer MATRIX.mtx [REPEATS] [--json]");
+        eprintln!("usage: faer_peer MATRIX.mtx [REPEATS] [--json] [--threads N]");
         std::process::exit(2);
     };
     let repeats: usize = positional
@@ -44,12 +51,13 @@ fn main() {
     let mut report = vec![
         ("n".to_string(), n as f64),
         ("nnz_lower".to_string(), lower.compute_nnz() as f64),
+        ("threads".to_string(), threads as f64),
     ];
     for (name, threshold) in [
         ("supernodal", SupernodalThreshold::FORCE_SUPERNODAL),
         ("simplicial", SupernodalThreshold::FORCE_SIMPLICIAL),
     ] {
-        for (key, value) in measure(&lower, &rhs, threshold, repeats) {
+        for (key, value) in measure(&lower, &rhs, threshold, par, repeats) {
             report.push((format!("{name}_{key}"), value));
         }
     }
@@ -66,12 +74,31 @@ fn main() {
     }
 }
 
+/// `--threads N` taken out of `args` (default 1).
+fn take_threads(args: &mut Vec<String>) -> usize {
+    let Some(at) = args.iter().position(|a| a == "--threads") else {
+        return 1;
+    };
+    let value = args
+        .get(at + 1)
+        .and_then(|v| v.parse().ok())
+        .filter(|&n: &usize| n >= 1);
+    let Some(threads) = value else {
+        eprintln!("faer_peer: --threads takes a whole number of at least 1");
+        std::process::exit(2);
+    };
+    args.drain(at..at + 2);
+    threads
+}
+
 /// Symbolic, numeric and solve times (medians), the factor's stored
-/// entries and the relative residual, for one method.
+/// entries and the relative residual, for one method, with the
+/// parallelism `par`.
 fn measure(
     lower: &SparseColMat<u32, f64>,
     rhs: &Mat<f64>,
     threshold: SupernodalThreshold,
+    par: Par,
     repeats: usize,
 ) -> Vec<(&'static str, f64)> {
     let params = CholeskySymbolicParams {
@@ -91,7 +118,6 @@ fn measure(
         std::hint::black_box(analyse());
     });
     let symbolic = analyse();
-    let par = Par::Seq;
     let mut values = vec![0.0f64; symbolic.len_val()];
     let mut factor_memory =
         MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()));
