@@ -49,5 +49,5 @@ pub use backend::{Dense, LinearAlgebra, Sparse};
 pub use control::{Accuracy, Pins, Start, StepControl, StepMethod, Stop, ITERATIONS};
 pub use error::SimulationError;
 pub use precomputation::{MassSpringSystem, DELTA_T, PIN_WEIGHT};
-pub use simulation::{Simulation, SimulationOptions, Solver};
+pub use simulation::{Simulation, SimulationOptions, Solver, VERTICES_PER_THREAD};
 pub use step::StepReport;

@@ -59,8 +59,8 @@ fn every_method_steps_to_the_same_bits_on_any_threads() {
     for method in StepMethod::ALL {
         let mut options = SimulationOptions::default();
         options.step.method = method;
-        options.step.iterations = 20;
-        same_on_any_threads(&flag, options, 4, method.name());
+        options.step.iterations = 10;
+        same_on_any_threads(&flag, options, 3, method.name());
     }
 }
 
@@ -84,4 +84,20 @@ fn the_portable_kernels_give_their_own_bits_on_any_threads() {
         ..SimulationOptions::default()
     };
     same_on_any_threads(&scene("flag.json"), options, 5, "portable");
+}
+
+#[test]
+fn a_scene_gets_at_most_one_thread_per_vertices_per_thread() {
+    let asked = SimulationOptions {
+        threads: 4,
+        ..SimulationOptions::default()
+    };
+    let threads = |name: &str| {
+        Simulation::<Sparse>::from_scene(&scene(name), asked)
+            .unwrap()
+            .threads()
+    };
+    assert_eq!(threads("net.json"), 1, "81 vertices");
+    assert_eq!(threads("horizontal-chain.json"), 1, "11 vertices");
+    assert_eq!(threads("flag.json"), 4, "3,200 vertices");
 }
