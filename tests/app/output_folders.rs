@@ -323,7 +323,7 @@ fn trace_writes_in_place_and_leaves_every_other_file_alone() {
         text(&folder),
     ]));
     let grid = folder.join("grid-150.json");
-    let args = ["trace", text(&grid), "-o", text(&out), "--step", "40"];
+    let args = ["trace", text(&grid), "-o", text(&out), "--step", "20"];
     // files that appear while it runs, one by a command that takes no lock
     let child = start(&args);
     wait_for("no lock", || out.join(".masssprings-lock").exists());
