@@ -165,7 +165,7 @@ pub const MAX_THREADS: usize = 256;
 /// `--threads N`, the same in every command that factors, solves or steps.
 #[derive(Args, Debug, Clone, Copy)]
 pub struct ThreadsFlag {
-    /// Threads of the supernodal factorization, its solves and the plain iterations (default: the cores available); the results are the same to the bit on any number, and 1 runs the single-threaded code. The handout's code as written, the simplicial factorization and dense matrices run on one.
+    /// Threads of the supernodal factorization, its solves and the plain iterations (default: the cores available); the results are the same to the bit on any number, and 1 runs the single-threaded code. The handout's code as written, the simplicial factorization and dense matrices run on one, and a simulation takes at most one thread per 500 vertices of its scene.
     #[arg(long, value_name = "N", value_parser = whole(1, MAX_THREADS))]
     pub threads: Option<usize>,
 }
