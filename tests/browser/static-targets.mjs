@@ -7,7 +7,8 @@
 // * the step of the flag and of the skirt in the page (the worker's time
 //   around each step, the status's history: median of 100 steps, played
 //   in real time) beside the native program's with the portable kernels
-//   (`simulate --kernels portable --json`, the median of 100 steps), in
+//   on one thread, as the page's worker runs (`simulate --kernels portable
+//   --threads 1 --json`, the median of 100 steps), in
 //   ROUNDS interleaved rounds, and their ratio;
 // * the steps a second the flag plays at (the status, after 5 s of play).
 //
@@ -52,7 +53,7 @@ async function pageStep(session, scene) {
 
 function nativeStep(scene) {
   const output = execFileSync(binary, ['simulate', path.join(root, 'data', `${scene}.json`), '--steps', '100',
-    '--kernels', 'portable', '--json'], { encoding: 'utf8' });
+    '--kernels', 'portable', '--threads', '1', '--json'], { encoding: 'utf8' });
   return 1000 * JSON.parse(output).step_median_s;
 }
 

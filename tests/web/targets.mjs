@@ -2,8 +2,9 @@
 //
 // * the size of masssprings.wasm, plain and gzipped;
 // * for the flag and the skirt, the median step of 100 in the WebAssembly
-//   module (node's V8, Chromium's engine) beside the native program's with
-//   the portable kernels (`simulate --kernels portable --json`, whose
+//   module (node's V8, Chromium's engine) beside the native program's on one
+//   thread, as the module runs, with the portable kernels (`simulate
+//   --kernels portable --threads 1 --json`, whose
 //   step_median_s times each step alone) and with the native ones, in
 //   ROUNDS interleaved rounds (default 3), and their ratio; and the steps a
 //   second the module keeps up.
@@ -53,7 +54,7 @@ async function moduleStep(scene) {
 /** The native program's median step on `scene` with `kernels`, ms. */
 function nativeStep(scene, kernels) {
   const output = execFileSync(program, ['simulate', join(root, 'data', `${scene}.json`), '--steps', String(STEPS),
-    '--kernels', kernels, '--json'], { encoding: 'utf8' });
+    '--kernels', kernels, '--threads', '1', '--json'], { encoding: 'utf8' });
   return 1000 * JSON.parse(output).step_median_s;
 }
 
