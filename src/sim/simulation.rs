@@ -828,9 +828,9 @@ fn multiplies_by_q(method: StepMethod) -> bool {
 
 /// Vertices a thread must have to pay for itself: waking a thread and
 /// meeting it at each barrier of an iteration cost microseconds, while a
-/// whole step of the 81-vertex net takes 90 µs on one thread. Measured on
-/// two cores: two threads made the net's step 1.6–2 times slower and the
-/// 11-vertex chain's 2–60 times; the 3,200-vertex flag's 1.2 times faster.
+/// whole step of the 81-vertex net takes about 90 µs on one thread. When
+/// two threads could step the net and the 11-vertex chain, they made their
+/// steps slower, not faster; the 3,200-vertex flag's is faster on two.
 pub const VERTICES_PER_THREAD: usize = 500;
 
 /// The threads a scene of `n` vertices steps on: those asked, at most one
